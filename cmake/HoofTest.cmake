@@ -1,0 +1,21 @@
+# hoof_add_test(NAME <name> SOURCES <files...> LIBS <targets...> [LABELS <labels...>])
+# Builds one gtest executable and registers its tests with CTest (gtest_discover_tests),
+# running from the project root so tests can find tests/data and sample_frames.
+include(GoogleTest)
+function(hoof_add_test)
+  cmake_parse_arguments(ARG "" "NAME;TIMEOUT" "SOURCES;LIBS;LABELS" ${ARGN})
+  add_executable(${ARG_NAME} ${ARG_SOURCES})
+  target_link_libraries(${ARG_NAME} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main hoof_warnings)
+  target_compile_features(${ARG_NAME} PRIVATE cxx_std_20)
+  target_compile_definitions(${ARG_NAME} PRIVATE
+    HOOF_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    HOOF_BINARY_DIR="${PROJECT_BINARY_DIR}"
+    HOOF_CLI_PATH="$<TARGET_FILE:hoofimpact>")
+  if(NOT ARG_TIMEOUT)
+    set(ARG_TIMEOUT 600)
+  endif()
+  gtest_discover_tests(${ARG_NAME}
+    WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
+    PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "${ARG_LABELS}"
+    DISCOVERY_TIMEOUT 60)
+endfunction()

@@ -1,0 +1,114 @@
+#include "dynamics/parameters.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include <boost/math/tools/roots.hpp>
+
+namespace hoof::dynamics {
+namespace {
+
+[[noreturn]] void ThrowField(std::string_view owner, std::string_view field, double value,
+                             std::string_view requirement) {
+  std::ostringstream os;
+  os << owner << "." << field << " = " << value << " is invalid: " << requirement;
+  throw std::invalid_argument(os.str());
+}
+
+void RequireFinite(std::string_view owner, std::string_view field, double value) {
+  if (!std::isfinite(value)) ThrowField(owner, field, value, "must be a finite number");
+}
+
+}  // namespace
+
+void SpecimenParameters::Validate() const {
+  constexpr std::string_view kOwner = "specimen";
+  RequireFinite(kOwner, "mass_kg", mass_kg);
+  RequireFinite(kOwner, "inertia_kg_m2", inertia_kg_m2);
+  RequireFinite(kOwner, "end_radius_m", end_radius_m);
+  RequireFinite(kOwner, "d_EC_m", d_EC_m);
+  if (mass_kg <= 0) ThrowField(kOwner, "mass_kg", mass_kg, "must be > 0");
+  if (inertia_kg_m2 <= 0) ThrowField(kOwner, "inertia_kg_m2", inertia_kg_m2, "must be > 0");
+  if (end_radius_m <= 0) ThrowField(kOwner, "end_radius_m", end_radius_m, "must be > 0");
+  if (d_EC_m < 0) ThrowField(kOwner, "d_EC_m", d_EC_m, "must be >= 0");
+}
+
+void ContactParameters::Validate() const {
+  constexpr std::string_view kOwner = "contact";
+  RequireFinite(kOwner, "k_N_m", k_N_m);
+  RequireFinite(kOwner, "b_N_s_m", b_N_s_m);
+  RequireFinite(kOwner, "mu", mu);
+  if (k_N_m <= 0) ThrowField(kOwner, "k_N_m", k_N_m, "must be > 0");
+  if (b_N_s_m < 0) ThrowField(kOwner, "b_N_s_m", b_N_s_m, "must be >= 0");
+  if (mu < 0) ThrowField(kOwner, "mu", mu, "must be >= 0");
+}
+
+Surface ParseSurface(std::string_view name) {
+  std::string lower(name);
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (lower == "steel") return Surface::kSteel;
+  if (lower == "concrete") return Surface::kConcrete;
+  if (lower == "asphalt") return Surface::kAsphalt;
+  throw std::invalid_argument("surface = \"" + std::string(name) +
+                              "\" is invalid: expected steel, concrete or asphalt");
+}
+
+std::string SurfaceName(Surface surface) {
+  switch (surface) {
+    case Surface::kSteel: return "steel";
+    case Surface::kConcrete: return "concrete";
+    case Surface::kAsphalt: return "asphalt";
+  }
+  return "unknown";
+}
+
+ContactParameters PaperContact(Surface surface) {
+  switch (surface) {
+    case Surface::kSteel: return {7.24e8, 531.65, 0.19};
+    case Surface::kConcrete: return {4.24e8, 932.20, 0.30};
+    case Surface::kAsphalt: return {5.86e7, 822.78, 0.34};
+  }
+  return {};
+}
+
+double DampingRatio(double k_N_m, double b_N_s_m, double mass_kg) {
+  return b_N_s_m / (2.0 * std::sqrt(k_N_m * mass_kg));
+}
+
+double DampingForRatio(double zeta, double k_N_m, double mass_kg) {
+  return 2.0 * zeta * std::sqrt(k_N_m * mass_kg);
+}
+
+double RestitutionFromDampingRatio(double zeta) {
+  if (!(zeta >= 0.0 && zeta < 1.0)) {
+    std::ostringstream os;
+    os << "zeta = " << zeta << " is invalid: the closed-form e(zeta) needs 0 <= zeta < 1";
+    throw std::invalid_argument(os.str());
+  }
+  if (zeta == 0.0) return 1.0;
+  const double root = std::sqrt(1.0 - zeta * zeta);
+  return std::exp(-zeta / root * std::atan(root / zeta));
+}
+
+double DampingRatioFromRestitution(double e) {
+  if (!(e > 0.0 && e <= 1.0)) {
+    std::ostringstream os;
+    os << "e = " << e << " is invalid: needs 0 < e <= 1";
+    throw std::invalid_argument(os.str());
+  }
+  if (e == 1.0) return 0.0;
+  // e(zeta) falls monotonically from 1 at zeta = 0 to 0 as zeta -> 1.
+  auto f = [e](double z) { return RestitutionFromDampingRatio(z) - e; };
+  boost::math::tools::eps_tolerance<double> tol(50);
+  std::uintmax_t max_iter = 200;
+  const auto [lo, hi] =
+      boost::math::tools::toms748_solve(f, 0.0, 1.0 - 1e-15, 1.0 - e, f(1.0 - 1e-15), tol,
+                                        max_iter);
+  return 0.5 * (lo + hi);
+}
+
+}  // namespace hoof::dynamics

@@ -1,0 +1,69 @@
+#pragma once
+/// @file
+/// Specimen and contact parameters of the planar impact model (SCIENCE.md sections 2-4).
+/// Plain option structs with documented SI units, paper defaults and Validate().
+
+#include <string>
+#include <string_view>
+
+namespace hoof::dynamics {
+
+/// Standard gravity used by the paper (m/s^2).
+inline constexpr double kStandardGravity_m_s2 = 9.81;
+
+/// Rigid hoof-wall specimen (paper section 2.1). The paper gives m and R; d and I_C are
+/// derived (SCIENCE.md section 3): d is the centre of the 45 mm bar minus R, and
+/// I_C = m (L^2 + W^2) / 12 for the 45 x 16 mm bar.
+struct SpecimenParameters {
+  double mass_kg = 0.008;            ///< m, in kg; > 0.
+  double inertia_kg_m2 = 1.5207e-6;  ///< I_C about the centre of mass C, out of plane; > 0.
+  double end_radius_m = 0.009;       ///< R, radius of the round end centred at E; > 0.
+  double d_EC_m = 0.0135;            ///< d = |EC|, from the end centre E to C; >= 0.
+
+  /// Throws std::invalid_argument naming the first invalid field and its value.
+  void Validate() const;
+};
+
+/// The impact surfaces of the study.
+enum class Surface { kSteel, kConcrete, kAsphalt };
+
+/// Parses "steel", "concrete" or "asphalt" (case-insensitive). Throws std::invalid_argument
+/// naming the value otherwise.
+Surface ParseSurface(std::string_view name);
+/// Lower-case name of a surface.
+std::string SurfaceName(Surface surface);
+
+/// Two-phase contact law (paper eqs. 1-2) and Coulomb friction.
+/// Compression: P = -k delta - b delta'. Restitution: P = -k delta. P >= 0 always.
+/// Friction: |F| <= mu P, with stick while the contact point T does not slide.
+struct ContactParameters {
+  double k_N_m = 7.24e8;     ///< k, normal stiffness in N/m; > 0.
+  double b_N_s_m = 531.65;   ///< b, normal damping in compression, in N s/m; >= 0.
+  double mu = 0.19;          ///< Coulomb (kinetic = static) friction coefficient; >= 0.
+
+  /// Throws std::invalid_argument naming the first invalid field and its value.
+  void Validate() const;
+};
+
+/// The paper's contact coefficients for a surface (paper section 3.3): k and b fitted to
+/// normal impacts. Friction mu is the paper's mean measured mu_eff at 30 deg (0.19, 0.30,
+/// 0.34), where the contact point slides for the whole contact, so mu_eff equals mu.
+ContactParameters PaperContact(Surface surface);
+
+/// Damping ratio zeta = b / (2 sqrt(k m)) of the compression phase (SCIENCE.md section 4).
+double DampingRatio(double k_N_m, double b_N_s_m, double mass_kg);
+
+/// Damping b (N s/m) that gives damping ratio zeta for stiffness k and mass m.
+double DampingForRatio(double zeta, double k_N_m, double mass_kg);
+
+/// Closed-form coefficient of restitution of the two-phase law for a normal impact without
+/// gravity: e = exp(-zeta / sqrt(1 - zeta^2) * atan(sqrt(1 - zeta^2) / zeta)).
+/// It depends on zeta alone (SCIENCE.md section 4). Valid for 0 <= zeta < 1; throws
+/// std::invalid_argument naming "zeta" otherwise. e(0) = 1.
+double RestitutionFromDampingRatio(double zeta);
+
+/// Inverse of RestitutionFromDampingRatio for 0 < e <= 1: the zeta in [0, 1) that gives e.
+/// Throws std::invalid_argument naming "e" outside (0, 1].
+double DampingRatioFromRestitution(double e);
+
+}  // namespace hoof::dynamics

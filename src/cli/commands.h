@@ -1,0 +1,26 @@
+#pragma once
+/// @file
+/// Each `hoofimpact` subcommand lives in its own file and registers itself on the app here.
+/// Subcommands only parse arguments, call the libraries and print; they hold no algorithms.
+
+#include <CLI/CLI.hpp>
+
+namespace hoof::cli {
+
+/// Exit codes shared by all subcommands.
+enum ExitCode : int {
+  kExitOk = 0,           ///< Everything succeeded.
+  kExitFailure = 1,      ///< Bad input data or a failed computation; the message says which.
+  kExitUsage = 2,        ///< Bad command line.
+  kExitPartial = 3,      ///< A study ran, but some trials failed (each recorded with a reason).
+};
+
+/// Holds the exit code a subcommand's callback sets.
+struct RunState {
+  int exit_code = kExitOk;
+};
+
+void RegisterSimulate(CLI::App& app, RunState& state);
+void RegisterFit(CLI::App& app, RunState& state);
+
+}  // namespace hoof::cli

@@ -1,0 +1,28 @@
+#pragma once
+/// @file
+/// Command-line options shared by several subcommands, and JSON helpers.
+
+#include <cmath>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "dynamics/parameters.h"
+
+namespace hoof::cli {
+
+/// Adds --mass-kg, --inertia-kg-m2, --end-radius-m and --d-ec-m, defaulting to `specimen`.
+void AddSpecimenOptions(CLI::App* app, dynamics::SpecimenParameters& specimen);
+
+/// A number for JSON: null when NaN or infinite.
+inline nlohmann::json JsonNumber(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+/// A 2-vector for JSON as [x, y].
+inline nlohmann::json JsonVector(const Eigen::Vector2d& v) {
+  return nlohmann::json::array({JsonNumber(v.x()), JsonNumber(v.y())});
+}
+
+}  // namespace hoof::cli

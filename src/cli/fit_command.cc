@@ -1,0 +1,4 @@
+#include "cli/commands.h"
+namespace hoof::cli {
+void RegisterFit(CLI::App&, RunState&) {}
+}  // namespace hoof::cli

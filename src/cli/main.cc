@@ -1,0 +1,28 @@
+// hoofimpact: one program for the whole study. See README.md and docs/cli.md.
+#include <exception>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "hoofimpact: high-speed video of hoof-wall impacts -> restitution, friction and a "
+      "two-phase contact model held against the measurements."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "hoofimpact 0.1.0");
+  hoof::cli::RunState state;
+  hoof::cli::RegisterSimulate(app, state);
+  hoof::cli::RegisterFit(app, state);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : hoof::cli::kExitUsage;
+  } catch (const std::exception& e) {
+    std::cerr << "hoofimpact: error: " << e.what() << "\n";
+    return hoof::cli::kExitFailure;
+  }
+  return state.exit_code;
+}
