@@ -1,4 +1,211 @@
+// hoofimpact fit: the contact law from normal-impact velocities, reported as what velocities
+// can identify (zeta, with an interval) and what they cannot (k), with the valley shown.
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
 #include "cli/commands.h"
+#include "cli/common_options.h"
+#include "dynamics/contact_fit.h"
+#include "io/atomic_file.h"
+#include "io/csv.h"
+
 namespace hoof::cli {
-void RegisterFit(CLI::App&, RunState&) {}
+namespace {
+
+using dynamics::ContactFitSummary;
+
+struct FitArgs {
+  std::string csv_path;
+  std::string before_col = "v_before_m_s";
+  std::string after_col = "v_after_m_s";
+  std::string group_col = "surface";
+  dynamics::SpecimenParameters specimen;
+  dynamics::ContactFitOptions fit;
+  bool json = false;
+  std::string valley_csv;
+};
+
+/// Draws the paper's objective over (log k, b) in the terminal: darker is a smaller MPE, and
+/// '*' marks the fitted valley. Rows are b (top = b_max), columns log k.
+std::string AsciiMap(const ContactFitSummary& s, double mass_kg) {
+  if (s.map_k_N_m.empty()) return "";
+  const char* shades = "@%#*+=-:. ";  // '@' is the smallest error
+  const int nk = static_cast<int>(s.map_k_N_m.size());
+  const int nb = static_cast<int>(s.map_b_N_s_m.size());
+  double lo = s.map_mpe_percent.minCoeff();
+  const double hi = std::min(s.map_mpe_percent.maxCoeff(), lo + 50.0);
+  std::ostringstream os;
+  os << "  Mean percentage error over the paper's box (b up, log10 k across; '@' lowest, "
+        "'o' = fitted zeta):\n";
+  for (int j = nb - 1; j >= 0; j -= 2) {
+    os << "  " << std::setw(6) << std::fixed << std::setprecision(0) << s.map_b_N_s_m[j] << " |";
+    for (int i = 0; i < nk; ++i) {
+      const double k = s.map_k_N_m[i];
+      const double b_valley = dynamics::DampingForRatio(s.zeta, k, mass_kg);
+      const double db = (s.map_b_N_s_m.back() - s.map_b_N_s_m.front()) / (nb - 1);
+      if (std::abs(b_valley - s.map_b_N_s_m[j]) <= db) {
+        os << 'o';
+        continue;
+      }
+      const double f = std::clamp((s.map_mpe_percent(i, j) - lo) / (hi - lo + 1e-300), 0.0, 1.0);
+      os << shades[static_cast<int>(f * 9.0 + 0.5)];
+    }
+    os << "\n";
+  }
+  os << "         +" << std::string(static_cast<std::size_t>(nk), '-') << "\n";
+  os << "          k = " << std::scientific << std::setprecision(0) << s.map_k_N_m.front()
+     << std::string(static_cast<std::size_t>(std::max(0, nk - 16)), ' ') << s.map_k_N_m.back()
+     << " N/m\n";
+  return os.str();
+}
+
+void PrintText(const std::string& group, const ContactFitSummary& s, double mass_kg) {
+  std::ostringstream os;
+  os << std::setprecision(4);
+  os << "Contact-law fit" << (group.empty() ? "" : " for " + group) << " (" << s.n
+     << " normal impacts)\n";
+  if (!s.success) {
+    os << "  failed: " << s.message << "\n";
+    std::cout << os.str();
+    return;
+  }
+  os << "  zeta = " << s.zeta;
+  if (std::isfinite(s.zeta_se))
+    os << "  (s.e. " << s.zeta_se << "; 95 % interval " << s.zeta_ci_low << " .. "
+       << s.zeta_ci_high << ")";
+  os << "\n  e (normal, closed form) = " << s.e_normal << "; mean |error| of rebound speed "
+     << s.mpe_percent << " %, rms " << s.rms_percent << " %\n\n";
+  os << "  The valley (best b for each k; every row fits the data about equally well):\n";
+  os << "        k (N/m)      b (N s/m)     zeta     MPE (%)   contact (us)  in paper's box\n";
+  for (const auto& p : s.valley) {
+    os << "    " << std::scientific << std::setprecision(3) << std::setw(11) << p.k_N_m
+       << "  " << std::fixed << std::setprecision(2) << std::setw(11) << p.b_N_s_m << "  "
+       << std::setprecision(5) << std::setw(8) << p.zeta << "  " << std::setprecision(4)
+       << std::setw(8) << p.mpe_percent << "  " << std::setprecision(2) << std::setw(10)
+       << p.contact_duration_s * 1e6 << "    " << (p.within_bounds ? "yes" : "no (b > max)")
+       << "\n";
+  }
+  os << "\n" << AsciiMap(s, mass_kg) << "\n";
+  os << s.Explanation() << "\n";
+  std::cout << os.str();
+}
+
+nlohmann::json SummaryJson(const std::string& group, const ContactFitSummary& s) {
+  nlohmann::json valley = nlohmann::json::array();
+  for (const auto& p : s.valley)
+    valley.push_back({{"k_N_m", p.k_N_m},
+                      {"b_N_s_m", p.b_N_s_m},
+                      {"zeta", p.zeta},
+                      {"mpe_percent", p.mpe_percent},
+                      {"contact_duration_s", p.contact_duration_s},
+                      {"within_bounds", p.within_bounds}});
+  return {{"group", group},
+          {"success", s.success},
+          {"message", s.message},
+          {"n", s.n},
+          {"zeta", s.zeta},
+          {"zeta_se", JsonNumber(s.zeta_se)},
+          {"zeta_ci95", {JsonNumber(s.zeta_ci_low), JsonNumber(s.zeta_ci_high)}},
+          {"e_normal", s.e_normal},
+          {"mpe_percent", s.mpe_percent},
+          {"rms_percent", s.rms_percent},
+          {"k_identified", false},
+          {"valley", valley},
+          {"valley_k_range_N_m", {s.valley_k_min_N_m, s.valley_k_max_N_m}},
+          {"valley_mpe_spread_percent", s.valley_mpe_spread_percent},
+          {"valley_zeta_spread", s.valley_zeta_spread},
+          {"explanation", s.Explanation()}};
+}
+
+}  // namespace
+
+void RegisterFit(CLI::App& app, RunState& state) {
+  auto args = std::make_shared<FitArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "fit", "Fit the contact law to normal impacts: zeta with an interval, and the (k, b) valley");
+  cmd->add_option("csv", args->csv_path,
+                  "CSV with one normal impact per row (speeds of C normal to the surface)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--before-col", args->before_col, "Column of approach speeds (m/s)")
+      ->capture_default_str();
+  cmd->add_option("--after-col", args->after_col, "Column of rebound speeds (m/s)")
+      ->capture_default_str();
+  cmd->add_option("--group-col", args->group_col,
+                  "Column that splits the impacts into separate fits (ignored if absent)")
+      ->capture_default_str();
+  AddSpecimenOptions(cmd, args->specimen);
+  cmd->add_option("--k-min", args->fit.k_min_N_m, "Lower bound of k (N/m)")->capture_default_str();
+  cmd->add_option("--k-max", args->fit.k_max_N_m, "Upper bound of k (N/m)")->capture_default_str();
+  cmd->add_option("--b-max", args->fit.b_max_N_s_m, "Upper bound of b (N s/m)")
+      ->capture_default_str();
+  cmd->add_option("--gravity-m-s2", args->fit.gravity_m_s2, "Gravity g")->capture_default_str();
+  cmd->add_flag("--json", args->json, "Print a JSON array, one object per group");
+  cmd->add_option("--valley-csv", args->valley_csv,
+                  "Write the objective over the (k, b) grid and the valley as CSV");
+
+  cmd->callback([args, &state] {
+    const FitArgs& a = *args;
+    const io::CsvTable table = io::CsvTable::Read(a.csv_path);
+    const std::vector<double> before = table.Numbers(a.before_col);
+    const std::vector<double> after = table.Numbers(a.after_col);
+    std::map<std::string, std::vector<dynamics::NormalImpact>> groups;
+    const auto group_index = table.FindColumn(a.group_col);
+    for (std::size_t r = 0; r < table.rows(); ++r) {
+      if (!(before[r] > 0) || !(after[r] > 0)) {
+        std::ostringstream os;
+        os << a.csv_path << ":" << table.LineOf(r) << ": speeds must be > 0 (columns \""
+           << a.before_col << "\", \"" << a.after_col << "\")";
+        throw std::runtime_error(os.str());
+      }
+      const std::string g = group_index ? table.Text(r, *group_index) : "";
+      groups[g].push_back({before[r], after[r]});
+    }
+    if (groups.empty()) throw std::runtime_error(a.csv_path + ": no data rows");
+
+    nlohmann::json out = nlohmann::json::array();
+    std::ostringstream grid;
+    grid << "group,k_N_m,b_N_s_m,zeta,mpe_percent,on_valley\n";
+    bool all_ok = true;
+    for (const auto& [name, impacts] : groups) {
+      const ContactFitSummary s = dynamics::FitNormalContact(impacts, a.specimen, a.fit);
+      all_ok = all_ok && s.success;
+      if (a.json) {
+        out.push_back(SummaryJson(name, s));
+      } else {
+        PrintText(name, s, a.specimen.mass_kg);
+        std::cout << "\n";
+      }
+      for (std::size_t i = 0; i < s.map_k_N_m.size(); ++i)
+        for (std::size_t j = 0; j < s.map_b_N_s_m.size(); ++j)
+          grid << io::CsvEscape(name) << "," << io::CsvNumber(s.map_k_N_m[i]) << ","
+               << io::CsvNumber(s.map_b_N_s_m[j]) << ","
+               << io::CsvNumber(dynamics::DampingRatio(s.map_k_N_m[i], s.map_b_N_s_m[j],
+                                                       a.specimen.mass_kg))
+               << ","
+               << io::CsvNumber(s.map_mpe_percent(static_cast<Eigen::Index>(i),
+                                                  static_cast<Eigen::Index>(j)))
+               << ",0\n";
+      for (const auto& p : s.valley)
+        grid << io::CsvEscape(name) << "," << io::CsvNumber(p.k_N_m) << ","
+             << io::CsvNumber(p.b_N_s_m) << "," << io::CsvNumber(p.zeta) << ","
+             << io::CsvNumber(p.mpe_percent) << ",1\n";
+    }
+    if (a.json) std::cout << out.dump(2) << "\n";
+    if (!a.valley_csv.empty()) {
+      io::WriteTextAtomically(a.valley_csv, grid.str());
+      if (!a.json) std::cout << "Objective map and valley written to " << a.valley_csv << "\n";
+    }
+    state.exit_code = all_ok ? kExitOk : kExitFailure;
+  });
+}
+
 }  // namespace hoof::cli
