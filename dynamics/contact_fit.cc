@@ -131,6 +131,8 @@ std::vector<double> LogSpace(double lo, double hi, int n) {
     const double f = n == 1 ? 0.0 : static_cast<double>(i) / (n - 1);
     out[static_cast<std::size_t>(i)] = std::exp(std::log(lo) + f * (std::log(hi) - std::log(lo)));
   }
+  out.front() = lo;  // exact ends
+  out.back() = hi;
   return out;
 }
 

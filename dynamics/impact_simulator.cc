@@ -105,10 +105,12 @@ struct Model {
                                                       : 0.0;
   }
 
-  double NormalForce(const State& x) const {
-    const double p = -k * x[1] - damping * x[4];
-    return p > 0.0 ? p : 0.0;
-  }
+  /// P of the current phase, without the clamp at zero. Within a phase the law is smooth, and
+  /// the integrator needs a smooth right-hand side also in the part of a step that overshoots
+  /// an event (a kink there spoils the step's error estimate and its dense output). The clamp
+  /// never acts before the events end a phase: in compression delta < 0 and delta' < 0, so
+  /// both terms push; in restitution -k delta >= 0 until delta = 0, which is separation.
+  double NormalForce(const State& x) const { return -k * x[1] - damping * x[4]; }
 
   /// The friction force that keeps T from sliding (q1'' + R q3'' = 0), from the first and
   /// third rows of the equations of motion.
@@ -205,7 +207,7 @@ TrajectorySample MakeSample(const Model& model, const SpecimenParameters& specim
   const bool in_contact =
       phase == ContactPhase::kCompression || phase == ContactPhase::kRestitution;
   if (in_contact) {
-    sample.normal_force_N = model.NormalForce(x);
+    sample.normal_force_N = std::max(0.0, model.NormalForce(x));
     sample.friction_force_N =
         model.Friction(std::sin(x[2]), std::cos(x[2]), x[5], sample.normal_force_N);
     sample.friction = model.friction;
@@ -371,7 +373,9 @@ ImpactResult ImpactSimulator::Simulate(const ImpactConditions& conditions,
       ++next;
     }
   };
-  emit_until(0.0, [&](double t) { return FromBody(model, PropagateFlight(touch, model.g_S, t)); },
+  // Flight before: t < 0. A sample at t = 0 belongs to the contact (P jumps to b |v| there).
+  emit_until(std::nextafter(0.0, -1.0),
+             [&](double t) { return FromBody(model, PropagateFlight(touch, model.g_S, t)); },
              ContactPhase::kFlightBefore);
 
   // Initial friction mode.
@@ -405,7 +409,6 @@ ImpactResult ImpactSimulator::Simulate(const ImpactConditions& conditions,
     }
     const auto [t0, t1] = stepper.do_step(model);
     const State& x1 = stepper.current_state();
-    result.peak_normal_force_N = std::max(result.peak_normal_force_N, model.NormalForce(x1));
 
     // Earliest event in (t0, t1].
     double t_event = std::numeric_limits<double>::infinity();
@@ -430,12 +433,14 @@ ImpactResult ImpactSimulator::Simulate(const ImpactConditions& conditions,
       return xs;
     };
     if (!std::isfinite(t_event)) {
+      result.peak_normal_force_N = std::max(result.peak_normal_force_N, model.NormalForce(x1));
       emit_until(t1, dense, phase);
       continue;
     }
     emit_until(t_event, dense, phase);
     State xe;
     stepper.calc_state(t_event, xe);
+    result.peak_normal_force_N = std::max(result.peak_normal_force_N, model.NormalForce(xe));
     if (phase_event && model.compression) {
       model.SetMode(false, model.friction);
       xe[4] = 0.0;  // Exactly at maximum compression.
