@@ -6,6 +6,7 @@ function(hoof_add_test)
   cmake_parse_arguments(ARG "" "NAME;TIMEOUT" "SOURCES;LIBS;LABELS" ${ARGN})
   add_executable(${ARG_NAME} ${ARG_SOURCES})
   target_link_libraries(${ARG_NAME} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main hoof_warnings)
+  target_include_directories(${ARG_NAME} PRIVATE ${PROJECT_SOURCE_DIR}/tests)
   target_compile_features(${ARG_NAME} PRIVATE cxx_std_20)
   target_compile_definitions(${ARG_NAME} PRIVATE
     HOOF_SOURCE_DIR="${PROJECT_SOURCE_DIR}"

@@ -1,0 +1,80 @@
+// Speed of the impact simulator and the contact-law fit.
+//   build/bench/dynamics_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "dynamics/contact_fit.h"
+#include "dynamics/impact_simulator.h"
+
+namespace hoof::dynamics {
+namespace {
+
+ImpactSimulator Make(Surface surface, double mu, double rtol = 1e-8) {
+  ContactParameters c = PaperContact(surface);
+  c.mu = mu;
+  SimulatorOptions o;
+  o.relative_tolerance = rtol;
+  return ImpactSimulator(SpecimenParameters{}, c, o);
+}
+
+// The benchmark: steel, 20 deg, 3.28 m/s, mu = 0.12, rtol 1e-8.
+void BM_ObliqueImpact(benchmark::State& state) {
+  const ImpactSimulator sim = Make(Surface::kSteel, 0.12);
+  const ImpactConditions ic = ImpactConditions::Paper(3.28, 20.0);
+  int steps = 0;
+  for (auto _ : state) {
+    ImpactResult r = sim.Simulate(ic);
+    steps = r.steps;
+    benchmark::DoNotOptimize(r);
+  }
+  state.counters["steps"] = steps;
+}
+BENCHMARK(BM_ObliqueImpact);
+
+void BM_NormalImpact(benchmark::State& state) {
+  const auto surface = static_cast<Surface>(state.range(0));
+  const ImpactSimulator sim = Make(surface, 0.0);
+  const ImpactConditions ic = ImpactConditions::Paper(3.0, 0.0);
+  for (auto _ : state) benchmark::DoNotOptimize(sim.Simulate(ic));
+}
+BENCHMARK(BM_NormalImpact)->Arg(0)->Arg(1)->Arg(2);
+
+// Stick and slip: 5 deg, mu = 0.35 (sticks early, slips at the end).
+void BM_StickImpact(benchmark::State& state) {
+  const ImpactSimulator sim = Make(Surface::kSteel, 0.35);
+  const ImpactConditions ic = ImpactConditions::Paper(3.0, 5.0);
+  for (auto _ : state) benchmark::DoNotOptimize(sim.Simulate(ic));
+}
+BENCHMARK(BM_StickImpact);
+
+// A trial's worth of samples: 60 frame times around the impact.
+void BM_ObliqueImpactAtFrameTimes(benchmark::State& state) {
+  const ImpactSimulator sim = Make(Surface::kSteel, 0.12);
+  const ImpactConditions ic = ImpactConditions::Paper(3.28, 20.0);
+  std::vector<double> t;
+  for (int i = -30; i < 30; ++i) t.push_back((i + 0.5) / 8000.0);
+  for (auto _ : state) benchmark::DoNotOptimize(sim.Simulate(ic, t));
+}
+BENCHMARK(BM_ObliqueImpactAtFrameTimes);
+
+// Fitting zeta to 12 normal impacts, with a 9-point valley and no objective map.
+void BM_FitZeta(benchmark::State& state) {
+  const SpecimenParameters specimen;
+  const ImpactSimulator sim = Make(Surface::kConcrete, 0.0);
+  std::vector<NormalImpact> impacts;
+  for (int i = 0; i < 12; ++i) {
+    const double v = 1.5 + 2.5 * i / 11.0;
+    impacts.push_back(
+        {v, sim.Simulate(ImpactConditions::Paper(v, 0.0)).at_separation.v_SC.y() * (1 + 0.01 * ((i % 3) - 1))});
+  }
+  ContactFitOptions options;
+  options.map_points_k = options.map_points_b = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(FitNormalContact(impacts, specimen, options));
+}
+BENCHMARK(BM_FitZeta)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace hoof::dynamics
+
+BENCHMARK_MAIN();

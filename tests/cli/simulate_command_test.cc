@@ -1,0 +1,81 @@
+// End-to-end tests of `hoofimpact simulate`, against SCIENCE.md's independent reference results.
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "support/run_command.h"
+#include "io/csv.h"
+
+namespace hoof::cli {
+namespace {
+
+using hoof::testing::RunHoofimpact;
+
+TEST(SimulateCommandTest, JsonMatchesThePapersObliqueReferenceCase) {
+  const auto r = RunHoofimpact(
+      "simulate --surface steel --angle-deg 20 --speed-m-s 3.28 --mu 0.12 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  // SCIENCE.md section 4: v_C = (0.4706, 2.3451), w = 57.56, e 0.8472, dKE 17.630 mJ, 9.86 us.
+  EXPECT_NEAR(j["v_SC_after_m_s"][0].get<double>(), 0.4706, 1e-3 * 2.39);
+  EXPECT_NEAR(j["v_SC_after_m_s"][1].get<double>(), 2.3451, 1e-3 * 2.39);
+  EXPECT_NEAR(j["w_after_rad_s"].get<double>(), 57.56, 0.06);
+  EXPECT_NEAR(j["e"].get<double>(), 0.8472, 1e-3);
+  EXPECT_NEAR(j["mu_eff"].get<double>(), 0.1200, 1e-3);
+  EXPECT_NEAR(j["energy_loss_J"].get<double>(), 17.630e-3, 2e-5);
+  EXPECT_NEAR(j["contact_duration_s"].get<double>(), 9.86e-6, 1e-8);
+}
+
+TEST(SimulateCommandTest, OverridesReachTheModel) {
+  // Frictionless normal impact with a chosen zeta and no gravity: e is the closed form.
+  const auto r = RunHoofimpact(
+      "simulate --k 1e8 --zeta 0.3 --mu 0 --gravity-m-s2 0 --mass-kg 0.01 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  const double z = 0.3;
+  const double e = std::exp(-z / std::sqrt(1 - z * z) * std::atan(std::sqrt(1 - z * z) / z));
+  EXPECT_NEAR(j["e"].get<double>(), e, 1e-6);
+  EXPECT_NEAR(j["contact"]["b_N_s_m"].get<double>(), 2 * 0.3 * std::sqrt(1e8 * 0.01), 1e-9);
+  EXPECT_TRUE(j["mu_eff"].is_number());
+}
+
+TEST(SimulateCommandTest, TrajectoryCsvHasFrameTimesAndFreeFlight) {
+  const std::string path = std::string(HOOF_BINARY_DIR) + "/traj_test.csv";
+  std::filesystem::remove(path);
+  const auto r = RunHoofimpact(
+      "simulate --surface concrete --angle-deg 10 --speed-m-s 2 --trajectory " + path +
+      " --frames-before 5 --frames-after 7 --fps 8000");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const io::CsvTable t = io::CsvTable::Read(path);
+  ASSERT_EQ(t.rows(), 12u);
+  const auto time = t.Numbers("t_s");
+  const auto vy = t.Numbers("v_SC_y_m_s");
+  for (std::size_t i = 1; i < time.size(); ++i) EXPECT_NEAR(time[i] - time[i - 1], 1.0 / 8000, 1e-15);
+  // Free flight before touch: v_SC.y changes by -g cos(phi) per unit time.
+  EXPECT_NEAR((vy[1] - vy[0]) / (time[1] - time[0]), -9.81 * std::cos(10 * M_PI / 180), 1e-6);
+  EXPECT_EQ(t.Texts("phase").front(), "flight_before");
+  EXPECT_EQ(t.Texts("phase").back(), "flight_after");
+}
+
+TEST(SimulateCommandTest, BadInputGivesAClearErrorAndNonZeroExit) {
+  auto r = RunHoofimpact("simulate --mass-kg -0.008");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("mass_kg"), std::string::npos) << r.err;
+  r = RunHoofimpact("simulate --surface wood");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("wood"), std::string::npos) << r.err;
+  r = RunHoofimpact("simulate --speed-m-s -3");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--speed-m-s"), std::string::npos) << r.err;
+  r = RunHoofimpact("simulate --no-such-flag");
+  EXPECT_EQ(r.exit_code, 2);
+  r = RunHoofimpact("simulate --help");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("--angle-deg"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace hoof::cli
