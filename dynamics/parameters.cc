@@ -36,6 +36,37 @@ void SpecimenParameters::Validate() const {
   if (d_EC_m < 0) ThrowField(kOwner, "d_EC_m", d_EC_m, "must be >= 0");
 }
 
+bool ContactExtensions::Any() const {
+  return hunt_crossley_N_s_m2 != 0 || stiffness_exponent_extra != 0 ||
+         unloading_stiffness_ratio != 0 || static_friction_excess != 0 ||
+         tangential_compliance_ratio != 0 || rolling_resistance_m != 0;
+}
+
+void ContactExtensions::Validate() const {
+  constexpr std::string_view kOwner = "contact.extensions";
+  RequireFinite(kOwner, "hunt_crossley_N_s_m2", hunt_crossley_N_s_m2);
+  RequireFinite(kOwner, "stiffness_exponent_extra", stiffness_exponent_extra);
+  RequireFinite(kOwner, "stiffness_reference_depth_m", stiffness_reference_depth_m);
+  RequireFinite(kOwner, "unloading_stiffness_ratio", unloading_stiffness_ratio);
+  RequireFinite(kOwner, "static_friction_excess", static_friction_excess);
+  RequireFinite(kOwner, "tangential_compliance_ratio", tangential_compliance_ratio);
+  RequireFinite(kOwner, "rolling_resistance_m", rolling_resistance_m);
+  if (hunt_crossley_N_s_m2 < 0)
+    ThrowField(kOwner, "hunt_crossley_N_s_m2", hunt_crossley_N_s_m2, "must be >= 0");
+  if (stiffness_exponent_extra < 0 || stiffness_exponent_extra > 1)
+    ThrowField(kOwner, "stiffness_exponent_extra", stiffness_exponent_extra, "must be in [0, 1]");
+  if (stiffness_reference_depth_m <= 0)
+    ThrowField(kOwner, "stiffness_reference_depth_m", stiffness_reference_depth_m, "must be > 0");
+  if (unloading_stiffness_ratio < 0)
+    ThrowField(kOwner, "unloading_stiffness_ratio", unloading_stiffness_ratio, "must be >= 0");
+  if (static_friction_excess < 0)
+    ThrowField(kOwner, "static_friction_excess", static_friction_excess, "must be >= 0");
+  if (tangential_compliance_ratio < 0)
+    ThrowField(kOwner, "tangential_compliance_ratio", tangential_compliance_ratio, "must be >= 0");
+  if (rolling_resistance_m < 0)
+    ThrowField(kOwner, "rolling_resistance_m", rolling_resistance_m, "must be >= 0");
+}
+
 void ContactParameters::Validate() const {
   constexpr std::string_view kOwner = "contact";
   RequireFinite(kOwner, "k_N_m", k_N_m);
@@ -44,6 +75,7 @@ void ContactParameters::Validate() const {
   if (k_N_m <= 0) ThrowField(kOwner, "k_N_m", k_N_m, "must be > 0");
   if (b_N_s_m < 0) ThrowField(kOwner, "b_N_s_m", b_N_s_m, "must be >= 0");
   if (mu < 0) ThrowField(kOwner, "mu", mu, "must be >= 0");
+  extensions.Validate();
 }
 
 Surface ParseSurface(std::string_view name) {

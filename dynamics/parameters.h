@@ -33,13 +33,49 @@ Surface ParseSurface(std::string_view name);
 /// Lower-case name of a surface.
 std::string SurfaceName(Surface surface);
 
+/// Physical effects the paper's model lacks (SCIENCE.md section 7). Each is a nested extension
+/// with one parameter whose default 0 gives back the baseline exactly. The renderer hides them
+/// in synthetic trials; the discovery workflow names them.
+struct ContactExtensions {
+  /// Hunt-Crossley (velocity-dependent) damping in compression: P gains -c |delta| delta'
+  /// (c in N s/m^2; >= 0). Dissipation grows with impact speed, so e falls as v rises.
+  double hunt_crossley_N_s_m2 = 0.0;
+  /// Nonlinear stiffness: the elastic term becomes k |delta| (|delta| / delta_ref)^p in both
+  /// phases (p >= 0, at most 1; p = 0.5 is Hertzian contact). Dimensionless.
+  double stiffness_exponent_extra = 0.0;
+  /// delta_ref of the nonlinear stiffness (m; > 0): k keeps its meaning at this depth.
+  double stiffness_reference_depth_m = 1e-5;
+  /// Dissipative (plastic) restitution: unloading is stiffer, k_u = k (1 + r) (r >= 0), along
+  /// P = k_u (delta_p - delta) with delta_p set so P is continuous at maximum compression. The
+  /// body separates where P reaches 0, leaving an indentation delta_p.
+  double unloading_stiffness_ratio = 0.0;
+  /// Static friction above kinetic: stick holds while |F| <= (mu + this) P (>= 0).
+  double static_friction_excess = 0.0;
+  /// Tangential contact compliance (Maw-Barber-Fawcett): a tangential spring k_t = k / c at T
+  /// in place of rigid stick (c >= 0; 0 is rigid). T's tangential velocity can reverse.
+  double tangential_compliance_ratio = 0.0;
+  /// Rolling resistance: a contact torque -rho P w / (|w| + 1 rad/s) about T (rho in m; >= 0).
+  /// Less spin after impact, v_C nearly unchanged.
+  double rolling_resistance_m = 0.0;
+
+  /// True when any effect is switched on.
+  bool Any() const;
+  /// Throws std::invalid_argument naming the field.
+  void Validate() const;
+};
+
 /// Two-phase contact law (paper eqs. 1-2) and Coulomb friction.
 /// Compression: P = -k delta - b delta'. Restitution: P = -k delta. P >= 0 always.
 /// Friction: |F| <= mu P, with stick while the contact point T does not slide.
 struct ContactParameters {
+  ContactParameters() = default;
+  /// The baseline law with stiffness k (N/m), damping b (N s/m) and friction mu.
+  ContactParameters(double k, double b, double friction) : k_N_m(k), b_N_s_m(b), mu(friction) {}
+
   double k_N_m = 7.24e8;     ///< k, normal stiffness in N/m; > 0.
   double b_N_s_m = 531.65;   ///< b, normal damping in compression, in N s/m; >= 0.
   double mu = 0.19;          ///< Coulomb (kinetic = static) friction coefficient; >= 0.
+  ContactExtensions extensions;  ///< Effects beyond the paper's model; all off by default.
 
   /// Throws std::invalid_argument naming the first invalid field and its value.
   void Validate() const;

@@ -14,4 +14,40 @@ void AddSpecimenOptions(CLI::App* app, dynamics::SpecimenParameters& specimen) {
       ->capture_default_str();
 }
 
+void AddExtensionOptions(CLI::App* app, dynamics::ContactExtensions& ext) {
+  const std::string group = "Effects beyond the paper's model (0 = off)";
+  app->add_option("--hunt-crossley-n-s-m2", ext.hunt_crossley_N_s_m2,
+                  "Hunt-Crossley damping c: P gains -c |delta| delta' in compression (N s/m^2)")
+      ->group(group);
+  app->add_option("--stiffness-exponent-extra", ext.stiffness_exponent_extra,
+                  "p in k |delta| (|delta|/delta_ref)^p; 0.5 is Hertzian")
+      ->group(group);
+  app->add_option("--stiffness-reference-depth-m", ext.stiffness_reference_depth_m,
+                  "delta_ref of the nonlinear stiffness (m)")
+      ->group(group)
+      ->capture_default_str();
+  app->add_option("--unloading-stiffness-ratio", ext.unloading_stiffness_ratio,
+                  "r: plastic unloading with stiffness k (1 + r)")
+      ->group(group);
+  app->add_option("--static-friction-excess", ext.static_friction_excess,
+                  "mu_static - mu: stick holds up to (mu + this) P")
+      ->group(group);
+  app->add_option("--tangential-compliance-ratio", ext.tangential_compliance_ratio,
+                  "k / k_t of a tangential spring at T (0 = rigid stick)")
+      ->group(group);
+  app->add_option("--rolling-resistance-m", ext.rolling_resistance_m,
+                  "rho: rolling-resistance torque -rho P w / (|w| + 1 rad/s) (m)")
+      ->group(group);
+}
+
+nlohmann::json ExtensionsJson(const dynamics::ContactExtensions& ext) {
+  return {{"hunt_crossley_N_s_m2", ext.hunt_crossley_N_s_m2},
+          {"stiffness_exponent_extra", ext.stiffness_exponent_extra},
+          {"stiffness_reference_depth_m", ext.stiffness_reference_depth_m},
+          {"unloading_stiffness_ratio", ext.unloading_stiffness_ratio},
+          {"static_friction_excess", ext.static_friction_excess},
+          {"tangential_compliance_ratio", ext.tangential_compliance_ratio},
+          {"rolling_resistance_m", ext.rolling_resistance_m}};
+}
+
 }  // namespace hoof::cli

@@ -16,6 +16,12 @@ namespace hoof::cli {
 /// Adds --mass-kg, --inertia-kg-m2, --end-radius-m and --d-ec-m, defaulting to `specimen`.
 void AddSpecimenOptions(CLI::App* app, dynamics::SpecimenParameters& specimen);
 
+/// Adds the options of the effects beyond the paper's model (all 0, off, by default).
+void AddExtensionOptions(CLI::App* app, dynamics::ContactExtensions& ext);
+
+/// The extensions as JSON (field names as in ContactExtensions).
+nlohmann::json ExtensionsJson(const dynamics::ContactExtensions& ext);
+
 /// A number for JSON: null when NaN or infinite.
 inline nlohmann::json JsonNumber(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);

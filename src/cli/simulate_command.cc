@@ -29,6 +29,7 @@ struct SimulateArgs {
   double angle_deg = 0.0;
   double speed_m_s = 3.0;
   dynamics::SpecimenParameters specimen;
+  dynamics::ContactExtensions extensions;
   dynamics::SimulatorOptions sim;
   bool json = false;
   std::string trajectory_path;
@@ -99,7 +100,8 @@ nlohmann::json ResultJson(const SimulateArgs& a, const dynamics::ContactParamete
        {{"k_N_m", contact.k_N_m},
         {"b_N_s_m", contact.b_N_s_m},
         {"mu", contact.mu},
-        {"zeta", dynamics::DampingRatio(contact.k_N_m, contact.b_N_s_m, a.specimen.mass_kg)}}},
+        {"zeta", dynamics::DampingRatio(contact.k_N_m, contact.b_N_s_m, a.specimen.mass_kg)},
+        {"extensions", ExtensionsJson(contact.extensions)}}},
       {"gravity_m_s2", a.sim.gravity_m_s2},
       {"v_SC_before_m_s", JsonVector(r.at_touch.v_SC)},
       {"v_SC_after_m_s", JsonVector(r.at_separation.v_SC)},
@@ -162,6 +164,7 @@ void RegisterSimulate(CLI::App& app, RunState& state) {
   cmd->add_option("--speed-m-s", args->speed_m_s, "Vertical impact speed (m/s)")
       ->capture_default_str();
   AddSpecimenOptions(cmd, args->specimen);
+  AddExtensionOptions(cmd, args->extensions);
   cmd->add_option("--gravity-m-s2", args->sim.gravity_m_s2, "Gravity g; 0 turns it off")
       ->capture_default_str();
   cmd->add_option("--rtol", args->sim.relative_tolerance, "Integrator relative tolerance")
@@ -192,6 +195,7 @@ void RegisterSimulate(CLI::App& app, RunState& state) {
       contact.b_N_s_m = dynamics::DampingForRatio(*a.zeta, contact.k_N_m, a.specimen.mass_kg);
     }
     if (a.mu) contact.mu = *a.mu;
+    contact.extensions = a.extensions;
     if (!(a.speed_m_s > 0.0)) throw std::invalid_argument("--speed-m-s must be > 0");
     const dynamics::ImpactSimulator sim(a.specimen, contact, a.sim);
     const auto conditions = dynamics::ImpactConditions::Paper(a.speed_m_s, a.angle_deg);
