@@ -15,8 +15,7 @@ namespace {
 void RequireDf(double df, const char* function, const char* name) {
   if (!(df > 0.0) || !std::isfinite(df)) {
     std::ostringstream os;
-    os << function << ": degrees of freedom " << name << " = " << df
-       << " must be finite and > 0";
+    os << function << ": degrees of freedom " << name << " = " << df << " must be finite and > 0";
     throw std::invalid_argument(os.str());
   }
 }

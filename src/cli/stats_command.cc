@@ -1,0 +1,448 @@
+// hoofimpact stats: one-way ANOVA with its checks (Bartlett, Welch, Box-Cox, Fisher's LSD) and
+// an optional two-way table, for a response column of a CSV table grouped by factor columns.
+// Only arguments, reading and printing live here; the statistics are in hoof::stats.
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
+#include "cli/common_options.h"
+#include "io/atomic_file.h"
+#include "io/csv.h"
+#include "stats/grouping.h"
+#include "stats/one_way_analysis.h"
+#include "stats/two_way_anova.h"
+
+namespace hoof::cli {
+namespace {
+
+using nlohmann::json;
+
+struct StatsArgs {
+  // Input. Today only --csv; a later version adds a positional STUDY_H5, so no positional
+  // argument is taken here and --response/--factor are checked in the callback, not by CLI11.
+  std::string csv_path;
+  std::string response;
+  std::string factor;
+  std::string factor2;
+  double alpha = 0.05;
+  std::string ss_type = "III";
+  bool json = false;
+  std::string out_csv;
+};
+
+/// The columns the analysis needs, read from the CSV table.
+struct StatsInput {
+  std::string source;
+  std::vector<double> response;
+  std::vector<std::string> factor;
+  std::vector<std::string> factor2;
+};
+
+/// A factor column as labels; an empty field is an error naming file, line and column.
+std::vector<std::string> ReadLabels(const io::CsvTable& table, const std::string& column) {
+  const std::size_t c = table.Column(column);
+  std::vector<std::string> labels;
+  for (std::size_t r = 0; r < table.rows(); ++r) {
+    const std::string& text = table.Text(r, c);
+    if (text.empty()) {
+      std::ostringstream os;
+      os << table.source() << ":" << table.LineOf(r) << ": column \"" << column
+         << "\" is empty; every observation needs a group label";
+      throw std::runtime_error(os.str());
+    }
+    labels.push_back(text);
+  }
+  return labels;
+}
+
+StatsInput ReadInput(const StatsArgs& a) {
+  const io::CsvTable table = io::CsvTable::Read(a.csv_path);
+  StatsInput in;
+  in.source = table.source();
+  in.response = table.Numbers(a.response);
+  in.factor = ReadLabels(table, a.factor);
+  if (!a.factor2.empty()) in.factor2 = ReadLabels(table, a.factor2);
+  if (table.rows() == 0) throw std::runtime_error(in.source + ": the table has no data rows");
+  return in;
+}
+
+// ----------------------------------------------------------------------------------------
+// JSON
+// ----------------------------------------------------------------------------------------
+
+json JsonGroups(const std::vector<stats::GroupSummary>& groups) {
+  json out = json::array();
+  for (const auto& g : groups)
+    out.push_back(
+        {{"label", g.label}, {"n", g.n}, {"mean", JsonNumber(g.mean)}, {"sd", JsonNumber(g.sd)}});
+  return out;
+}
+
+json JsonAnova(const stats::OneWayAnovaResult& r) {
+  return {
+      {"between",
+       {{"df", r.df_between},
+        {"ss", JsonNumber(r.ss_between)},
+        {"ms", JsonNumber(r.ms_between)},
+        {"f", JsonNumber(r.f)},
+        {"p", JsonNumber(r.p)}}},
+      {"within",
+       {{"df", r.df_within}, {"ss", JsonNumber(r.ss_within)}, {"ms", JsonNumber(r.ms_within)}}},
+      {"total", {{"df", r.df_total}, {"ss", JsonNumber(r.ss_total)}}},
+      {"eta_squared", JsonNumber(r.eta_squared)},
+  };
+}
+
+json JsonScale(const stats::OneWayScaleResults& s, double alpha) {
+  json lsd_pairs = json::array();
+  for (const auto& c : s.lsd)
+    lsd_pairs.push_back({{"a", c.group_a},
+                         {"b", c.group_b},
+                         {"difference", JsonNumber(c.difference)},
+                         {"standard_error", JsonNumber(c.standard_error)},
+                         {"t", JsonNumber(c.t)},
+                         {"df", c.df},
+                         {"p", JsonNumber(c.p)},
+                         {"ci_low", JsonNumber(c.ci_low)},
+                         {"ci_high", JsonNumber(c.ci_high)},
+                         {"significant", c.significant}});
+  json welch = nullptr;
+  if (s.welch)
+    welch = {{"f", JsonNumber(s.welch->f)},
+             {"df1", JsonNumber(s.welch->df1)},
+             {"df2", JsonNumber(s.welch->df2)},
+             {"p", JsonNumber(s.welch->p)}};
+  return {
+      {"groups", JsonGroups(s.groups)},
+      {"anova", JsonAnova(s.anova)},
+      {"bartlett",
+       {{"k_squared", JsonNumber(s.bartlett.k_squared)},
+        {"df", s.bartlett.df},
+        {"p", JsonNumber(s.bartlett.p)},
+        {"rejects_equal_variances", s.bartlett.p < alpha},
+        {"note", s.bartlett.note}}},
+      {"welch", welch},
+      {"welch_note", s.welch_note},
+      {"lsd",
+       {{"performed", s.lsd_performed},
+        {"note", s.lsd_note},
+        {"confidence", 1.0 - alpha},
+        {"pairs", lsd_pairs}}},
+  };
+}
+
+json JsonTransform(const stats::TransformDecision& t, double alpha) {
+  json out = {{"considered", t.considered}, {"applied", t.applied}, {"reason", t.reason}};
+  if (t.box_cox) {
+    const stats::BoxCoxResult& b = *t.box_cox;
+    out["box_cox"] = {
+        {"lambda_ml", JsonNumber(b.lambda_ml)},   {"ci_low", JsonNumber(b.ci_low)},
+        {"ci_high", JsonNumber(b.ci_high)},       {"ci_low_at_limit", b.ci_low_at_limit},
+        {"ci_high_at_limit", b.ci_high_at_limit}, {"lambda", JsonNumber(b.lambda)},
+        {"shift", JsonNumber(b.shift)},           {"rule", b.rule}};
+  }
+  if (t.applied) out["formula"] = t.formula;
+  if (t.rerun) out["rerun"] = JsonScale(*t.rerun, alpha);
+  return out;
+}
+
+json JsonTwoWay(const stats::TwoWayAnovaResult& r) {
+  const auto row = [](const stats::TwoWayRow& w, bool test) {
+    json j = {
+        {"source", w.source}, {"df", w.df}, {"ss", JsonNumber(w.ss)}, {"ms", JsonNumber(w.ms)}};
+    if (test) {
+      j["f"] = JsonNumber(w.f);
+      j["p"] = JsonNumber(w.p);
+    }
+    return j;
+  };
+  json cells = json::array();
+  for (std::size_t i = 0; i < r.levels_a.size(); ++i)
+    for (std::size_t j = 0; j < r.levels_b.size(); ++j)
+      cells.push_back({{"a", r.levels_a[i]},
+                       {"b", r.levels_b[j]},
+                       {"n", r.cell_counts[i][j]},
+                       {"mean", JsonNumber(r.cell_means[i][j])}});
+  return {
+      {"ss_type", stats::ToString(r.type)},
+      {"balanced", r.balanced},
+      {"cells", cells},
+      {"rows", json::array({row(r.a, true), row(r.b, true), row(r.ab, true), row(r.error, false)})},
+      {"total", {{"df", r.df_total}, {"ss", JsonNumber(r.ss_total)}}}};
+}
+
+// ----------------------------------------------------------------------------------------
+// Text
+// ----------------------------------------------------------------------------------------
+
+/// Writes " value" right-aligned in `width` characters (the leading space keeps columns
+/// apart even when a number needs more room).
+template <typename T>
+void Col(std::ostream& os, const T& value, int width) {
+  os << ' ' << std::setw(width) << value;
+}
+
+void AnovaLine(std::ostream& os, const std::string& source, std::size_t df, double ss,
+               std::optional<double> ms, std::optional<double> f, std::optional<double> p) {
+  os << "    " << std::left << std::setw(20) << source << std::right;
+  Col(os, df, 5);
+  Col(os, ss, 13);
+  if (ms) Col(os, *ms, 13);
+  if (f) Col(os, *f, 11);
+  if (p) Col(os, *p, 12);
+  os << "\n";
+}
+
+void AnovaHeader(std::ostream& os) {
+  os << "    " << std::left << std::setw(20) << "source" << std::right;
+  Col(os, "df", 5);
+  Col(os, "SS", 13);
+  Col(os, "MS", 13);
+  Col(os, "F", 11);
+  Col(os, "p", 12);
+  os << "\n";
+}
+
+void PrintScale(std::ostream& os, const stats::OneWayScaleResults& s, double alpha) {
+  os << "  Groups (order of first appearance)\n";
+  os << "    " << std::left << std::setw(20) << "group" << std::right;
+  Col(os, "n", 5);
+  Col(os, "mean", 13);
+  Col(os, "sd", 13);
+  os << "\n";
+  for (const auto& g : s.groups) {
+    os << "    " << std::left << std::setw(20) << g.label << std::right;
+    Col(os, g.n, 5);
+    Col(os, g.mean, 13);
+    Col(os, g.sd, 13);
+    os << "\n";
+  }
+  const auto& a = s.anova;
+  os << "  ANOVA\n";
+  AnovaHeader(os);
+  AnovaLine(os, "between", a.df_between, a.ss_between, a.ms_between, a.f, a.p);
+  AnovaLine(os, "within", a.df_within, a.ss_within, a.ms_within, {}, {});
+  AnovaLine(os, "total", a.df_total, a.ss_total, {}, {}, {});
+  os << "    eta^2 = " << a.eta_squared << "\n";
+  os << "  Bartlett (equal variances): K^2 = " << s.bartlett.k_squared << ", df = " << s.bartlett.df
+     << ", p = " << s.bartlett.p << (s.bartlett.p < alpha ? "  -> rejected" : "  -> not rejected")
+     << "\n";
+  if (!s.bartlett.note.empty()) os << "    note: " << s.bartlett.note << "\n";
+  if (s.welch) {
+    os << "  Welch ANOVA: F = " << s.welch->f << ", df1 = " << s.welch->df1
+       << ", df2 = " << s.welch->df2 << ", p = " << s.welch->p << "\n";
+  } else {
+    os << "  Welch ANOVA: " << s.welch_note << "\n";
+  }
+  if (!s.lsd_performed) {
+    os << "  Fisher's LSD: " << s.lsd_note << "\n";
+    return;
+  }
+  os << "  Fisher's LSD (" << 100.0 * (1.0 - alpha) << "% intervals, unadjusted p)\n";
+  for (const auto& c : s.lsd)
+    os << "    " << c.group_a << " - " << c.group_b << ": diff " << c.difference << ", se "
+       << c.standard_error << ", t(" << c.df << ") = " << c.t << ", p = " << c.p << ", CI ["
+       << c.ci_low << ", " << c.ci_high << "]" << (c.significant ? "  *" : "") << "\n";
+}
+
+void PrintTwoWay(std::ostream& os, const stats::TwoWayAnovaResult& r) {
+  os << "Two-way ANOVA (" << stats::ToString(r.type) << " sums of squares, "
+     << (r.balanced ? "balanced" : "unbalanced") << ", " << r.levels_a.size() << " x "
+     << r.levels_b.size() << " cells)\n";
+  AnovaHeader(os);
+  for (const auto* w : {&r.a, &r.b, &r.ab})
+    AnovaLine(os, w->source, w->df, w->ss, w->ms, w->f, w->p);
+  AnovaLine(os, "error", r.error.df, r.error.ss, r.error.ms, {}, {});
+  AnovaLine(os, "total", r.df_total, r.ss_total, {}, {}, {});
+}
+
+void PrintText(const StatsArgs& a, const StatsInput& in, const stats::OneWayAnalysis& s,
+               const std::optional<stats::TwoWayAnovaResult>& two_way) {
+  std::ostringstream os;
+  os << std::setprecision(6);
+  os << "One-way analysis of " << a.response << " by " << a.factor << " (" << in.source << ", "
+     << in.response.size() << " observations, alpha = " << s.alpha << ")\n";
+  PrintScale(os, s.original, s.alpha);
+  os << "Transform: " << s.transform.reason << "\n";
+  if (s.transform.rerun) {
+    os << "Rerun on " << s.transform.formula << "\n";
+    PrintScale(os, *s.transform.rerun, s.alpha);
+  }
+  if (two_way) PrintTwoWay(os, *two_way);
+  std::cout << os.str();
+}
+
+// ----------------------------------------------------------------------------------------
+// CSV: one long table "table,row,statistic,value", so that tables of different shapes share
+// one file.
+// ----------------------------------------------------------------------------------------
+
+class LongCsv {
+ public:
+  explicit LongCsv(std::ostream& out) : out_(out) { out_ << "table,row,statistic,value\n"; }
+  void Add(const std::string& table, const std::string& row, const std::string& statistic,
+           double value) {
+    out_ << io::CsvEscape(table) << "," << io::CsvEscape(row) << "," << statistic << ","
+         << io::CsvNumber(value) << "\n";
+  }
+
+ private:
+  std::ostream& out_;
+};
+
+void CsvScale(LongCsv& csv, const std::string& prefix, const stats::OneWayScaleResults& s) {
+  for (const auto& g : s.groups) {
+    csv.Add(prefix + "groups", g.label, "n", static_cast<double>(g.n));
+    csv.Add(prefix + "groups", g.label, "mean", g.mean);
+    csv.Add(prefix + "groups", g.label, "sd", g.sd);
+  }
+  const auto& a = s.anova;
+  const std::string t = prefix + "anova";
+  csv.Add(t, "between", "df", static_cast<double>(a.df_between));
+  csv.Add(t, "between", "ss", a.ss_between);
+  csv.Add(t, "between", "ms", a.ms_between);
+  csv.Add(t, "between", "f", a.f);
+  csv.Add(t, "between", "p", a.p);
+  csv.Add(t, "within", "df", static_cast<double>(a.df_within));
+  csv.Add(t, "within", "ss", a.ss_within);
+  csv.Add(t, "within", "ms", a.ms_within);
+  csv.Add(t, "total", "df", static_cast<double>(a.df_total));
+  csv.Add(t, "total", "ss", a.ss_total);
+  csv.Add(t, "total", "eta_squared", a.eta_squared);
+  csv.Add(prefix + "bartlett", "test", "k_squared", s.bartlett.k_squared);
+  csv.Add(prefix + "bartlett", "test", "df", static_cast<double>(s.bartlett.df));
+  csv.Add(prefix + "bartlett", "test", "p", s.bartlett.p);
+  if (s.welch) {
+    csv.Add(prefix + "welch", "test", "f", s.welch->f);
+    csv.Add(prefix + "welch", "test", "df1", s.welch->df1);
+    csv.Add(prefix + "welch", "test", "df2", s.welch->df2);
+    csv.Add(prefix + "welch", "test", "p", s.welch->p);
+  }
+  for (const auto& c : s.lsd) {
+    const std::string row = c.group_a + " - " + c.group_b;
+    csv.Add(prefix + "lsd", row, "difference", c.difference);
+    csv.Add(prefix + "lsd", row, "standard_error", c.standard_error);
+    csv.Add(prefix + "lsd", row, "t", c.t);
+    csv.Add(prefix + "lsd", row, "df", static_cast<double>(c.df));
+    csv.Add(prefix + "lsd", row, "p", c.p);
+    csv.Add(prefix + "lsd", row, "ci_low", c.ci_low);
+    csv.Add(prefix + "lsd", row, "ci_high", c.ci_high);
+  }
+}
+
+void WriteCsv(const std::string& path, const stats::OneWayAnalysis& s,
+              const std::optional<stats::TwoWayAnovaResult>& two_way) {
+  io::WriteFileAtomically(path, [&](std::ostream& out) {
+    LongCsv csv(out);
+    CsvScale(csv, "", s.original);
+    if (s.transform.box_cox) {
+      const auto& b = *s.transform.box_cox;
+      csv.Add("transform", "box_cox", "lambda_ml", b.lambda_ml);
+      csv.Add("transform", "box_cox", "ci_low", b.ci_low);
+      csv.Add("transform", "box_cox", "ci_high", b.ci_high);
+      csv.Add("transform", "box_cox", "lambda", b.lambda);
+      csv.Add("transform", "box_cox", "shift", b.shift);
+      csv.Add("transform", "box_cox", "applied", s.transform.applied ? 1.0 : 0.0);
+    }
+    if (s.transform.rerun) CsvScale(csv, "transformed_", *s.transform.rerun);
+    if (two_way) {
+      for (const auto* w : {&two_way->a, &two_way->b, &two_way->ab, &two_way->error}) {
+        csv.Add("two_way", w->source, "df", static_cast<double>(w->df));
+        csv.Add("two_way", w->source, "ss", w->ss);
+        csv.Add("two_way", w->source, "ms", w->ms);
+        if (w != &two_way->error) {
+          csv.Add("two_way", w->source, "f", w->f);
+          csv.Add("two_way", w->source, "p", w->p);
+        }
+      }
+      csv.Add("two_way", "total", "df", static_cast<double>(two_way->df_total));
+      csv.Add("two_way", "total", "ss", two_way->ss_total);
+    }
+  });
+}
+
+// ----------------------------------------------------------------------------------------
+
+void Run(const StatsArgs& a) {
+  if (a.csv_path.empty())
+    throw CLI::ValidationError("--csv", "an input table is required: --csv FILE");
+  if (a.response.empty() || a.factor.empty())
+    throw CLI::ValidationError("--response/--factor",
+                               "--csv needs --response COL and --factor COL");
+  if (!(a.alpha > 0.0 && a.alpha < 1.0))
+    throw CLI::ValidationError("--alpha", "must be in (0, 1), got " + std::to_string(a.alpha));
+  if (a.ss_type != "I" && a.ss_type != "III")
+    throw CLI::ValidationError("--ss-type", "must be I or III, got " + a.ss_type);
+  const StatsInput in = ReadInput(a);
+  const std::string context = in.source + " (" + a.response + " by " + a.factor + "): ";
+  stats::OneWayAnalysis analysis;
+  std::optional<stats::TwoWayAnovaResult> two_way;
+  try {
+    stats::OneWayAnalysisOptions options;
+    options.alpha = a.alpha;
+    analysis = stats::AnalyzeOneWay(stats::GroupByLabel(in.response, in.factor), options);
+    if (!a.factor2.empty()) {
+      stats::TwoWayOptions o;
+      o.type =
+          a.ss_type == "I" ? stats::SumOfSquaresType::kTypeI : stats::SumOfSquaresType::kTypeIII;
+      o.name_a = a.factor;
+      o.name_b = a.factor2;
+      two_way = stats::TwoWayAnova(in.response, in.factor, in.factor2, o);
+    }
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(context + e.what());
+  }
+  if (!a.out_csv.empty()) WriteCsv(a.out_csv, analysis, two_way);
+  if (a.json) {
+    json j = {{"input",
+               {{"csv", in.source},
+                {"response", a.response},
+                {"factor", a.factor},
+                {"factor2", a.factor2.empty() ? json(nullptr) : json(a.factor2)},
+                {"observations", in.response.size()},
+                {"alpha", a.alpha}}}};
+    j.update(JsonScale(analysis.original, analysis.alpha));
+    j["transform"] = JsonTransform(analysis.transform, analysis.alpha);
+    j["two_way"] = two_way ? JsonTwoWay(*two_way) : json(nullptr);
+    std::cout << j.dump(2) << "\n";
+  } else {
+    PrintText(a, in, analysis, two_way);
+    if (!a.out_csv.empty()) std::cout << "Tables written to " << a.out_csv << "\n";
+  }
+}
+
+}  // namespace
+
+void RegisterStats(CLI::App& app, RunState& state) {
+  auto args = std::make_shared<StatsArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "stats",
+      "One-way ANOVA of a response by a factor, with Bartlett, Welch, a Box-Cox transform when "
+      "variances differ, and Fisher's LSD; two-way ANOVA with --factor2");
+  cmd->add_option("--csv", args->csv_path, "Input table (CSV with a header row)");
+  cmd->add_option("--response", args->response, "Column holding the response (numbers)");
+  cmd->add_option("--factor", args->factor, "Column holding the group label of each row");
+  cmd->add_option("--factor2", args->factor2, "Second factor: adds the two-way table");
+  cmd->add_option("--alpha", args->alpha,
+                  "Significance level for Bartlett (transform), ANOVA (LSD) and LSD pairs")
+      ->capture_default_str();
+  cmd->add_option("--ss-type", args->ss_type, "Two-way sums of squares: III or I (sequential)")
+      ->capture_default_str();
+  cmd->add_flag("--json", args->json, "Print one JSON object");
+  cmd->add_option("--out-csv", args->out_csv,
+                  "Also write every table to this CSV (columns table,row,statistic,value)");
+  cmd->callback([args, &state] {
+    Run(*args);
+    state.exit_code = kExitOk;
+  });
+}
+
+}  // namespace hoof::cli

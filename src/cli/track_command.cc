@@ -1,0 +1,66 @@
+// hoofimpact track: one trial folder -> marker tracks, poses and the impact measurement.
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include "cli/commands.h"
+#include "cli/common_options.h"
+#include "cli/trial_output.h"
+#include "io/atomic_file.h"
+#include "pipeline/trial_analysis.h"
+
+namespace hoof::cli {
+
+void RegisterTrack(CLI::App& app, RunState& state) {
+  struct Args {
+    std::string trial_dir;
+    std::string study_json;
+    std::string tracks_csv;
+    bool json = false;
+    pipeline::TrialAnalysisOptions options;
+    std::string method = "centroid";
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = app.add_subcommand(
+      "track", "Track one trial's markers and measure its impact (velocities, w, e, mu_eff)");
+  cmd->add_option("trial_dir", args->trial_dir, "Trial folder (docs/format.md)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  cmd->add_option("--study", args->study_json,
+                  "study.json that defines the specimen (default: the one beside the trial)");
+  cmd->add_option("--tracks-csv", args->tracks_csv, "Write the marker tracks and poses as CSV");
+  cmd->add_flag("--json", args->json, "Print the result as one JSON object");
+  AddAnalysisOptions(cmd, args->options, args->method);
+
+  cmd->callback([args, &state] {
+    Args& a = *args;
+    ApplyMethod(a.method, a.options);
+    const pipeline::TrialSpec spec = a.study_json.empty()
+                                         ? pipeline::ReadTrial(a.trial_dir)
+                                         : pipeline::ReadTrial(a.trial_dir, std::filesystem::path(a.study_json));
+    const bool tty = ::isatty(STDERR_FILENO) != 0;
+    const pipeline::TrialAnalysis r = pipeline::AnalyzeTrial(spec, a.options, [&](int f) {
+      if (tty && (f % 10 == 0 || f + 1 == spec.frames.count))
+        std::cerr << "\r  tracking " << spec.id << ": frame " << f + 1 << "/" << spec.frames.count
+                  << std::flush;
+    });
+    if (tty) std::cerr << "\n";
+    if (!a.tracks_csv.empty()) io::WriteTextAtomically(a.tracks_csv, TracksCsv(r));
+    if (a.json) {
+      std::cout << TrialJson(r).dump(2) << "\n";
+    } else {
+      std::cout << TrialText(r);
+    }
+    if (!r.success) {
+      std::cerr << "hoofimpact: error: " << r.error << "\n";
+      state.exit_code = kExitFailure;
+    }
+  });
+}
+
+}  // namespace hoof::cli

@@ -1,0 +1,148 @@
+#include "cli/trial_output.h"
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+#include "cli/common_options.h"
+#include "io/csv.h"
+
+namespace hoof::cli {
+
+void AddAnalysisOptions(CLI::App* cmd, pipeline::TrialAnalysisOptions& options, std::string& method) {
+  cmd->add_option("--method", method, "Sub-pixel dot centre: centroid or ellipse")
+      ->capture_default_str();
+  cmd->add_option("--fit-frames", options.kinematics.fit_frames,
+                  "Frames per flight fit before and after the impact")
+      ->capture_default_str();
+  cmd->add_option("--max-contact-s", options.kinematics.max_contact_s,
+                  "Longest contact assumed when leaving frames out of the fits (s)")
+      ->capture_default_str();
+  cmd->add_option("--exposure-s", options.kinematics.exposure_s,
+                  "Exposure time (s); default one frame period")
+      ->capture_default_str();
+  cmd->add_flag("--scale-from-markers", options.scale_from_markers,
+                "Take the scale from the marker spacing instead of camera.m_per_px");
+}
+
+void ApplyMethod(const std::string& method, pipeline::TrialAnalysisOptions& options) {
+  if (method == "centroid")
+    options.tracker.detector.method = tracking::CentreMethod::kWeightedCentroid;
+  else if (method == "ellipse")
+    options.tracker.detector.method = tracking::CentreMethod::kEllipseFit;
+  else
+    throw std::invalid_argument("--method \"" + method + "\" is invalid: centroid or ellipse");
+}
+
+nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
+  const auto& k = r.impact;
+  nlohmann::json j = {{"id", r.spec.id},
+                      {"dir", r.spec.dir.string()},
+                      {"surface", r.spec.surface},
+                      {"surface_angle_deg", r.spec.surface_angle_deg},
+                      {"success", r.success},
+                      {"error", r.error},
+                      {"flags", r.flags},
+                      {"warnings", r.warnings},
+                      {"seconds", r.seconds},
+                      {"m_per_px_used", r.m_per_px_used},
+                      {"m_per_px_from_markers", JsonNumber(r.m_per_px_from_markers)},
+                      {"surface_angle_measured_deg",
+                       r.surface_angle_measured_deg ? JsonNumber(*r.surface_angle_measured_deg)
+                                                    : nlohmann::json(nullptr)},
+                      {"out_of_plane_change", r.out_of_plane_change},
+                      {"out_of_plane_noise", r.out_of_plane_noise}};
+  if (k.success) {
+    j.update({{"impact_time_s", k.impact_time_s},
+              {"v_SC_before_m_s", JsonVector(k.v_SC_before)},
+              {"v_SC_after_m_s", JsonVector(k.v_SC_after)},
+              {"v_SC_before_se_m_s", JsonVector(k.v_SC_before_se)},
+              {"v_SC_after_se_m_s", JsonVector(k.v_SC_after_se)},
+              {"v_ST_before_m_s", JsonVector(k.v_ST_before)},
+              {"v_ST_after_m_s", JsonVector(k.v_ST_after)},
+              {"w_before_rad_s", k.w_before_rad_s},
+              {"w_after_rad_s", k.w_after_rad_s},
+              {"w_before_se_rad_s", k.w_before_se_rad_s},
+              {"w_after_se_rad_s", k.w_after_se_rad_s},
+              {"e", k.e},
+              {"e_se", k.e_se},
+              {"e_ci95", {k.e_ci_low, k.e_ci_high}},
+              {"mu_eff", JsonNumber(k.mu_eff)},
+              {"mu_eff_se", JsonNumber(k.mu_eff_se)},
+              {"mu_eff_ci95", {JsonNumber(k.mu_eff_ci_low), JsonNumber(k.mu_eff_ci_high)}},
+              {"kinetic_energy_before_J", k.kinetic_energy_before_J},
+              {"kinetic_energy_after_J", k.kinetic_energy_after_J},
+              {"fit_frames_before", {k.before.first_frame, k.before.last_frame}},
+              {"fit_frames_after", {k.after.first_frame, k.after.last_frame}},
+              {"fit_rms_residual_m", {k.before.rms_residual_m, k.after.rms_residual_m}}});
+  }
+  return j;
+}
+
+std::string TrialText(const pipeline::TrialAnalysis& r) {
+  std::ostringstream os;
+  os << std::setprecision(5);
+  os << "Trial " << r.spec.id << " (" << r.spec.surface << ", " << r.spec.surface_angle_deg
+     << " deg): ";
+  if (!r.success) {
+    os << "FAILED: " << r.error << "\n";
+  } else {
+    const auto& k = r.impact;
+    os << "impact at " << k.impact_time_s * 1e3 << " ms (after frame " << k.impact_frame << ")\n";
+    os << "  v_SC before  [" << k.v_SC_before.x() << ", " << k.v_SC_before.y() << "] +- ["
+       << k.v_SC_before_se.x() << ", " << k.v_SC_before_se.y() << "] m/s\n";
+    os << "  v_SC after   [" << k.v_SC_after.x() << ", " << k.v_SC_after.y() << "] +- ["
+       << k.v_SC_after_se.x() << ", " << k.v_SC_after_se.y() << "] m/s\n";
+    os << "  w before/after  " << k.w_before_rad_s << " / " << k.w_after_rad_s << " rad/s (s.e. "
+       << k.w_before_se_rad_s << " / " << k.w_after_se_rad_s << ")\n";
+    os << "  e       " << k.e << "  (s.e. " << k.e_se << ", 95 % " << k.e_ci_low << " .. "
+       << k.e_ci_high << ")\n";
+    os << "  mu_eff  " << k.mu_eff << "  (s.e. " << k.mu_eff_se << ", 95 % " << k.mu_eff_ci_low
+       << " .. " << k.mu_eff_ci_high << ")\n";
+    os << "  fits    frames " << k.before.first_frame << "-" << k.before.last_frame << " and "
+       << k.after.first_frame << "-" << k.after.last_frame << ", rms residual "
+       << k.before.rms_residual_m * 1e6 << " / " << k.after.rms_residual_m * 1e6 << " um\n";
+  }
+  if (r.surface_angle_measured_deg)
+    os << "  surface angle measured " << *r.surface_angle_measured_deg << " deg\n";
+  os << "  scale " << r.m_per_px_used << " m/px (from the markers: " << r.m_per_px_from_markers
+     << ")\n";
+  os << "  projected marker distance changes by " << 100 * r.out_of_plane_change << " % (noise "
+     << 100 * r.out_of_plane_noise << " %)\n";
+  if (!r.flags.empty()) {
+    os << "  flags:";
+    for (const auto& f : r.flags) os << " " << f;
+    os << "\n";
+  }
+  for (const auto& w : r.warnings) os << "  warning: " << w << "\n";
+  return os.str();
+}
+
+std::string TracksCsv(const pipeline::TrialAnalysis& r) {
+  std::ostringstream os;
+  os << "trial,frame,t_s";
+  for (const auto& n : r.tracks.names)
+    os << "," << n << "_x_px," << n << "_y_px," << n << "_status," << n << "_quality";
+  os << ",pose_valid,p_WE_x_m,p_WE_y_m,theta_W_rad,pose_rms_m\n";
+  for (std::size_t f = 0; f < r.tracks.frames.size(); ++f) {
+    os << io::CsvEscape(r.spec.id) << "," << f << "," << io::CsvNumber(static_cast<double>(f) / r.spec.fps);
+    for (std::size_t m = 0; m < r.tracks.names.size(); ++m) {
+      const auto& row = r.tracks.frames[f];
+      if (m < row.size() && row[m].found)
+        os << "," << io::CsvNumber(row[m].p_I.x()) << "," << io::CsvNumber(row[m].p_I.y()) << ","
+           << row[m].status << "," << io::CsvNumber(row[m].quality);
+      else
+        os << ",,," << (m < row.size() ? row[m].status : "") << ",0";
+    }
+    if (f < r.poses.size() && r.poses[f].valid)
+      os << ",1," << io::CsvNumber(r.poses[f].p_WE.x()) << "," << io::CsvNumber(r.poses[f].p_WE.y())
+         << "," << io::CsvNumber(r.poses[f].theta_W_rad) << "," << io::CsvNumber(r.poses[f].rms_residual_m);
+    else
+      os << ",0,,,,";
+    os << "\n";
+  }
+  return os.str();
+}
+
+}  // namespace hoof::cli

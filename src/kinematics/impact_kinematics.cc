@@ -1,0 +1,294 @@
+#include "kinematics/impact_kinematics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <boost/math/distributions/students_t.hpp>
+
+namespace hoof::kinematics {
+namespace {
+
+/// Unit axes of the surface frame S in W for a surface at angle phi (descending toward +x).
+struct SurfaceAxes {
+  Eigen::Vector2d x_S, y_S;
+  explicit SurfaceAxes(double phi) : x_S(std::cos(phi), -std::sin(phi)), y_S(std::sin(phi), std::cos(phi)) {}
+  Eigen::Vector2d ToS(const Eigen::Vector2d& v_W) const { return {x_S.dot(v_W), y_S.dot(v_W)}; }
+};
+
+Eigen::Vector2d CentreOfMass(const PoseSample& p, double d) {
+  return p.p_WE + d * Eigen::Vector2d(std::cos(p.theta_W_rad), std::sin(p.theta_W_rad));
+}
+
+/// Weighted-free linear least squares y = a + b tau; returns (a, b), the residual sum of
+/// squares, and (X^T X)^-1.
+struct LineFit {
+  double a = 0, b = 0, ssr = 0;
+  Eigen::Matrix2d inv_xtx = Eigen::Matrix2d::Zero();
+};
+LineFit FitLine(const std::vector<double>& tau, const std::vector<double>& y) {
+  Eigen::Matrix2d xtx = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d xty = Eigen::Vector2d::Zero();
+  for (std::size_t i = 0; i < tau.size(); ++i) {
+    const Eigen::Vector2d x{1.0, tau[i]};
+    xtx += x * x.transpose();
+    xty += x * y[i];
+  }
+  LineFit f;
+  f.inv_xtx = xtx.inverse();
+  const Eigen::Vector2d ab = f.inv_xtx * xty;
+  f.a = ab(0);
+  f.b = ab(1);
+  for (std::size_t i = 0; i < tau.size(); ++i) f.ssr += std::pow(y[i] - f.a - f.b * tau[i], 2);
+  return f;
+}
+
+/// Fits frames [idx] with the parabola for C and a line for theta, about t_ref.
+FlightFit FitFlight(const std::vector<PoseSample>& poses, const std::vector<int>& idx, double t_ref,
+                    const BodyGeometry& body, double g) {
+  std::vector<double> tau, x, y, th;
+  for (int i : idx) {
+    const PoseSample& p = poses[static_cast<std::size_t>(i)];
+    const double t = p.t_s - t_ref;
+    const Eigen::Vector2d c = CentreOfMass(p, body.d_EC_m);
+    tau.push_back(t);
+    x.push_back(c.x());
+    y.push_back(c.y() + 0.5 * g * t * t);  // remove the known gravity term (g along -y)
+    th.push_back(p.theta_W_rad);
+  }
+  // Unwrap the angle.
+  for (std::size_t i = 1; i < th.size(); ++i)
+    th[i] -= 2 * std::numbers::pi * std::round((th[i] - th[i - 1]) / (2 * std::numbers::pi));
+  const LineFit fx = FitLine(tau, x), fy = FitLine(tau, y), ft = FitLine(tau, th);
+  const double n = static_cast<double>(idx.size());
+  const double s2 = (fx.ssr + fy.ssr) / (2 * n - 4);  // pooled: marker noise is isotropic
+  const double s2t = ft.ssr / (n - 2);
+  FlightFit f;
+  f.first_frame = idx.front();
+  f.last_frame = idx.back();
+  f.n = static_cast<int>(idx.size());
+  f.p_WC = {fx.a, fy.a};
+  f.v_WC = {fx.b, fy.b};
+  f.cov_v_WC = s2 * fx.inv_xtx(1, 1) * Eigen::Matrix2d::Identity();
+  f.theta_W_rad = ft.a;
+  f.w_rad_s = ft.b;
+  f.w_se_rad_s = std::sqrt(s2t * ft.inv_xtx(1, 1));
+  f.theta_se_rad = std::sqrt(s2t * ft.inv_xtx(0, 0));
+  f.rms_residual_m = std::sqrt((fx.ssr + fy.ssr) / n);
+  f.rms_theta_residual_rad = std::sqrt(ft.ssr / n);
+  return f;
+}
+
+/// Moves a fit's reference time: v(t) = v(t_ref) + g (t - t_ref), theta and p likewise.
+FlightFit Shift(FlightFit f, double dt, double g) {
+  f.p_WC += f.v_WC * dt + Eigen::Vector2d(0, -0.5 * g * dt * dt);
+  f.v_WC += Eigen::Vector2d(0, -g * dt);
+  f.theta_W_rad += f.w_rad_s * dt;
+  return f;
+}
+
+/// Height of the contact point T above a surface through the origin, along y_S, at time t
+/// (relative to the fit's reference time) for a flight fit.
+double HeightOfT(const FlightFit& f, double t, const SurfaceAxes& S, const BodyGeometry& body,
+                 double g) {
+  const Eigen::Vector2d c = f.p_WC + f.v_WC * t + Eigen::Vector2d(0, -0.5 * g * t * t);
+  const double th = f.theta_W_rad + f.w_rad_s * t;
+  const Eigen::Vector2d e = c - body.d_EC_m * Eigen::Vector2d(std::cos(th), std::sin(th));
+  return S.y_S.dot(e) - body.end_radius_m;
+}
+
+/// Velocity of the body point at T: v_C + w x (p_T - p_C), with p_T = p_E - R y_S.
+Eigen::Vector2d ContactPointVelocity(const Eigen::Vector2d& v_WC, double w, double theta,
+                                     const SurfaceAxes& S, const BodyGeometry& body) {
+  const Eigen::Vector2d r = -body.d_EC_m * Eigen::Vector2d(std::cos(theta), std::sin(theta)) -
+                            body.end_radius_m * S.y_S;
+  return v_WC + w * Eigen::Vector2d(-r.y(), r.x());
+}
+
+/// (e, mu_eff) from the parameters (vb_x, vb_y, wb, thb, va_x, va_y, wa, tha) in W.
+Eigen::Vector2d Measures(const Eigen::Matrix<double, 8, 1>& q, const SurfaceAxes& S,
+                         const BodyGeometry& body) {
+  const Eigen::Vector2d vb{q(0), q(1)}, va{q(4), q(5)};
+  const Eigen::Vector2d tb = ContactPointVelocity(vb, q(2), q(3), S, body);
+  const Eigen::Vector2d ta = ContactPointVelocity(va, q(6), q(7), S, body);
+  const double e = std::abs(S.y_S.dot(ta) / S.y_S.dot(tb));
+  const Eigen::Vector2d dv = S.ToS(va - vb);
+  return {e, std::abs(dv.x() / dv.y())};
+}
+
+}  // namespace
+
+void KinematicsOptions::Validate() const {
+  if (fit_frames < 3) throw std::invalid_argument("kinematics fit_frames must be >= 3");
+  if (min_fit_frames < 3) throw std::invalid_argument("kinematics min_fit_frames must be >= 3");
+  if (!(max_contact_s >= 0)) throw std::invalid_argument("kinematics max_contact_s must be >= 0");
+  if (!(gravity_m_s2 >= 0)) throw std::invalid_argument("kinematics gravity_m_s2 must be >= 0");
+  if (!(confidence > 0 && confidence < 1))
+    throw std::invalid_argument("kinematics confidence must be in (0, 1)");
+}
+
+ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
+                               double surface_angle_deg, const BodyGeometry& body,
+                               const KinematicsOptions& options) {
+  options.Validate();
+  if (!(fps > 0)) throw std::invalid_argument("fps must be > 0");
+  ImpactKinematics k;
+  const SurfaceAxes S(surface_angle_deg * std::numbers::pi / 180.0);
+  const double g = options.gravity_m_s2;
+  const double dt = 1.0 / fps;
+  const double exposure = options.exposure_s < 0 ? dt : options.exposure_s;
+
+  // Height of E along the surface normal, per valid frame.
+  std::vector<int> valid;
+  for (std::size_t i = 0; i < poses.size(); ++i)
+    if (poses[i].valid) valid.push_back(static_cast<int>(i));
+  if (static_cast<int>(valid.size()) < 2 * options.min_fit_frames + 1) {
+    k.message = "too few frames with a body pose (" + std::to_string(valid.size()) + ")";
+    return k;
+  }
+  auto height = [&](int i) { return S.y_S.dot(poses[static_cast<std::size_t>(i)].p_WE); };
+  std::size_t lowest = 0;
+  for (std::size_t j = 1; j < valid.size(); ++j)
+    if (height(valid[j]) < height(valid[lowest])) lowest = j;
+  const int i_min = valid[lowest];
+  const int frames_before = static_cast<int>(lowest);
+  const int frames_after = static_cast<int>(valid.size() - 1 - lowest);
+  // A real impact: the end comes down before the lowest frame and goes back up after it.
+  const double v_down = frames_before >= 2 ? (height(valid[lowest]) - height(valid[lowest - 2])) / (poses[static_cast<std::size_t>(valid[lowest])].t_s - poses[static_cast<std::size_t>(valid[lowest - 2])].t_s) : 0.0;
+  const double v_up = frames_after >= 2 ? (height(valid[lowest + 2]) - height(valid[lowest])) / (poses[static_cast<std::size_t>(valid[lowest + 2])].t_s - poses[static_cast<std::size_t>(valid[lowest])].t_s) : 0.0;
+  if (frames_before < options.min_fit_frames || frames_after < options.min_fit_frames ||
+      !(v_down < -0.05) || !(v_up > 0.05)) {
+    std::ostringstream os;
+    os << "no impact found: the round end's lowest point is at frame " << i_min << " of "
+       << poses.size() << ", and it does not come down before it and rebound after it with "
+       << options.min_fit_frames << " or more frames on each side";
+    k.message = os.str();
+    return k;
+  }
+
+  // A second bounce: another sudden reversal of the normal velocity after the first.
+  const double jump = v_up - v_down;
+  int bounce_frame = -1;
+  for (std::size_t j = lowest + 3; j + 1 < valid.size(); ++j) {
+    const int a = valid[j - 1], b = valid[j], c = valid[j + 1];
+    const double v1 = (height(b) - height(a)) / (poses[static_cast<std::size_t>(b)].t_s - poses[static_cast<std::size_t>(a)].t_s);
+    const double v2 = (height(c) - height(b)) / (poses[static_cast<std::size_t>(c)].t_s - poses[static_cast<std::size_t>(b)].t_s);
+    if (v2 - v1 > 0.3 * jump) {
+      bounce_frame = b;
+      break;
+    }
+  }
+  if (bounce_frame >= 0) {
+    k.flags.push_back("second_bounce");
+    k.warnings.push_back("a second bounce near frame " + std::to_string(bounce_frame) +
+                         "; frames from there on are left out of the fit after the impact");
+  }
+
+  // Fit, find where the fits meet, and refit with the windows placed about that time.
+  double t_imp = poses[static_cast<std::size_t>(i_min)].t_s;
+  for (int iteration = 0; iteration < 3; ++iteration) {
+    const double excl_lo = t_imp - options.max_contact_s - 0.5 * exposure;
+    const double excl_hi = t_imp + options.max_contact_s + 0.5 * exposure;
+    std::vector<int> before, after;
+    for (int i : valid) {
+      const double t = poses[static_cast<std::size_t>(i)].t_s;
+      if (t < excl_lo) before.push_back(i);
+      if (t > excl_hi && (bounce_frame < 0 || i < bounce_frame - 1)) after.push_back(i);
+    }
+    if (static_cast<int>(before.size()) > options.fit_frames)
+      before.erase(before.begin(), before.end() - options.fit_frames);
+    if (static_cast<int>(after.size()) > options.fit_frames) after.resize(static_cast<std::size_t>(options.fit_frames));
+    if (static_cast<int>(before.size()) < options.min_fit_frames ||
+        static_cast<int>(after.size()) < options.min_fit_frames) {
+      std::ostringstream os;
+      os << "too few free-flight frames around the impact near frame " << i_min << ": "
+         << before.size() << " before and " << after.size() << " after (need "
+         << options.min_fit_frames << ")";
+      k.message = os.str();
+      return k;
+    }
+    k.before = FitFlight(poses, before, t_imp, body, g);
+    k.after = FitFlight(poses, after, t_imp, body, g);
+    // Bisection for h_before(t) = h_after(t) between the two windows.
+    double lo = poses[static_cast<std::size_t>(before.back())].t_s - t_imp;
+    double hi = poses[static_cast<std::size_t>(after.front())].t_s - t_imp;
+    auto f = [&](double t) {
+      return HeightOfT(k.before, t, S, body, g) - HeightOfT(k.after, t, S, body, g);
+    };
+    if (!(f(lo) > 0 && f(hi) < 0)) {
+      k.message = "the fits before and after the impact near frame " + std::to_string(i_min) +
+                  " do not cross: the motion is not a single bounce";
+      return k;
+    }
+    for (int it = 0; it < 200 && hi - lo > 1e-12; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (f(mid) > 0 ? lo : hi) = mid;
+    }
+    const double shift = 0.5 * (lo + hi);
+    k.before = Shift(k.before, shift, g);
+    k.after = Shift(k.after, shift, g);
+    t_imp += shift;
+  }
+  k.impact_time_s = t_imp;
+  k.impact_frame = static_cast<int>(std::floor(t_imp * fps));
+
+  // Results in S.
+  Eigen::Matrix2d R_SW;
+  R_SW << S.x_S.transpose(), S.y_S.transpose();
+  k.v_SC_before = S.ToS(k.before.v_WC);
+  k.v_SC_after = S.ToS(k.after.v_WC);
+  const Eigen::Matrix2d cb = R_SW * k.before.cov_v_WC * R_SW.transpose();
+  const Eigen::Matrix2d ca = R_SW * k.after.cov_v_WC * R_SW.transpose();
+  k.v_SC_before_se = cb.diagonal().cwiseSqrt();
+  k.v_SC_after_se = ca.diagonal().cwiseSqrt();
+  k.w_before_rad_s = k.before.w_rad_s;
+  k.w_after_rad_s = k.after.w_rad_s;
+  k.w_before_se_rad_s = k.before.w_se_rad_s;
+  k.w_after_se_rad_s = k.after.w_se_rad_s;
+  k.v_ST_before = S.ToS(ContactPointVelocity(k.before.v_WC, k.before.w_rad_s, k.before.theta_W_rad, S, body));
+  k.v_ST_after = S.ToS(ContactPointVelocity(k.after.v_WC, k.after.w_rad_s, k.after.theta_W_rad, S, body));
+
+  // e and mu_eff, with the delta method over the eight fitted quantities.
+  Eigen::Matrix<double, 8, 1> q;
+  q << k.before.v_WC, k.before.w_rad_s, k.before.theta_W_rad, k.after.v_WC, k.after.w_rad_s,
+      k.after.theta_W_rad;
+  Eigen::Matrix<double, 8, 8> cov = Eigen::Matrix<double, 8, 8>::Zero();
+  cov.block<2, 2>(0, 0) = k.before.cov_v_WC;
+  cov(2, 2) = std::pow(k.before.w_se_rad_s, 2);
+  cov(3, 3) = std::pow(k.before.theta_se_rad, 2);
+  cov.block<2, 2>(4, 4) = k.after.cov_v_WC;
+  cov(6, 6) = std::pow(k.after.w_se_rad_s, 2);
+  cov(7, 7) = std::pow(k.after.theta_se_rad, 2);
+  const Eigen::Vector2d m0 = Measures(q, S, body);
+  Eigen::Matrix<double, 2, 8> J;
+  for (int i = 0; i < 8; ++i) {
+    const double h = 1e-6 * std::max(1.0, std::abs(q(i)));
+    Eigen::Matrix<double, 8, 1> qp = q, qm = q;
+    qp(i) += h;
+    qm(i) -= h;
+    J.col(i) = (Measures(qp, S, body) - Measures(qm, S, body)) / (2 * h);
+  }
+  const Eigen::Matrix2d cov_m = J * cov * J.transpose();
+  k.e = m0(0);
+  k.mu_eff = m0(1);
+  k.e_se = std::sqrt(cov_m(0, 0));
+  k.mu_eff_se = std::sqrt(cov_m(1, 1));
+  const int dof = std::max(1, k.before.n + k.after.n - 4);
+  const double t_q = boost::math::quantile(boost::math::complement(
+      boost::math::students_t(dof), 0.5 * (1 - options.confidence)));
+  k.e_ci_low = k.e - t_q * k.e_se;
+  k.e_ci_high = k.e + t_q * k.e_se;
+  k.mu_eff_ci_low = std::max(0.0, k.mu_eff - t_q * k.mu_eff_se);
+  k.mu_eff_ci_high = k.mu_eff + t_q * k.mu_eff_se;
+  k.kinetic_energy_before_J = 0.5 * body.mass_kg * k.before.v_WC.squaredNorm() +
+                              0.5 * body.inertia_kg_m2 * std::pow(k.before.w_rad_s, 2);
+  k.kinetic_energy_after_J = 0.5 * body.mass_kg * k.after.v_WC.squaredNorm() +
+                             0.5 * body.inertia_kg_m2 * std::pow(k.after.w_rad_s, 2);
+  k.success = true;
+  return k;
+}
+
+}  // namespace hoof::kinematics

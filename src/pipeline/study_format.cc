@@ -1,0 +1,252 @@
+#include "pipeline/study_format.h"
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+namespace hoof::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+[[noreturn]] void Fail(const fs::path& file, const std::string& field, const std::string& why) {
+  throw std::runtime_error(file.string() + ": field \"" + field + "\" " + why);
+}
+
+json ReadJson(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file.string() + ": cannot open (missing file?)");
+  try {
+    return json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw std::runtime_error(file.string() + ": not valid JSON: " + e.what());
+  }
+}
+
+/// Checks the fields of `obj` against the known ones; unknown ones become warnings.
+void WarnUnknown(const json& obj, const std::set<std::string>& known, const fs::path& file,
+                 const std::string& prefix, std::vector<std::string>& warnings) {
+  for (auto it = obj.begin(); it != obj.end(); ++it)
+    if (!known.count(it.key()))
+      warnings.push_back(file.string() + ": unknown field \"" + prefix + it.key() +
+                         "\" ignored");
+}
+
+const json& Require(const json& obj, const std::string& key, const fs::path& file,
+                    const std::string& prefix) {
+  if (!obj.is_object() || !obj.contains(key)) Fail(file, prefix + key, "is missing");
+  return obj.at(key);
+}
+
+double Number(const json& obj, const std::string& key, const fs::path& file,
+              const std::string& prefix, bool positive) {
+  const json& v = Require(obj, key, file, prefix);
+  if (!v.is_number()) Fail(file, prefix + key, "must be a number, found " + v.dump());
+  const double x = v.get<double>();
+  if (!std::isfinite(x)) Fail(file, prefix + key, "must be finite");
+  if (positive && !(x > 0)) Fail(file, prefix + key, "must be > 0, found " + v.dump());
+  return x;
+}
+
+std::string Text(const json& obj, const std::string& key, const fs::path& file,
+                 const std::string& prefix) {
+  const json& v = Require(obj, key, file, prefix);
+  if (!v.is_string()) Fail(file, prefix + key, "must be a string, found " + v.dump());
+  return v.get<std::string>();
+}
+
+Eigen::Vector2d Pair(const json& v, const fs::path& file, const std::string& field) {
+  if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number())
+    Fail(file, field, "must be [x, y], found " + v.dump());
+  return {v[0].get<double>(), v[1].get<double>()};
+}
+
+void CheckFormat(const json& j, const std::string& expected, const fs::path& file) {
+  const std::string f = Text(j, "format", file, "");
+  if (f != expected)
+    Fail(file, "format", "is \"" + f + "\", expected \"" + expected + "\"");
+}
+
+SpecimenSpec ParseSpecimen(const json& s, const fs::path& file, const std::string& prefix,
+                           std::vector<std::string>& warnings) {
+  WarnUnknown(s,
+              {"mass_kg", "inertia_kg_m2", "end_radius_m", "d_EC_m", "length_m", "width_m",
+               "thickness_m", "markers_B_m"},
+              file, prefix, warnings);
+  SpecimenSpec spec;
+  spec.mass_kg = Number(s, "mass_kg", file, prefix, true);
+  spec.inertia_kg_m2 = Number(s, "inertia_kg_m2", file, prefix, true);
+  spec.end_radius_m = Number(s, "end_radius_m", file, prefix, true);
+  spec.d_EC_m = Number(s, "d_EC_m", file, prefix, false);
+  if (s.contains("length_m")) spec.length_m = Number(s, "length_m", file, prefix, true);
+  if (s.contains("width_m")) spec.width_m = Number(s, "width_m", file, prefix, true);
+  if (s.contains("thickness_m")) spec.thickness_m = Number(s, "thickness_m", file, prefix, true);
+  const json& markers = Require(s, "markers_B_m", file, prefix);
+  if (!markers.is_object() || markers.size() < 2)
+    Fail(file, prefix + "markers_B_m", "must name two or more markers, found " + markers.dump());
+  for (auto it = markers.begin(); it != markers.end(); ++it)
+    spec.markers_B_m.emplace_back(it.key(),
+                                  Pair(it.value(), file, prefix + "markers_B_m." + it.key()));
+  return spec;
+}
+
+}  // namespace
+
+StudySpec ReadStudy(const fs::path& dir) {
+  const fs::path file = dir / "study.json";
+  const json j = ReadJson(file);
+  StudySpec study;
+  study.dir = dir;
+  WarnUnknown(j, {"format", "name", "specimens", "trials"}, file, "", study.warnings);
+  CheckFormat(j, "hoofimpact-study/1", file);
+  if (j.contains("name")) study.name = Text(j, "name", file, "");
+  const json& specimens = Require(j, "specimens", file, "");
+  if (!specimens.is_object() || specimens.empty())
+    Fail(file, "specimens", "must hold at least one specimen");
+  for (auto it = specimens.begin(); it != specimens.end(); ++it)
+    study.specimens[it.key()] =
+        ParseSpecimen(it.value(), file, "specimens." + it.key() + ".", study.warnings);
+  if (j.contains("trials")) {
+    const json& trials = j.at("trials");
+    if (!trials.is_array()) Fail(file, "trials", "must be an array of folder names");
+    for (const auto& t : trials) {
+      if (!t.is_string()) Fail(file, "trials", "must hold folder names, found " + t.dump());
+      study.trial_dirs.push_back(dir / t.get<std::string>());
+    }
+  } else {
+    std::vector<fs::path> found;
+    for (const auto& entry : fs::directory_iterator(dir))
+      if (entry.is_directory() && fs::exists(entry.path() / "trial.json"))
+        found.push_back(entry.path());
+    std::sort(found.begin(), found.end());
+    study.trial_dirs = found;
+  }
+  return study;
+}
+
+TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
+  const fs::path file = trial_dir / "trial.json";
+  const json j = ReadJson(file);
+  TrialSpec t;
+  t.dir = trial_dir;
+  WarnUnknown(j,
+              {"format", "id", "specimen", "specimen_parameters", "surface", "surface_angle_deg",
+               "fps", "frames", "camera", "surface_line_px", "nominal_speed_m_s", "notes"},
+              file, "", t.warnings);
+  CheckFormat(j, "hoofimpact-trial/1", file);
+  t.id = Text(j, "id", file, "");
+  t.specimen_id = Text(j, "specimen", file, "");
+  if (j.contains("specimen_parameters")) {
+    // Extension: a trial may carry its specimen inline (same fields as in study.json), so a
+    // single trial folder can be measured without a study around it.
+    t.specimen = ParseSpecimen(j.at("specimen_parameters"), file, "specimen_parameters.", t.warnings);
+  } else {
+    const auto sp = study.specimens.find(t.specimen_id);
+    if (sp == study.specimens.end())
+      Fail(file, "specimen", "names \"" + t.specimen_id + "\", which " +
+                                 (study.dir / "study.json").string() + " does not define");
+    t.specimen = sp->second;
+  }
+  t.surface = Text(j, "surface", file, "");
+  t.surface_angle_deg = Number(j, "surface_angle_deg", file, "", false);
+  if (std::abs(t.surface_angle_deg) >= 90) Fail(file, "surface_angle_deg", "must be within (-90, 90)");
+  t.fps = Number(j, "fps", file, "", true);
+
+  const json& frames = Require(j, "frames", file, "");
+  WarnUnknown(frames, {"pattern", "first", "count", "video"}, file, "frames.", t.warnings);
+  if (frames.contains("video")) {
+    t.frames.video = Text(frames, "video", file, "frames.");
+  } else {
+    t.frames.pattern = Text(frames, "pattern", file, "frames.");
+    const json& first = Require(frames, "first", file, "frames.");
+    const json& count = Require(frames, "count", file, "frames.");
+    if (!first.is_number_integer() || first.get<int>() < 0)
+      Fail(file, "frames.first", "must be an integer >= 0, found " + first.dump());
+    if (!count.is_number_integer() || count.get<int>() < 1)
+      Fail(file, "frames.count", "must be an integer >= 1, found " + count.dump());
+    t.frames.first = first.get<int>();
+    t.frames.count = count.get<int>();
+  }
+
+  const json& camera = Require(j, "camera", file, "");
+  WarnUnknown(camera, {"m_per_px", "gravity_image", "distortion", "camera_matrix"}, file,
+              "camera.", t.warnings);
+  t.camera.m_per_px = Number(camera, "m_per_px", file, "camera.", true);
+  if (camera.contains("gravity_image")) {
+    const Eigen::Vector2d g = Pair(camera.at("gravity_image"), file, "camera.gravity_image");
+    if (!(g.norm() > 0)) Fail(file, "camera.gravity_image", "must not be zero");
+    t.camera.gravity_image = g.normalized();
+  }
+  if (camera.contains("distortion")) {
+    const json& d = camera.at("distortion");
+    if (!d.is_array() || d.size() != 5)
+      Fail(file, "camera.distortion", "must be [k1, k2, p1, p2, k3], found " + d.dump());
+    std::array<double, 5> k{};
+    for (std::size_t i = 0; i < 5; ++i) {
+      if (!d[i].is_number()) Fail(file, "camera.distortion", "must hold numbers");
+      k[i] = d[i].get<double>();
+    }
+    t.camera.distortion = k;
+  }
+  if (camera.contains("camera_matrix")) {
+    const json& m = camera.at("camera_matrix");
+    std::array<double, 9> k{};
+    std::vector<double> flat;
+    if (m.is_array())
+      for (const auto& row : m) {
+        if (row.is_array())
+          for (const auto& v : row) flat.push_back(v.is_number() ? v.get<double>() : NAN);
+        else
+          flat.push_back(row.is_number() ? row.get<double>() : NAN);
+      }
+    if (flat.size() != 9)
+      Fail(file, "camera.camera_matrix", "must be a 3x3 matrix, found " + m.dump());
+    for (std::size_t i = 0; i < 9; ++i) {
+      if (!std::isfinite(flat[i])) Fail(file, "camera.camera_matrix", "must hold numbers");
+      k[i] = flat[i];
+    }
+    t.camera.camera_matrix = k;
+  }
+  if (t.camera.distortion && !t.camera.camera_matrix)
+    Fail(file, "camera.camera_matrix", "is needed when camera.distortion is given");
+
+  if (j.contains("surface_line_px")) {
+    const json& l = j.at("surface_line_px");
+    if (!l.is_array() || l.size() != 2) Fail(file, "surface_line_px", "must be [[x, y], [x, y]]");
+    t.surface_line_px = std::array<Eigen::Vector2d, 2>{Pair(l[0], file, "surface_line_px[0]"),
+                                                       Pair(l[1], file, "surface_line_px[1]")};
+  }
+  if (j.contains("nominal_speed_m_s"))
+    t.nominal_speed_m_s = Number(j, "nominal_speed_m_s", file, "", true);
+  if (j.contains("notes") && j.at("notes").is_string()) t.notes = j.at("notes").get<std::string>();
+  return t;
+}
+
+TrialSpec ReadTrial(const fs::path& trial_dir, const std::optional<fs::path>& study_json) {
+  fs::path trial_abs = fs::absolute(trial_dir).lexically_normal();
+  if (!trial_abs.has_filename()) trial_abs = trial_abs.parent_path();  // trailing separator
+  const fs::path study_dir = study_json ? study_json->parent_path() : trial_abs.parent_path();
+  if (study_json && study_json->filename() != "study.json")
+    throw std::runtime_error(study_json->string() + ": a study file must be named study.json");
+  if (!fs::exists(study_dir / "study.json")) {
+    // Only a trial that carries its specimen inline can be read without a study.
+    StudySpec none;
+    none.dir = study_dir;
+    try {
+      return ReadTrial(trial_dir, none);
+    } catch (const std::runtime_error& e) {
+      if (std::string(e.what()).find("does not define") == std::string::npos) throw;
+      throw std::runtime_error((trial_dir / "trial.json").string() +
+                               ": no study.json beside the trial folder defines its specimen, "
+                               "and the trial has no specimen_parameters (give one with --study)");
+    }
+  }
+  return ReadTrial(trial_dir, ReadStudy(study_dir));
+}
+
+}  // namespace hoof::pipeline

@@ -1,0 +1,84 @@
+#pragma once
+/// @file
+/// Reading trial and study folders (docs/format.md, the input contract). Errors name the file
+/// and the field; unknown fields are reported as warnings and otherwise ignored.
+
+#include <array>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace hoof::pipeline {
+
+/// A specimen of study.json.
+struct SpecimenSpec {
+  double mass_kg = 0.0;
+  double inertia_kg_m2 = 0.0;
+  double end_radius_m = 0.0;
+  double d_EC_m = 0.0;
+  double length_m = 0.0, width_m = 0.0, thickness_m = 0.0;  ///< 0 when not given
+  /// Centres of the white dots in the body frame B (origin E, x toward C), in metres, in the
+  /// order of the file.
+  std::vector<std::pair<std::string, Eigen::Vector2d>> markers_B_m;
+};
+
+/// Camera of trial.json.
+struct CameraSpec {
+  double m_per_px = 0.0;                           ///< scale in the plane of motion
+  Eigen::Vector2d gravity_image{0.0, 1.0};         ///< unit direction of gravity in the image
+  std::optional<std::array<double, 5>> distortion; ///< OpenCV k1 k2 p1 p2 k3
+  std::optional<std::array<double, 9>> camera_matrix;  ///< row-major 3x3
+};
+
+/// Where the frames are: an image sequence or a video file.
+struct FramesSpec {
+  std::string pattern;  ///< printf pattern relative to the trial folder, e.g. frames/%06d.png
+  int first = 0;
+  int count = 0;
+  std::string video;    ///< video file relative to the trial folder (instead of a pattern)
+  bool is_video() const { return !video.empty(); }
+};
+
+/// One trial: trial.json plus its specimen from study.json.
+struct TrialSpec {
+  std::filesystem::path dir;
+  std::string id;
+  std::string specimen_id;
+  SpecimenSpec specimen;
+  std::string surface;
+  double surface_angle_deg = 0.0;
+  double fps = 0.0;
+  FramesSpec frames;
+  CameraSpec camera;
+  std::optional<std::array<Eigen::Vector2d, 2>> surface_line_px;
+  std::optional<double> nominal_speed_m_s;
+  std::string notes;
+  std::vector<std::string> warnings;  ///< unknown fields and the like, with file names
+};
+
+/// A study: study.json and the trial folders it lists (or every sub-folder with a trial.json).
+struct StudySpec {
+  std::filesystem::path dir;
+  std::string name;
+  std::map<std::string, SpecimenSpec> specimens;
+  std::vector<std::filesystem::path> trial_dirs;
+  std::vector<std::string> warnings;
+};
+
+/// Reads `dir/study.json`. Throws std::runtime_error naming the file and the field.
+StudySpec ReadStudy(const std::filesystem::path& dir);
+
+/// Reads `trial_dir/trial.json` and takes its specimen from `study`. Throws
+/// std::runtime_error naming the file and the field (also for a specimen the study lacks).
+TrialSpec ReadTrial(const std::filesystem::path& trial_dir, const StudySpec& study);
+
+/// Reads a trial on its own: the study is `study_json` if given, else study.json in the
+/// trial's parent folder.
+TrialSpec ReadTrial(const std::filesystem::path& trial_dir,
+                    const std::optional<std::filesystem::path>& study_json = std::nullopt);
+
+}  // namespace hoof::pipeline

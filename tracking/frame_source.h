@@ -1,0 +1,78 @@
+#pragma once
+/// @file
+/// Frame sources: image sequences (8- or 16-bit, grey or colour, any format OpenCV reads) and
+/// video files. Frames stream one at a time, so memory does not grow with the sequence length.
+
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+namespace cv {
+class VideoCapture;
+}
+
+namespace hoof::tracking {
+
+/// A sequence of frames. Read() gives a single-channel image in the file's own depth (8-bit,
+/// 16-bit or float); colour is converted to grey. Detection converts only the windows it looks
+/// at to [0, 1] floats (ToUnitFloat), so full frames are never copied as floats. Errors throw
+/// std::runtime_error naming the file and the frame.
+class FrameSource {
+ public:
+  virtual ~FrameSource() = default;
+  /// Number of frames.
+  virtual int count() const = 0;
+  /// Frame `index` (0-based within the sequence). Video sources read forward; reading an
+  /// earlier frame reopens the file.
+  virtual cv::Mat Read(int index) = 0;
+  /// Where frame `index` comes from, for messages ("frames/000012.png", "clip.avi frame 12").
+  virtual std::string Describe(int index) const = 0;
+};
+
+/// Image files named by a printf pattern, e.g. "frames/%06d.png" with first = 0.
+class ImageSequenceSource : public FrameSource {
+ public:
+  /// `pattern` is relative to `dir` (or absolute). Throws std::invalid_argument for a pattern
+  /// without exactly one integer conversion, or count < 1.
+  ImageSequenceSource(std::filesystem::path dir, std::string pattern, int first, int count);
+  int count() const override { return count_; }
+  cv::Mat Read(int index) override;
+  std::string Describe(int index) const override;
+  /// Path of frame `index`.
+  std::filesystem::path PathOf(int index) const;
+
+ private:
+  std::filesystem::path dir_;
+  std::string pattern_;
+  int first_;
+  int count_;
+};
+
+/// A video file read through cv::VideoCapture.
+class VideoSource : public FrameSource {
+ public:
+  /// Throws std::runtime_error naming the file when it cannot be opened.
+  explicit VideoSource(std::filesystem::path path);
+  ~VideoSource() override;
+  int count() const override { return count_; }
+  cv::Mat Read(int index) override;
+  std::string Describe(int index) const override;
+
+ private:
+  void Open();
+  std::filesystem::path path_;
+  std::unique_ptr<cv::VideoCapture> capture_;
+  int next_ = 0;
+  int count_ = 0;
+};
+
+/// Converts any OpenCV image (8/16-bit or float, 1/3/4 channels) to one channel in its own
+/// depth. Throws std::runtime_error mentioning `what` for an empty or unsupported image.
+cv::Mat ToGrey(const cv::Mat& image, const std::string& what);
+
+/// A single-channel image (or window) as CV_32F in [0, 1]: 8-bit / 255, 16-bit / 65535.
+cv::Mat ToUnitFloat(const cv::Mat& grey);
+
+}  // namespace hoof::tracking
