@@ -65,27 +65,33 @@ bool Sample(const cv::Mat& img, double x, double y, double& value) {
 /// Levels around a coarse centre in a unit-float window: bright = median inside 0.5 r,
 /// dark = median of the ring 1.35 r .. 1.75 r, noise = robust s.d. on that ring.
 bool MeasureLevels(const cv::Mat& win, const Eigen::Vector2d& c, double r, Dot& dot) {
-  std::vector<float> inner, ring;
+  thread_local std::vector<float> inner, ring;
+  inner.clear();
+  ring.clear();
   const int R = static_cast<int>(std::ceil(1.75 * r)) + 1;
   const int cx = static_cast<int>(std::lround(c.x())), cy = static_cast<int>(std::lround(c.y()));
-  for (int y = cy - R; y <= cy + R; ++y) {
-    if (y < 0 || y >= win.rows) continue;
+  const double in2 = 0.25 * r * r, lo2 = 1.35 * 1.35 * r * r, hi2 = 1.75 * 1.75 * r * r;
+  for (int y = std::max(0, cy - R); y <= std::min(win.rows - 1, cy + R); ++y) {
     const float* row = win.ptr<float>(y);
-    for (int x = cx - R; x <= cx + R; ++x) {
-      if (x < 0 || x >= win.cols) continue;
-      const double d = std::hypot(x - c.x(), y - c.y());
-      if (d <= 0.5 * r) inner.push_back(row[x]);
-      else if (d >= 1.35 * r && d <= 1.75 * r) ring.push_back(row[x]);
+    const double dy2 = (y - c.y()) * (y - c.y());
+    for (int x = std::max(0, cx - R); x <= std::min(win.cols - 1, cx + R); ++x) {
+      const double d2 = (x - c.x()) * (x - c.x()) + dy2;
+      if (d2 <= in2) inner.push_back(row[x]);
+      else if (d2 >= lo2 && d2 <= hi2) ring.push_back(row[x]);
     }
   }
   if (inner.size() < 3 || ring.size() < 8) return false;
   dot.bright = Median(inner);
   dot.dark = Median(ring);
-  std::vector<float> dev;
-  dev.reserve(ring.size());
+  thread_local std::vector<float> dev;
+  dev.clear();
   for (float v : ring) dev.push_back(std::abs(v - static_cast<float>(dot.dark)));
-  // MAD -> sigma, with a floor of a quarter of an 8-bit step (quantization).
-  dot.noise = std::max(1.4826 * Median(dev), 0.25 / 255.0);
+  // MAD -> sigma. On quantized patches the MAD can be 0 while the noise is not, so half the
+  // ring's standard deviation and half an 8-bit step are floors.
+  double ss = 0;
+  for (float v : dev) ss += static_cast<double>(v) * v;
+  const double sd = std::sqrt(ss / static_cast<double>(dev.size()));
+  dot.noise = std::max({1.4826 * Median(dev), 0.5 * sd, 0.5 / 255.0});
   dot.significance = (dot.bright - dot.dark) / dot.noise;
   return true;
 }
@@ -113,8 +119,10 @@ void WeightedCentroid(const cv::Mat& win, Dot& dot, int iterations) {
       }
     }
     if (sw <= 0) return;
-    dot.p_I = {sx / sw, sy / sw};
+    const Eigen::Vector2d moved = Eigen::Vector2d(sx / sw, sy / sw) - dot.p_I;
+    dot.p_I += moved;
     dot.radius_px = std::sqrt(sw / std::numbers::pi);
+    if (moved.squaredNorm() < 1e-8) return;  // converged to 1e-4 px
   }
 }
 
@@ -163,9 +171,11 @@ bool Refine(const cv::Mat& win, const Eigen::Vector2d& coarse, double radius,
             const DotDetectorOptions& options, Dot& dot) {
   dot.p_I = coarse;
   dot.radius_px = radius;
-  if (!MeasureLevels(win, coarse, radius, dot)) return false;
-  if (dot.significance < options.min_significance) return false;
+  // The coarse radius may be a scale step off, so the first levels only seed the centroid,
+  // whose weighted area gives the radius the significance is then judged at.
+  if (!MeasureLevels(win, coarse, radius, dot) || !(dot.bright > dot.dark)) return false;
   WeightedCentroid(win, dot, options.centroid_iterations);
+  if (!(dot.radius_px > 0.5)) return false;
   // Levels again about the refined centre and radius, then the final centre.
   if (!MeasureLevels(win, dot.p_I, dot.radius_px, dot)) return false;
   if (dot.significance < options.min_significance) return false;
@@ -201,38 +211,54 @@ double EstimateNoise(const cv::Mat& unit_float) {
 std::vector<Dot> FindDots(const cv::Mat& grey, int count, const DotDetectorOptions& options) {
   options.Validate();
   const cv::Mat img = ToUnitFloat(grey);
+  // The candidate search runs on a half-resolution image (4 times fewer pixels) when the dots
+  // it looks for are at least 2.5 px in radius there too; candidates are then refined at full
+  // resolution. Half-resolution pixel i covers full-resolution pixels 2i and 2i + 1.
+  const bool half = options.min_radius_px >= 2.5 && std::min(img.cols, img.rows) >= 128;
+  cv::Mat search;
+  if (half)
+    cv::resize(img, search, cv::Size(img.cols / 2, img.rows / 2), 0, 0, cv::INTER_AREA);
+  else
+    search = img;
+  const double to_full = half ? 2.0 : 1.0;
+  const double offset = half ? 0.5 : 0.0;
   cv::Mat integral;
-  cv::integral(img, integral, CV_64F);
+  cv::integral(search, integral, CV_64F);
   // Best contrast over scales at each pixel.
-  cv::Mat best(img.size(), CV_32F, cv::Scalar(-1.0f)), best_r(img.size(), CV_32F, cv::Scalar(0));
+  cv::Mat best(search.size(), CV_32F, cv::Scalar(-1.0f)), best_r(search.size(), CV_32F, cv::Scalar(0));
   for (double r = options.min_radius_px; r <= options.max_radius_px; r *= 1.5) {
-    const cv::Mat c = RingContrast(integral, img.cols, img.rows, r);
-    for (int y = 0; y < img.rows; ++y) {
+    const cv::Mat c = RingContrast(integral, search.cols, search.rows, r / to_full);
+    for (int y = 0; y < search.rows; ++y) {
       const float* cr = c.ptr<float>(y);
       float* br = best.ptr<float>(y);
       float* rr = best_r.ptr<float>(y);
-      for (int x = 0; x < img.cols; ++x)
+      for (int x = 0; x < search.cols; ++x)
         if (cr[x] > br[x]) {
           br[x] = cr[x];
           rr[x] = static_cast<float>(r);
         }
     }
   }
-  // Local maxima, strongest first.
+  // Local maxima, strongest first, in full-resolution coordinates.
   cv::Mat dilated;
   cv::dilate(best, dilated, cv::Mat::ones(5, 5, CV_8U));
-  struct Peak { float v; int x, y; };
+  struct Peak { float v; double x, y; };
   std::vector<Peak> peaks;
-  for (int y = 0; y < img.rows; ++y)
-    for (int x = 0; x < img.cols; ++x) {
+  for (int y = 0; y < search.rows; ++y)
+    for (int x = 0; x < search.cols; ++x) {
       const float v = best.at<float>(y, x);
-      if (v > 0 && v >= dilated.at<float>(y, x)) peaks.push_back({v, x, y});
+      if (v > 0 && v >= dilated.at<float>(y, x))
+        peaks.push_back({v, x * to_full + offset, y * to_full + offset});
     }
   std::sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) { return a.v > b.v; });
+  // Peaks far below the significance rule (judged against the image's own noise) cannot be
+  // dots; stop there, and after a bounded number of refinements.
+  const double floor = 0.5 * options.min_significance * std::max(EstimateNoise(img), 0.5 / 255.0);
   std::vector<Dot> dots;
+  int attempts = 0;
   for (const Peak& p : peaks) {
-    if (static_cast<int>(dots.size()) >= count) break;
-    const double r = best_r.at<float>(p.y, p.x);
+    if (static_cast<int>(dots.size()) >= count || p.v < floor || ++attempts > 16 * count) break;
+    const double r = best_r.at<float>(static_cast<int>(p.y / to_full), static_cast<int>(p.x / to_full));
     bool near = false;
     for (const Dot& d : dots)
       near = near || (d.p_I - Eigen::Vector2d(p.x, p.y)).norm() < 2.5 * std::max(r, d.radius_px);
@@ -266,9 +292,10 @@ std::optional<Dot> FindDotNear(const cv::Mat& grey, const Eigen::Vector2d& predi
   const Eigen::Vector2d pw = predicted_I - Eigen::Vector2d(x0, y0);
   double best = 0;
   Eigen::Vector2d coarse = pw;
+  const double r2 = search_radius_px * search_radius_px;
   for (int y = 0; y < win.rows; ++y)
     for (int x = 0; x < win.cols; ++x) {
-      if (std::hypot(x - pw.x(), y - pw.y()) > search_radius_px) continue;
+      if ((x - pw.x()) * (x - pw.x()) + (y - pw.y()) * (y - pw.y()) > r2) continue;
       const float v = c.at<float>(y, x);
       if (v > best) {
         best = v;

@@ -22,5 +22,10 @@ struct RunState {
 
 void RegisterSimulate(CLI::App& app, RunState& state);
 void RegisterFit(CLI::App& app, RunState& state);
+void RegisterStats(CLI::App& app, RunState& state);
+void RegisterSynth(CLI::App& app, RunState& state);
+void RegisterTrack(CLI::App& app, RunState& state);
+void RegisterAnalyze(CLI::App& app, RunState& state);
+void RegisterScore(CLI::App& app, RunState& state);
 
 }  // namespace hoof::cli

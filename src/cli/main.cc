@@ -15,6 +15,11 @@ int main(int argc, char** argv) {
   hoof::cli::RunState state;
   hoof::cli::RegisterSimulate(app, state);
   hoof::cli::RegisterFit(app, state);
+  hoof::cli::RegisterStats(app, state);
+  hoof::cli::RegisterSynth(app, state);
+  hoof::cli::RegisterTrack(app, state);
+  hoof::cli::RegisterAnalyze(app, state);
+  hoof::cli::RegisterScore(app, state);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <string>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace hoof::testing {
 
@@ -17,7 +18,8 @@ struct CommandResult {
 inline CommandResult RunHoofimpact(const std::string& args) {
   static int counter = 0;
   const std::string err_path =
-      std::string(HOOF_BINARY_DIR) + "/cli-test-stderr-" + std::to_string(++counter) + ".txt";
+      std::string(HOOF_BINARY_DIR) + "/cli-test-stderr-" + std::to_string(::getpid()) + "-" +
+      std::to_string(++counter) + ".txt";  // ctest runs tests in parallel processes
   const std::string cmd = std::string(HOOF_CLI_PATH) + " " + args + " 2>" + err_path;
   CommandResult r;
   FILE* pipe = ::popen(cmd.c_str(), "r");

@@ -1,0 +1,172 @@
+// hoofimpact analyze: a whole study folder -> every trial measured (in parallel) -> one HDF5
+// study file, with optional JSON and CSV exports. A bad trial is recorded with its reason and
+// never stops the others.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <unistd.h>
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
+#include "cli/trial_output.h"
+#include "pipeline/study_format.h"
+#include "pipeline/trial_analysis.h"
+#include "studyfile/study_file.h"
+
+namespace hoof::cli {
+namespace {
+
+struct AnalyzeArgs {
+  std::string study_dir;
+  std::string output;
+  std::string csv;
+  std::string tracks_csv;
+  bool json = false;
+  int jobs = 0;
+  pipeline::TrialAnalysisOptions options;
+  std::string method = "centroid";
+  std::string command_line;
+};
+
+/// Reads and analyses one trial folder. Never throws: a trial.json that cannot be read (or
+/// any other exception) becomes a failed TrialAnalysis whose error names the file.
+pipeline::TrialAnalysis AnalyzeOne(const std::filesystem::path& dir,
+                                   const pipeline::StudySpec& study,
+                                   const pipeline::TrialAnalysisOptions& options) {
+  try {
+    const pipeline::TrialSpec spec = pipeline::ReadTrial(dir, study);
+    return pipeline::AnalyzeTrial(spec, options);
+  } catch (const std::exception& e) {
+    pipeline::TrialAnalysis failed;
+    failed.spec.dir = dir;
+    failed.spec.id = dir.filename().string();
+    failed.success = false;
+    failed.error = e.what();
+    return failed;
+  }
+}
+
+/// Analyses every trial on `jobs` threads; results are stored by index, so the order is the
+/// study's whatever the scheduling. `done(n)` is called (serialized) after each trial.
+std::vector<pipeline::TrialAnalysis> AnalyzeAll(const pipeline::StudySpec& study,
+                                                const pipeline::TrialAnalysisOptions& options,
+                                                int jobs,
+                                                const std::function<void(std::size_t)>& done) {
+  const std::size_t n = study.trial_dirs.size();
+  std::vector<pipeline::TrialAnalysis> results(n);
+  std::atomic<std::size_t> next{0};
+  std::size_t finished = 0;
+  std::mutex mutex;
+  const auto worker = [&] {
+    for (std::size_t i = next++; i < n; i = next++) {
+      results[i] = AnalyzeOne(study.trial_dirs[i], study, options);
+      const std::lock_guard<std::mutex> lock(mutex);
+      ++finished;
+      if (done) done(finished);
+    }
+  };
+  const std::size_t threads = std::min<std::size_t>(static_cast<std::size_t>(std::max(jobs, 1)), n);
+  std::vector<std::thread> pool;
+  for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  return results;
+}
+
+std::string Summary(const std::vector<pipeline::TrialAnalysis>& results, const std::string& output,
+                    double seconds) {
+  std::size_t ok = 0;
+  for (const auto& r : results) ok += r.success ? 1 : 0;
+  std::ostringstream os;
+  os << "Analysed " << results.size() << " trial(s) in " << seconds << " s: " << ok << " ok, "
+     << results.size() - ok << " failed\n";
+  for (const auto& r : results)
+    if (!r.success) os << "  FAILED " << r.spec.id << ": " << r.error << "\n";
+  os << "Study file: " << output << "\n";
+  return os.str();
+}
+
+void Run(AnalyzeArgs& a, RunState& state) {
+  ApplyMethod(a.method, a.options);
+  a.options.kinematics.Validate();
+  a.options.tracker.Validate();
+  if (a.jobs < 0)
+    throw CLI::ValidationError("--jobs", "must be >= 0, got " + std::to_string(a.jobs));
+  const int jobs =
+      a.jobs > 0 ? a.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const pipeline::StudySpec study = pipeline::ReadStudy(a.study_dir);
+  if (study.trial_dirs.empty()) throw std::runtime_error(a.study_dir + ": the study has no trials");
+  for (const auto& w : study.warnings) std::cerr << "hoofimpact: warning: " << w << "\n";
+
+  const bool tty = ::isatty(STDERR_FILENO) != 0;
+  const std::size_t n = study.trial_dirs.size();
+  const auto start = std::chrono::steady_clock::now();
+  const auto results = AnalyzeAll(study, a.options, jobs, [&](std::size_t done) {
+    if (tty) std::cerr << "\r  analysing: " << done << "/" << n << " trials" << std::flush;
+  });
+  if (tty) std::cerr << "\n";
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  studyfile::StudyInfo info;
+  info.name = study.name;
+  info.study_dir = std::filesystem::absolute(study.dir);
+  info.specimens = study.specimens;
+  info.options = a.options;
+  info.warnings = study.warnings;
+  info.command_line = a.command_line;
+  studyfile::WriteStudyFile(a.output, info, results);
+  if (!a.csv.empty()) studyfile::WriteResultsCsv(a.csv, results);
+  if (!a.tracks_csv.empty()) studyfile::WriteTracksCsv(a.tracks_csv, results);
+
+  std::size_t ok = 0;
+  for (const auto& r : results) ok += r.success ? 1 : 0;
+  if (a.json) {
+    nlohmann::json j = nlohmann::json::array();
+    for (const auto& r : results) j.push_back(TrialJson(r));
+    std::cout << j.dump(2) << "\n";
+    std::cerr << Summary(results, a.output, seconds);
+  } else {
+    std::cout << Summary(results, a.output, seconds);
+  }
+  state.exit_code = ok == results.size() ? kExitOk : ok == 0 ? kExitFailure : kExitPartial;
+}
+
+}  // namespace
+
+void RegisterAnalyze(CLI::App& app, RunState& state) {
+  auto args = std::make_shared<AnalyzeArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "analyze",
+      "Measure every trial of a study folder in parallel and write one HDF5 study file "
+      "(docs/hdf5-schema.md); a failed trial is recorded with its reason");
+  cmd->add_option("study_dir", args->study_dir, "Study folder with study.json (docs/format.md)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  cmd->add_option("-o,--output", args->output, "HDF5 study file to write (atomically)")->required();
+  cmd->add_flag("--json", args->json, "Print a JSON array with one object per trial");
+  cmd->add_option("--csv", args->csv, "Also write the per-trial results as CSV");
+  cmd->add_option("--tracks-csv", args->tracks_csv,
+                  "Also write every trial's marker tracks and poses as one long CSV");
+  cmd->add_option("--jobs", args->jobs, "Trials analysed in parallel (0 = all cores)")
+      ->capture_default_str();
+  AddAnalysisOptions(cmd, args->options, args->method);
+  cmd->callback([args, &state] {
+    args->command_line = "hoofimpact analyze " + args->study_dir + " -o " + args->output +
+                         " --method " + args->method + " --fit-frames " +
+                         std::to_string(args->options.kinematics.fit_frames) +
+                         (args->options.scale_from_markers ? " --scale-from-markers" : "");
+    Run(*args, state);
+  });
+}
+
+}  // namespace hoof::cli

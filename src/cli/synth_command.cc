@@ -1,0 +1,472 @@
+// hoofimpact synth: render synthetic 8000 fps trials (or a whole study) with ground truth.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "cli/commands.h"
+#include "synth/contact_sheet.h"
+#include "synth/renderer.h"
+#include "synth/study.h"
+
+namespace hoof::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using synth::CameraEffects;
+
+struct SynthArgs {
+  std::string output;
+  bool overwrite = false;
+  std::string surface = "steel";
+  double angle_deg = 0.0;
+  double speed_m_s = 3.0;
+  std::uint64_t seed = 1;  // the trial's; a study keeps StudyDesign::seed unless --seed is given
+  std::string id;
+  std::optional<double> e, mu;
+  bool no_scatter = false;
+  synth::RenderOptions render;
+  synth::SpecimenGeometry geometry;
+  std::string markers;
+  std::vector<double> distortion;
+  bool clean = false, no_noise = false, no_blur = false, no_distortion = false;
+  bool no_defocus = false, no_vignetting = false, no_gradient = false, no_jitter = false;
+  synth::HiddenEffects hidden;
+  bool study = false;
+  std::string study_config;
+  synth::StudyDesign design;
+  // Study options as given on the command line; they override --study-config.
+  std::string name;
+  std::vector<std::string> surfaces;
+  std::vector<double> angles_deg, speeds_m_s;
+  int trials_per_cell = 3;
+  double out_of_plane_random_deg = 0.0;
+  int threads = 0;
+  bool json = false;
+  std::string contact_sheet;
+};
+
+[[noreturn]] void Bad(const std::string& option, const std::string& what) {
+  throw std::invalid_argument(option + " " + what);
+}
+
+/// Parses "M1=0.006,0;M2=0.024,0" into markers.
+std::vector<synth::Marker> ParseMarkers(const std::string& text) {
+  std::vector<synth::Marker> markers;
+  std::stringstream all(text);
+  std::string item;
+  while (std::getline(all, item, ';')) {
+    const auto eq = item.find('=');
+    const auto comma = item.find(',', eq == std::string::npos ? 0 : eq);
+    if (eq == std::string::npos || comma == std::string::npos)
+      Bad("--markers-b-m", "'" + item + "': expected NAME=x,y (metres), separated by ';'");
+    try {
+      markers.push_back(
+          {item.substr(0, eq),
+           {std::stod(item.substr(eq + 1, comma - eq - 1)), std::stod(item.substr(comma + 1))}});
+    } catch (const std::logic_error&) {
+      Bad("--markers-b-m", "'" + item + "': x and y must be numbers");
+    }
+  }
+  return markers;
+}
+
+std::vector<dynamics::Surface> ParseSurfaces(const std::vector<std::string>& names,
+                                             const std::string& option) {
+  std::vector<dynamics::Surface> out;
+  for (const std::string& n : names) {
+    try {
+      out.push_back(dynamics::ParseSurface(n));
+    } catch (const std::invalid_argument& e) {
+      Bad(option, std::string(": ") + e.what());
+    }
+  }
+  return out;
+}
+
+/// Reads --study-config: the study's design and hidden effects. Unknown keys are an error.
+void ApplyStudyConfig(const std::string& path, SynthArgs& a) {
+  std::ifstream in(path);
+  if (!in) Bad("--study-config", "'" + path + "' cannot be read");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+    synth::StudyDesign& d = a.design;
+    for (const auto& [key, value] : j.items()) {
+      if (key == "name")
+        d.name = value.get<std::string>();
+      else if (key == "seed")
+        d.seed = value.get<std::uint64_t>();
+      else if (key == "surfaces")
+        d.surfaces = ParseSurfaces(value.get<std::vector<std::string>>(), path + ": surfaces");
+      else if (key == "angles_deg")
+        d.angles_deg = value.get<std::vector<double>>();
+      else if (key == "speeds_m_s")
+        d.speeds_m_s = value.get<std::vector<double>>();
+      else if (key == "trials_per_cell")
+        d.trials_per_cell = value.get<int>();
+      else if (key == "cells") {
+        for (const auto& c : value)
+          d.cells.push_back(
+              {ParseSurfaces({c.at("surface").get<std::string>()}, path + ": cells").front(),
+               c.at("angle_deg").get<double>(), c.at("speed_m_s").get<double>()});
+      } else if (key == "scatter_parameters")
+        d.scatter_parameters = value.get<bool>();
+      else if (key == "out_of_plane_random_deg")
+        d.out_of_plane_random_deg = value.get<double>();
+      else if (key == "markers_B_m") {
+        a.geometry.markers.clear();
+        for (const auto& [name, xy] : value.items())
+          a.geometry.markers.push_back({name, {xy.at(0).get<double>(), xy.at(1).get<double>()}});
+      } else if (key == "hidden_effects") {
+        dynamics::ContactExtensions& x = d.hidden.contact;
+        synth::OutOfPlane& o = d.hidden.out_of_plane;
+        for (const auto& [k, v] : value.items()) {
+          const double val = v.get<double>();
+          if (k == "hunt_crossley_N_s_m2")
+            x.hunt_crossley_N_s_m2 = val;
+          else if (k == "stiffness_exponent_extra")
+            x.stiffness_exponent_extra = val;
+          else if (k == "stiffness_reference_depth_m")
+            x.stiffness_reference_depth_m = val;
+          else if (k == "unloading_stiffness_ratio")
+            x.unloading_stiffness_ratio = val;
+          else if (k == "static_friction_excess")
+            x.static_friction_excess = val;
+          else if (k == "tangential_compliance_ratio")
+            x.tangential_compliance_ratio = val;
+          else if (k == "rolling_resistance_m")
+            x.rolling_resistance_m = val;
+          else if (k == "tilt_deg")
+            o.tilt_deg = val;
+          else if (k == "roll_deg")
+            o.roll_deg = val;
+          else if (k == "tilt_rate_deg_s")
+            o.tilt_rate_deg_s = val;
+          else if (k == "roll_rate_deg_s")
+            o.roll_rate_deg_s = val;
+          else
+            throw std::invalid_argument(path + ": unknown field 'hidden_effects." + k + "'");
+        }
+      } else {
+        throw std::invalid_argument(path + ": unknown field '" + key + "'");
+      }
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument("--study-config '" + path + "': " + e.what());
+  }
+}
+
+void AddCameraOptions(CLI::App* cmd, SynthArgs& a) {
+  CameraEffects& c = a.render.camera;
+  cmd->add_flag("--clean", a.clean, "Turn every camera effect off (ideal camera)");
+  cmd->add_flag("--no-noise", a.no_noise, "No shot or read noise");
+  cmd->add_option("--full-well-e", c.full_well_e, "Electrons at full scale (sets shot noise)")
+      ->capture_default_str();
+  cmd->add_option("--read-noise-e", c.read_noise_e, "Read noise s.d. (electrons)")
+      ->capture_default_str();
+  cmd->add_option("--black-level", c.black_level, "Black level, fraction of full scale")
+      ->capture_default_str();
+  cmd->add_flag("--no-motion-blur", a.no_blur, "Point-in-time exposure");
+  cmd->add_option("--exposure-s", c.exposure_s, "Exposure time (s)")->capture_default_str();
+  cmd->add_option("--blur-samples", c.blur_samples, "Sub-frame poses per exposure")
+      ->capture_default_str();
+  cmd->add_flag("--no-distortion", a.no_distortion, "No lens distortion");
+  cmd->add_option("--distortion", a.distortion, "k1,k2,p1,p2,k3 (OpenCV model)")
+      ->delimiter(',')
+      ->expected(5);
+  cmd->add_option("--focal-px", c.focal_px, "Focal length of the distortion model (px)")
+      ->capture_default_str();
+  cmd->add_flag("--no-defocus", a.no_defocus, "No defocus blur");
+  cmd->add_option("--defocus-sigma-px", c.defocus_sigma_px, "Gaussian defocus s.d. (px)")
+      ->capture_default_str();
+  cmd->add_flag("--no-vignetting", a.no_vignetting, "No light fall-off to the corners");
+  cmd->add_option("--vignetting-fraction", c.vignetting_fraction, "Fall-off at the corners")
+      ->capture_default_str();
+  cmd->add_flag("--no-lighting-gradient", a.no_gradient, "Uniform lighting");
+  cmd->add_option("--lighting-gradient-fraction", c.lighting_gradient_fraction,
+                  "Lighting ramp across the frame, peak to peak")
+      ->capture_default_str();
+  cmd->add_flag("--no-jitter", a.no_jitter, "No random (sub-pixel) placement of the scene");
+  cmd->add_option("--drop-frame-probability", c.drop_frame_probability,
+                  "Chance per frame that a capture is dropped (recorded in truth)")
+      ->capture_default_str();
+  cmd->add_option("--duplicate-frame-probability", c.duplicate_frame_probability,
+                  "Chance per frame that the previous image repeats (recorded in truth)")
+      ->capture_default_str();
+}
+
+void AddHiddenOptions(CLI::App* cmd, SynthArgs& a) {
+  dynamics::ContactExtensions& x = a.hidden.contact;
+  synth::OutOfPlane& o = a.hidden.out_of_plane;
+  cmd->add_option("--hunt-crossley-n-s-m2", x.hunt_crossley_N_s_m2,
+                  "Hidden: Hunt-Crossley damping (N s/m^2)");
+  cmd->add_option("--stiffness-exponent-extra", x.stiffness_exponent_extra,
+                  "Hidden: extra stiffness exponent p, 0.5 = Hertz");
+  cmd->add_option("--stiffness-reference-depth-m", x.stiffness_reference_depth_m,
+                  "Hidden: delta_ref of the nonlinear stiffness (m)");
+  cmd->add_option("--unloading-stiffness-ratio", x.unloading_stiffness_ratio,
+                  "Hidden: plastic unloading, k_u = k (1 + r)");
+  cmd->add_option("--static-friction-excess", x.static_friction_excess, "Hidden: mu_s - mu");
+  cmd->add_option("--tangential-compliance-ratio", x.tangential_compliance_ratio,
+                  "Hidden: k / k_t of the tangential spring");
+  cmd->add_option("--rolling-resistance-m", x.rolling_resistance_m,
+                  "Hidden: rolling resistance arm rho (m)");
+  cmd->add_option("--tilt-deg", o.tilt_deg, "Hidden: out-of-plane tilt about y_B at touch (deg)");
+  cmd->add_option("--roll-deg", o.roll_deg,
+                  "Hidden: out-of-plane roll about the long axis at touch (deg)");
+  cmd->add_option("--tilt-rate-deg-s", o.tilt_rate_deg_s, "Hidden: out-of-plane tilt rate (deg/s)");
+  cmd->add_option("--roll-rate-deg-s", o.roll_rate_deg_s, "Hidden: out-of-plane roll rate (deg/s)");
+}
+
+void ApplyCameraSwitches(SynthArgs& a) {
+  CameraEffects& c = a.render.camera;
+  if (a.clean) {
+    const CameraEffects clean = CameraEffects::Clean();
+    c.noise = clean.noise;
+    c.motion_blur = clean.motion_blur;
+    c.distortion = clean.distortion;
+    c.defocus = clean.defocus;
+    c.vignetting = clean.vignetting;
+    c.lighting_gradient = clean.lighting_gradient;
+    c.subpixel_jitter = clean.subpixel_jitter;
+  }
+  if (a.no_noise) c.noise = false;
+  if (a.no_blur) c.motion_blur = false;
+  if (a.no_distortion) c.distortion = false;
+  if (a.no_defocus) c.defocus = false;
+  if (a.no_vignetting) c.vignetting = false;
+  if (a.no_gradient) c.lighting_gradient = false;
+  if (a.no_jitter) c.subpixel_jitter = false;
+  if (!a.distortion.empty()) {
+    c.k1 = a.distortion[0];
+    c.k2 = a.distortion[1];
+    c.p1 = a.distortion[2];
+    c.p2 = a.distortion[3];
+    c.k3 = a.distortion[4];
+  }
+}
+
+/// Checks the main options with their names before the libraries see them.
+void CheckArgs(const SynthArgs& a) {
+  if (a.output.empty()) Bad("--output", "is required");
+  if (!(a.speed_m_s > 0 && a.speed_m_s <= 20))
+    Bad("--speed-m-s", "must be in (0, 20], got " + std::to_string(a.speed_m_s));
+  if (!(a.angle_deg >= 0 && a.angle_deg <= 60))
+    Bad("--angle-deg", "must be in [0, 60], got " + std::to_string(a.angle_deg));
+  if (a.e && !(*a.e > 0 && *a.e < 1)) Bad("--e", "must be in (0, 1)");
+  if (a.mu && !(*a.mu >= 0)) Bad("--mu", "must be >= 0");
+  for (double s : a.design.speeds_m_s)
+    if (!(s > 0 && s <= 20)) Bad("--speeds", "must each be in (0, 20], got " + std::to_string(s));
+  for (double s : a.design.angles_deg)
+    if (!(s >= 0 && s <= 60))
+      Bad("--angles-deg", "must each be in [0, 60], got " + std::to_string(s));
+  if (a.design.trials_per_cell < 1) Bad("--trials-per-cell", "must be >= 1");
+  const fs::path out(a.output);
+  std::error_code ec;
+  const fs::path parent =
+      a.study ? out : (out.has_parent_path() ? out.parent_path() : fs::path("."));
+  fs::create_directories(parent, ec);
+  if (ec || !fs::is_directory(parent) || ::access(parent.c_str(), W_OK) != 0)
+    Bad("--output", "'" + a.output + "': cannot create or write folder '" + parent.string() + "'" +
+                        (ec ? ": " + ec.message() : std::string()));
+}
+
+nlohmann::json TrialSummary(const synth::TrialSpec& spec, bool ok, const std::string& error,
+                            const synth::TrialResult& r) {
+  nlohmann::json j = {{"id", spec.id}, {"ok", ok}};
+  if (!ok) {
+    j["error"] = error;
+    return j;
+  }
+  const auto num = [](double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+  };
+  j["path"] = r.path.string();
+  j["frames"] = r.truth.frames.size();
+  j["e"] = num(r.truth.impact.e);
+  j["mu_eff"] = num(r.truth.impact.mu_eff);
+  j["impact_time_s"] = r.truth.impact_time_s;
+  j["render_seconds"] = r.render_seconds;
+  return j;
+}
+
+/// Frames around impact of the first trial of each surface, as a PNG (hidden option).
+void WriteContactSheet(const std::string& path, const std::vector<synth::StudyTrial>& trials) {
+  std::vector<synth::ContactSheetRow> rows;
+  std::vector<dynamics::Surface> seen;
+  for (const auto& t : trials) {
+    if (!t.ok || std::find(seen.begin(), seen.end(), t.spec.surface) != seen.end()) continue;
+    seen.push_back(t.spec.surface);
+    std::ostringstream label;
+    label << t.spec.id << ": " << dynamics::SurfaceName(t.spec.surface) << ", " << t.spec.angle_deg
+          << " deg, " << t.spec.speed_m_s << " m/s (touch before frame "
+          << t.result.truth.first_frame_after_touch << ")";
+    const int n = static_cast<int>(t.result.truth.frames.size());
+    const int first = std::clamp(t.result.truth.first_frame_after_touch - 3, 0, std::max(0, n - 6));
+    rows.push_back({t.result.path, first, std::min(6, n), label.str()});
+  }
+  const cv::Mat sheet = synth::MakeContactSheet(rows, 0.5);
+  if (!cv::imwrite(path, sheet))
+    throw std::runtime_error("cannot write contact sheet '" + path + "'");
+}
+
+void Run(SynthArgs& a, RunState& state, CLI::App* cmd) {
+  while (a.output.size() > 1 && a.output.back() == '/') a.output.pop_back();
+  if (!a.study_config.empty()) ApplyStudyConfig(a.study_config, a);
+  synth::StudyDesign& d = a.design;
+  if (cmd->count("--seed") > 0) d.seed = a.seed;
+  if (cmd->count("--name") > 0) d.name = a.name;
+  if (cmd->count("--surfaces") > 0) d.surfaces = ParseSurfaces(a.surfaces, "--surfaces");
+  if (cmd->count("--angles-deg") > 0) d.angles_deg = a.angles_deg;
+  if (cmd->count("--speeds") > 0) d.speeds_m_s = a.speeds_m_s;
+  if (cmd->count("--trials-per-cell") > 0) d.trials_per_cell = a.trials_per_cell;
+  if (cmd->count("--out-of-plane-random-deg") > 0)
+    d.out_of_plane_random_deg = a.out_of_plane_random_deg;
+  if (d.out_of_plane_random_deg < 0 || d.out_of_plane_random_deg >= 60)
+    Bad("--out-of-plane-random-deg", "must be in [0, 60)");
+  if (!a.markers.empty()) a.geometry.markers = ParseMarkers(a.markers);
+  ApplyCameraSwitches(a);
+  CheckArgs(a);
+  const bool tty = ::isatty(STDERR_FILENO) == 1;
+  std::vector<synth::StudyTrial> trials;
+  double seconds = 0;
+  int failed = 0;
+  if (a.study) {
+    if (cmd->count("--no-scatter") > 0) a.design.scatter_parameters = false;
+    // CLI hidden effects apply on top of the config's when given.
+    for (const char* name :
+         {"--hunt-crossley-n-s-m2", "--stiffness-exponent-extra", "--stiffness-reference-depth-m",
+          "--unloading-stiffness-ratio", "--static-friction-excess",
+          "--tangential-compliance-ratio", "--rolling-resistance-m", "--tilt-deg", "--roll-deg",
+          "--tilt-rate-deg-s", "--roll-rate-deg-s"})
+      if (cmd->count(name) > 0) {
+        a.design.hidden = a.hidden;
+        break;
+      }
+    const auto progress = [tty](int done, int total, const std::string& id) {
+      if (tty)
+        std::cerr << "\r[" << done << "/" << total << "] " << id << "          " << std::flush;
+    };
+    synth::StudyResult r = synth::RenderStudy(a.design, a.geometry, a.render, a.output, a.threads,
+                                              a.overwrite, progress);
+    if (tty) std::cerr << "\n";
+    trials = std::move(r.trials);
+    seconds = r.seconds;
+    failed = r.failed;
+  } else {
+    synth::TrialSpec spec;
+    spec.surface = ParseSurfaces({a.surface}, "--surface").front();
+    spec.angle_deg = a.angle_deg;
+    spec.speed_m_s = a.speed_m_s;
+    spec.seed = a.seed;
+    spec.e = a.e;
+    spec.mu = a.mu;
+    spec.scatter_parameters = !a.no_scatter;
+    spec.hidden = a.hidden;
+    spec.id = a.id.empty() ? fs::path(a.output).filename().string() : a.id;
+    const synth::SceneAssets assets =
+        synth::BuildSceneAssets(a.geometry, a.render, {spec.surface}, a.seed);
+    synth::TrialResult r =
+        synth::RenderTrial(spec, a.geometry, a.render, assets, a.output, a.overwrite);
+    seconds = r.render_seconds;
+    trials.push_back({spec, true, {}, std::move(r)});
+  }
+  for (const auto& t : trials)
+    if (!t.ok) std::cerr << "hoofimpact: trial " << t.spec.id << " failed: " << t.error << "\n";
+  if (!a.contact_sheet.empty()) WriteContactSheet(a.contact_sheet, trials);
+  if (a.json) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& t : trials) list.push_back(TrialSummary(t.spec, t.ok, t.error, t.result));
+    std::cout << nlohmann::json{{"output", a.output},
+                                {"study", a.study},
+                                {"trials", list},
+                                {"failed", failed},
+                                {"seconds", seconds}}
+                     .dump(2)
+              << "\n";
+  } else {
+    std::cout << "Wrote " << trials.size() - static_cast<std::size_t>(failed) << " trial(s) to "
+              << a.output << " in " << seconds << " s"
+              << (failed ? " (" + std::to_string(failed) + " failed)" : "") << "\n";
+  }
+  state.exit_code = failed > 0 ? kExitPartial : kExitOk;
+}
+
+}  // namespace
+
+void RegisterSynth(CLI::App& app, RunState& state) {
+  auto args = std::make_shared<SynthArgs>();
+  SynthArgs& a = *args;
+  CLI::App* cmd = app.add_subcommand(
+      "synth", "Render synthetic 8000 fps trials with ground truth (trial or study folders)");
+  cmd->add_option("-o,--output", a.output, "Trial folder to write (a study folder with --study)")
+      ->required();
+  cmd->add_flag("--overwrite", a.overwrite, "Replace existing trial folders");
+  cmd->add_option("--surface", a.surface, "steel, concrete or asphalt")->capture_default_str();
+  cmd->add_option("--angle-deg", a.angle_deg, "Surface angle phi, in [0, 60] (deg)")
+      ->capture_default_str();
+  cmd->add_option("--speed-m-s", a.speed_m_s, "Vertical speed at first touch (m/s)")
+      ->capture_default_str();
+  cmd->add_option(
+      "--seed", a.seed,
+      "Seed of every random draw: of the trial (default 1) or of the study (default 2024)");
+  cmd->add_option("--id", a.id, "Trial id (default: the output folder's name)");
+  cmd->add_option("--e", a.e, "Fix the normal restitution that sets zeta (no draw)");
+  cmd->add_option("--mu", a.mu, "Fix the friction coefficient (no draw)");
+  cmd->add_flag("--no-scatter", a.no_scatter,
+                "Use the paper's coefficients without per-trial draws");
+  cmd->add_option("--width-px", a.render.width_px, "Frame width (px)")->capture_default_str();
+  cmd->add_option("--height-px", a.render.height_px, "Frame height (px)")->capture_default_str();
+  cmd->add_option("--bit-depth", a.render.bit_depth, "8 or 16 bits per pixel")
+      ->capture_default_str();
+  cmd->add_option("--m-per-px", a.render.m_per_px, "Scale in the plane of motion (m/px)")
+      ->capture_default_str();
+  cmd->add_option("--fps", a.render.fps, "Frame rate (1/s)")->capture_default_str();
+  cmd->add_option("--frames-before", a.render.frames_before, "Frames before first touch")
+      ->capture_default_str();
+  cmd->add_option("--frames-after", a.render.frames_after, "Frames from first touch on")
+      ->capture_default_str();
+  cmd->add_option("--png-compression", a.render.png_compression, "PNG zlib level 0-9")
+      ->capture_default_str();
+  cmd->add_option("--markers-b-m", a.markers,
+                  "Markers in the body frame, e.g. \"M1=0.006,0;M2=0.024,0\" (m)");
+  AddCameraOptions(cmd, a);
+  AddHiddenOptions(cmd, a);
+  cmd->add_flag("--study", a.study,
+                "Render a whole study (paper design: 3 x 4 x 4 x 3 = 144 trials)");
+  cmd->add_option("--study-config", a.study_config,
+                  "JSON with the study design and hidden effects");
+  cmd->add_option("--name", a.name, "Study name (default synthetic-paper-replica)");
+  cmd->add_option("--surfaces", a.surfaces, "Study surfaces, comma-separated (default all three)")
+      ->delimiter(',');
+  cmd->add_option("--angles-deg", a.angles_deg,
+                  "Study angles (deg), comma-separated (default 0,10,20,30)")
+      ->delimiter(',');
+  cmd->add_option("--speeds", a.speeds_m_s,
+                  "Study speeds (m/s), comma-separated (default 1.5,2.33,3.17,4)")
+      ->delimiter(',');
+  cmd->add_option("--trials-per-cell", a.trials_per_cell, "Repetitions per surface x angle x speed")
+      ->capture_default_str();
+  cmd->add_option("--out-of-plane-random-deg", a.out_of_plane_random_deg,
+                  "Study: per-trial random tilt and roll within +- this (deg)");
+  cmd->add_option("--threads", a.threads, "Worker threads for a study (0 = all cores)")
+      ->capture_default_str();
+  cmd->add_flag("--json", a.json, "Print a JSON summary");
+  cmd->add_option("--contact-sheet", a.contact_sheet, "Write a contact sheet PNG")->group("");
+  cmd->callback([args, &state, cmd] { Run(*args, state, cmd); });
+}
+
+}  // namespace hoof::cli

@@ -1,0 +1,84 @@
+#include "pipeline/truth_score.h"
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+namespace hoof::pipeline {
+namespace {
+
+Eigen::Vector2d Vec(const nlohmann::json& j, const std::string& key, const std::string& file) {
+  if (!j.contains(key) || !j.at(key).is_array() || j.at(key).size() != 2)
+    throw std::runtime_error(file + ": field \"" + key + "\" is missing or not [x, y]");
+  return {j.at(key)[0].get<double>(), j.at(key)[1].get<double>()};
+}
+
+double Num(const nlohmann::json& j, const std::string& key, const std::string& file) {
+  if (!j.contains(key) || !j.at(key).is_number())
+    throw std::runtime_error(file + ": field \"" + key + "\" is missing or not a number");
+  return j.at(key).get<double>();
+}
+
+}  // namespace
+
+TrialTruth ReadTruth(const std::filesystem::path& trial_dir) {
+  const std::string file = (trial_dir / "truth.json").string();
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file + ": cannot open");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw std::runtime_error(file + ": not valid JSON: " + e.what());
+  }
+  TrialTruth t;
+  t.impact_time_s = Num(j, "impact_time_s", file);
+  t.v_SC_before = Vec(j, "v_SC_before_m_s", file);
+  t.v_SC_after = Vec(j, "v_SC_after_m_s", file);
+  t.w_before_rad_s = Num(j, "w_before_rad_s", file);
+  t.w_after_rad_s = Num(j, "w_after_rad_s", file);
+  t.e = Num(j, "e", file);
+  t.mu_eff = j.contains("mu_eff") && j.at("mu_eff").is_number() ? j.at("mu_eff").get<double>()
+                                                                  : std::numeric_limits<double>::quiet_NaN();
+  if (!j.contains("frames") || !j.at("frames").is_array())
+    throw std::runtime_error(file + ": field \"frames\" is missing");
+  for (const auto& f : j.at("frames")) {
+    std::map<std::string, Eigen::Vector2d> m;
+    for (auto it = f.at("markers_px").begin(); it != f.at("markers_px").end(); ++it)
+      m[it.key()] = {it.value()[0].get<double>(), it.value()[1].get<double>()};
+    t.markers_px.push_back(m);
+    const double tilt = f.value("out_of_plane_tilt_rad", 0.0), roll = f.value("out_of_plane_roll_rad", 0.0);
+    if (tilt != 0.0 || roll != 0.0) t.out_of_plane = true;
+  }
+  return t;
+}
+
+TrialScore ScoreTrial(const TrialAnalysis& a, const TrialTruth& t) {
+  TrialScore s;
+  double ss = 0;
+  for (std::size_t f = 0; f < a.tracks.frames.size() && f < t.markers_px.size(); ++f)
+    for (std::size_t m = 0; m < a.tracks.names.size(); ++m) {
+      const auto& o = a.tracks.frames[f][m];
+      const auto it = t.markers_px[f].find(a.tracks.names[m]);
+      if (!o.found || it == t.markers_px[f].end()) continue;
+      const double err = (o.p_I - it->second).norm();
+      ss += err * err;
+      s.marker_max_px = std::max(s.marker_max_px, err);
+      ++s.marker_count;
+    }
+  s.marker_rms_px = s.marker_count ? std::sqrt(ss / s.marker_count) : 0.0;
+  const auto& k = a.impact;
+  s.v_before_rel = (k.v_SC_before - t.v_SC_before).norm() / t.v_SC_before.norm();
+  s.v_after_rel = (k.v_SC_after - t.v_SC_after).norm() / t.v_SC_after.norm();
+  s.w_before_abs = std::abs(k.w_before_rad_s - t.w_before_rad_s);
+  s.w_after_abs = std::abs(k.w_after_rad_s - t.w_after_rad_s);
+  s.e_abs = std::abs(k.e - t.e);
+  s.mu_eff_abs = std::abs(k.mu_eff - t.mu_eff);
+  s.impact_time_abs_s = std::abs(k.impact_time_s - t.impact_time_s);
+  return s;
+}
+
+}  // namespace hoof::pipeline

@@ -1,0 +1,145 @@
+#include "synth/options.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string_view>
+
+namespace hoof::synth {
+namespace {
+
+[[noreturn]] void Throw(std::string_view owner, std::string_view field, double value,
+                        std::string_view rule) {
+  std::ostringstream os;
+  os << owner << "." << field << " = " << value << ": " << rule;
+  throw std::invalid_argument(os.str());
+}
+
+void RequireRange(std::string_view owner, std::string_view field, double value, double lo,
+                  double hi) {
+  if (!std::isfinite(value) || value < lo || value > hi) {
+    std::ostringstream rule;
+    rule << "must be in [" << lo << ", " << hi << "]";
+    Throw(owner, field, value, rule.str());
+  }
+}
+
+}  // namespace
+
+void SpecimenGeometry::Validate() const {
+  constexpr std::string_view kOwner = "specimen";
+  dynamics.Validate();
+  const double r = dynamics.end_radius_m;
+  RequireRange(kOwner, "length_m", length_m, 2 * r + 1e-6, 1.0);
+  RequireRange(kOwner, "width_m", width_m, 1e-4, 1.0);
+  RequireRange(kOwner, "thickness_m", thickness_m, 1e-4, 1.0);
+  RequireRange(kOwner, "dot_diameter_m", dot_diameter_m, 1e-5, 0.1);
+  RequireRange(kOwner, "patch_size_m", patch_size_m, dot_diameter_m * 1.2, 0.1);
+  if (markers.size() < 2)
+    Throw(kOwner, "markers_B_m (count)", static_cast<double>(markers.size()),
+          "two or more markers are needed");
+  const double half = patch_size_m / 2;
+  for (const Marker& m : markers) {
+    const std::string field = "markers_B_m." + m.name;
+    if (m.name.empty() || m.name.find_first_of("/\\\" ") != std::string::npos)
+      throw std::invalid_argument("specimen.markers_B_m: marker name '" + m.name +
+                                  "' must be non-empty without spaces, quotes or slashes");
+    const double x = m.p_BM_m.x(), y = m.p_BM_m.y();
+    if (!std::isfinite(x) || !std::isfinite(y) || x - half < 0 || x + half > length_m - r ||
+        std::abs(y) + half > width_m / 2)
+      Throw(kOwner, field + " x", x,
+            "the patch must lie on the straight part of the bar (0 <= x -+ patch/2 <= L - R, "
+            "|y| + patch/2 <= width/2); y = " +
+                std::to_string(y));
+  }
+  for (std::size_t i = 0; i < markers.size(); ++i)
+    for (std::size_t j = i + 1; j < markers.size(); ++j) {
+      if (markers[i].name == markers[j].name)
+        throw std::invalid_argument("specimen.markers_B_m: duplicate marker name '" +
+                                    markers[i].name + "'");
+      const Eigen::Vector2d d = markers[i].p_BM_m - markers[j].p_BM_m;
+      if (d.cwiseAbs().maxCoeff() < patch_size_m)
+        Throw(kOwner, "markers_B_m." + markers[j].name + " (distance to " + markers[i].name + ")",
+              d.norm(), "patches must not overlap");
+    }
+}
+
+CameraEffects CameraEffects::Clean() {
+  CameraEffects c;
+  c.noise = c.motion_blur = c.distortion = c.defocus = false;
+  c.vignetting = c.lighting_gradient = c.subpixel_jitter = false;
+  return c;
+}
+
+void CameraEffects::Validate() const {
+  constexpr std::string_view kOwner = "camera";
+  RequireRange(kOwner, "full_well_e", full_well_e, 1.0, 1e7);
+  RequireRange(kOwner, "read_noise_e", read_noise_e, 0.0, 1e5);
+  RequireRange(kOwner, "black_level", black_level, 0.0, 0.49);
+  RequireRange(kOwner, "exposure_s", exposure_s, 1e-8, 1.0);
+  RequireRange(kOwner, "blur_samples", blur_samples, 2, 64);
+  for (double k : {k1, k2, p1, p2, k3})
+    RequireRange(kOwner, "distortion (k1 k2 p1 p2 k3)", k, -1.0, 1.0);
+  RequireRange(kOwner, "focal_px", focal_px, 10.0, 1e6);
+  RequireRange(kOwner, "principal_offset_px x", principal_offset_px.x(), -1e3, 1e3);
+  RequireRange(kOwner, "principal_offset_px y", principal_offset_px.y(), -1e3, 1e3);
+  RequireRange(kOwner, "defocus_sigma_px", defocus_sigma_px, 0.0, 5.0);
+  if (defocus && defocus_sigma_px <= 0) Throw(kOwner, "defocus_sigma_px", 0, "must be > 0");
+  RequireRange(kOwner, "vignetting_fraction", vignetting_fraction, 0.0, 0.9);
+  RequireRange(kOwner, "lighting_gradient_fraction", lighting_gradient_fraction, 0.0, 0.9);
+  RequireRange(kOwner, "drop_frame_probability", drop_frame_probability, 0.0, 0.5);
+  RequireRange(kOwner, "duplicate_frame_probability", duplicate_frame_probability, 0.0, 0.5);
+}
+
+void OutOfPlane::Validate() const {
+  constexpr std::string_view kOwner = "out_of_plane";
+  RequireRange(kOwner, "tilt_deg", tilt_deg, -60.0, 60.0);
+  RequireRange(kOwner, "roll_deg", roll_deg, -60.0, 60.0);
+  RequireRange(kOwner, "tilt_rate_deg_s", tilt_rate_deg_s, -1e4, 1e4);
+  RequireRange(kOwner, "roll_rate_deg_s", roll_rate_deg_s, -1e4, 1e4);
+}
+
+void RenderOptions::Validate() const {
+  constexpr std::string_view kOwner = "render";
+  RequireRange(kOwner, "width_px", width_px, 64, 4096);
+  RequireRange(kOwner, "height_px", height_px, 64, 4096);
+  if (bit_depth != 8 && bit_depth != 16) Throw(kOwner, "bit_depth", bit_depth, "must be 8 or 16");
+  RequireRange(kOwner, "m_per_px", m_per_px, 2e-5, 2e-3);
+  RequireRange(kOwner, "fps", fps, 1.0, 1e7);
+  RequireRange(kOwner, "frames_before", frames_before, 1, 100000);
+  RequireRange(kOwner, "frames_after", frames_after, 1, 100000);
+  RequireRange(kOwner, "png_compression", png_compression, 0, 9);
+  RequireRange(kOwner, "texture_oversampling", texture_oversampling, 3, 9);
+  if (texture_oversampling % 2 == 0)
+    Throw(kOwner, "texture_oversampling", texture_oversampling, "must be odd");
+  camera.Validate();
+  if (camera.motion_blur && camera.exposure_s > 1.0 / fps * (1 + 1e-12))
+    Throw("camera", "exposure_s", camera.exposure_s, "must not exceed the frame period 1/fps");
+}
+
+void TrialSpec::Validate() const {
+  constexpr std::string_view kOwner = "trial";
+  if (id.empty() || id.find_first_of("/\\") != std::string::npos || id == "." || id == "..")
+    throw std::invalid_argument("trial.id '" + id + "' must be a non-empty folder name");
+  RequireRange(kOwner, "angle_deg", angle_deg, 0.0, 60.0);
+  if (!std::isfinite(speed_m_s) || speed_m_s <= 0 || speed_m_s > 20)
+    Throw(kOwner, "speed_m_s", speed_m_s, "must be in (0, 20]");
+  if (e && !(*e > 0 && *e < 1)) Throw(kOwner, "e", *e, "must be in (0, 1)");
+  if (mu && !(*mu >= 0 && std::isfinite(*mu))) Throw(kOwner, "mu", *mu, "must be >= 0");
+  hidden.contact.Validate();
+  hidden.out_of_plane.Validate();
+}
+
+double RestitutionSpread(dynamics::Surface surface) {
+  switch (surface) {
+    case dynamics::Surface::kSteel:
+      return 0.041;
+    case dynamics::Surface::kConcrete:
+      return 0.039;
+    case dynamics::Surface::kAsphalt:
+      return 0.071;
+  }
+  return 0.05;
+}
+
+}  // namespace hoof::synth

@@ -1,0 +1,89 @@
+#pragma once
+/// @file
+/// The synthetic high-speed trial renderer (docs/synthetic-trials.md). It samples the dynamics
+/// library's ImpactSimulator at the frame and exposure sub-sample times, draws each frame as a
+/// camera would record it, and writes a trial folder per docs FORMAT.md: trial.json,
+/// frames/%06d.png and truth.json. It draws; it never detects.
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "dynamics/impact_simulator.h"
+#include "synth/contact_draw.h"
+#include "synth/options.h"
+#include "synth/projection.h"
+#include "synth/specimen_texture.h"
+#include "synth/surface_scene.h"
+
+namespace hoof::synth {
+
+/// Read-only drawings shared by the trials of a study (one specimen, one block per surface).
+struct SceneAssets {
+  SpecimenTexture specimen;
+  std::vector<SurfaceTexture> surfaces;  ///< At most one per surface.
+  const SurfaceTexture& Surface(dynamics::Surface surface) const;
+};
+
+/// Draws the specimen texture and the blocks of `surfaces` from `seed`.
+SceneAssets BuildSceneAssets(const SpecimenGeometry& geometry, const RenderOptions& options,
+                             const std::vector<dynamics::Surface>& surfaces, std::uint64_t seed);
+
+/// Ground truth of one written frame.
+struct FrameTruth {
+  int capture_index = 0;  ///< Index of the capture shown (differs from the file's index after
+                          ///< dropped frames).
+  double t_s = 0.0;       ///< Mid-exposure time since capture 0 (s).
+  BodyPose pose;          ///< Pose at t_s.
+  Eigen::Vector2d p_WC{0.0, 0.0};           ///< Centre of mass in W (m).
+  std::string phase;                        ///< Contact phase at t_s (dynamics::ToString).
+  std::string defect;                       ///< "", "dropped_before" or "duplicate".
+  std::vector<Eigen::Vector2d> markers_px;  ///< Recorded (distorted) image.
+  std::vector<Eigen::Vector2d> markers_px_undistorted;  ///< Ideal image.
+};
+
+/// Everything known about a rendered trial.
+struct TrialTruth {
+  TrialSpec spec;
+  ContactDraw draw;
+  dynamics::ImpactResult impact;         ///< Without samples.
+  double impact_time_s = 0.0;            ///< First touch since capture 0 (s).
+  Eigen::Vector2d contact_px{0.0, 0.0};  ///< Ideal image position of W's origin (px).
+  double surface_u_offset_px = 0.0;
+  std::array<Eigen::Vector2d, 2> surface_line_px;  ///< Two points on the surface, recorded image.
+  std::vector<FrameTruth> frames;
+  /// Per written frame, the poses integrated over the exposure (one without motion blur).
+  std::vector<std::vector<BodyPose>> exposure_poses;
+  int first_frame_after_touch = 0;  ///< Index of the first written frame with t_s >= touch.
+};
+
+/// Samples the model at the capture and exposure times and places the scene in the frame:
+/// everything about a trial except its pixels. Throws std::invalid_argument for invalid
+/// settings and std::runtime_error when the simulation fails.
+TrialTruth PlanTrial(const TrialSpec& spec, const SpecimenGeometry& geometry,
+                     const RenderOptions& options);
+
+/// A rendered trial.
+struct TrialResult {
+  TrialTruth truth;
+  std::filesystem::path path;   ///< The trial folder.
+  double render_seconds = 0.0;  ///< Wall time of PlanTrial, drawing and writing.
+};
+
+/// Renders a trial into the folder `trial_dir`. The folder is written under a temporary name
+/// beside it and renamed when complete, so a crash never leaves half a trial. An existing
+/// folder is replaced only when `overwrite` is true; otherwise std::runtime_error names it.
+TrialResult RenderTrial(const TrialSpec& spec, const SpecimenGeometry& geometry,
+                        const RenderOptions& options, const SceneAssets& assets,
+                        const std::filesystem::path& trial_dir, bool overwrite = false);
+
+/// Frames of a planned trial as 8- or 16-bit grey images, without writing them.
+std::vector<cv::Mat> RenderFrames(const TrialTruth& truth, const SpecimenGeometry& geometry,
+                                  const RenderOptions& options, const SceneAssets& assets);
+
+}  // namespace hoof::synth

@@ -1,0 +1,131 @@
+#include "synth/study.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include <opencv2/core/utility.hpp>
+
+#include "io/atomic_file.h"
+#include "synth/projection.h"
+#include "synth/trial_files.h"
+
+namespace hoof::synth {
+namespace fs = std::filesystem;
+
+void StudyDesign::Validate() const {
+  if (name.empty()) throw std::invalid_argument("study.name must not be empty");
+  if (surfaces.empty()) throw std::invalid_argument("study.surfaces must not be empty");
+  if (angles_deg.empty()) throw std::invalid_argument("study.angles_deg must not be empty");
+  if (speeds_m_s.empty()) throw std::invalid_argument("study.speeds_m_s must not be empty");
+  if (trials_per_cell < 1 || trials_per_cell > 1000)
+    throw std::invalid_argument("study.trials_per_cell = " + std::to_string(trials_per_cell) +
+                                ": must be in [1, 1000]");
+  if (!(out_of_plane_random_deg >= 0 && out_of_plane_random_deg < 60))
+    throw std::invalid_argument("study.out_of_plane_random_deg = " +
+                                std::to_string(out_of_plane_random_deg) + ": must be in [0, 60)");
+  for (const TrialSpec& t : Trials()) t.Validate();
+}
+
+std::vector<TrialSpec> StudyDesign::Trials() const {
+  std::vector<StudyCell> design = cells;
+  if (design.empty())
+    for (dynamics::Surface s : surfaces)
+      for (double angle : angles_deg)
+        for (double speed : speeds_m_s) design.push_back({s, angle, speed});
+  std::vector<TrialSpec> trials;
+  std::uint64_t index = 0;
+  for (const StudyCell& cell : design)
+    for (int rep = 1; rep <= trials_per_cell; ++rep, ++index) {
+      TrialSpec t;
+      char id[96];
+      std::snprintf(id, sizeof(id), "%s_%gdeg_v%.2f_r%d",
+                    dynamics::SurfaceName(cell.surface).c_str(), cell.angle_deg, cell.speed_m_s,
+                    rep);
+      t.id = id;
+      t.surface = cell.surface;
+      t.angle_deg = cell.angle_deg;
+      t.speed_m_s = cell.speed_m_s;
+      t.seed = MixSeed(seed, index);
+      t.scatter_parameters = scatter_parameters;
+      t.hidden = hidden;
+      if (out_of_plane_random_deg > 0) {
+        std::mt19937_64 rng(MixSeed(t.seed, 99));
+        std::uniform_real_distribution<double> u(-out_of_plane_random_deg, out_of_plane_random_deg);
+        t.hidden.out_of_plane = {u(rng), u(rng), 100 * u(rng), 100 * u(rng)};
+      }
+      trials.push_back(t);
+    }
+  return trials;
+}
+
+StudyResult RenderStudy(const StudyDesign& design, const SpecimenGeometry& geometry,
+                        const RenderOptions& options, const fs::path& study_dir, int threads,
+                        bool overwrite,
+                        const std::function<void(int, int, const std::string&)>& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  design.Validate();
+  geometry.Validate();
+  options.Validate();
+  std::error_code ec;
+  fs::create_directories(study_dir, ec);
+  if (ec || !fs::is_directory(study_dir))
+    throw std::runtime_error("cannot create study folder '" + study_dir.string() + "'" +
+                             (ec ? ": " + ec.message() : std::string()));
+  StudyResult result;
+  for (const TrialSpec& t : design.Trials()) result.trials.push_back({t, false, {}, {}});
+  std::vector<dynamics::Surface> used;
+  for (const StudyTrial& t : result.trials) used.push_back(t.spec.surface);
+  const SceneAssets assets = BuildSceneAssets(geometry, options, used, design.seed);
+
+  const int total = static_cast<int>(result.trials.size());
+  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  threads = std::min(threads, total);
+  const int cv_threads = cv::getNumThreads();
+  cv::setNumThreads(threads > 1 ? 1 : cv_threads);  // parallel across trials, not inside
+  std::atomic<int> next{0}, done{0};
+  std::mutex mutex;
+  const auto work = [&] {
+    for (int i = next++; i < total; i = next++) {
+      StudyTrial& st = result.trials[i];
+      try {
+        st.result =
+            RenderTrial(st.spec, geometry, options, assets, study_dir / st.spec.id, overwrite);
+        st.ok = true;
+      } catch (const std::exception& e) {
+        st.error = e.what();
+      }
+      const int n = ++done;
+      if (progress) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        progress(n, total, st.spec.id);
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int k = 1; k < threads; ++k) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  cv::setNumThreads(cv_threads);
+
+  std::vector<std::string> ids;
+  for (const StudyTrial& t : result.trials) {
+    if (t.ok)
+      ids.push_back(t.spec.id);
+    else
+      ++result.failed;
+  }
+  io::WriteTextAtomically(study_dir / "study.json",
+                          StudyJson(design.name, geometry, ids).dump(2) + "\n");
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace hoof::synth

@@ -1,0 +1,176 @@
+#include "synth/trial_files.h"
+
+#include <cmath>
+
+#include "synth/camera_model.h"
+
+namespace hoof::synth {
+namespace {
+
+nlohmann::json Num(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+nlohmann::json Vec(const Eigen::Vector2d& v) {
+  return nlohmann::json::array({Num(v.x()), Num(v.y())});
+}
+
+nlohmann::json MarkerMap(const SpecimenGeometry& g, const std::vector<Eigen::Vector2d>& px) {
+  nlohmann::json m = nlohmann::json::object();
+  for (std::size_t i = 0; i < g.markers.size(); ++i) m[g.markers[i].name] = Vec(px[i]);
+  return m;
+}
+
+nlohmann::json FrameJson(const FrameTruth& f, const SpecimenGeometry& g, int index) {
+  nlohmann::json j = {
+      {"index", index},
+      {"capture_index", f.capture_index},
+      {"t_s", f.t_s},
+      {"p_WE_m", Vec(f.pose.p_WE)},
+      {"theta_W_rad", f.pose.theta_W_rad},
+      {"p_WC_m", Vec(f.p_WC)},
+      {"out_of_plane_tilt_rad", f.pose.tilt_rad},
+      {"out_of_plane_roll_rad", f.pose.roll_rad},
+      {"phase", f.phase},
+      {"markers_px", MarkerMap(g, f.markers_px)},
+      {"markers_px_undistorted", MarkerMap(g, f.markers_px_undistorted)},
+  };
+  if (!f.defect.empty()) j["defect"] = f.defect;
+  return j;
+}
+
+}  // namespace
+
+nlohmann::json SpecimenJson(const SpecimenGeometry& g) {
+  nlohmann::json markers = nlohmann::json::object();
+  for (const Marker& m : g.markers) markers[m.name] = Vec(m.p_BM_m);
+  return {{"mass_kg", g.dynamics.mass_kg},
+          {"inertia_kg_m2", g.dynamics.inertia_kg_m2},
+          {"end_radius_m", g.dynamics.end_radius_m},
+          {"d_EC_m", g.dynamics.d_EC_m},
+          {"length_m", g.length_m},
+          {"width_m", g.width_m},
+          {"thickness_m", g.thickness_m},
+          {"markers_B_m", markers}};
+}
+
+nlohmann::json TrialJson(const TrialTruth& t, const RenderOptions& o) {
+  nlohmann::json camera = {{"m_per_px", o.m_per_px}, {"gravity_image", {0.0, 1.0}}};
+  const LensModel lens(o.camera, o.width_px, o.height_px);
+  if (lens.distorts()) {
+    const auto k = lens.coefficients();
+    camera["distortion"] = {k[0], k[1], k[2], k[3], k[4]};
+    const Eigen::Vector2d c = lens.principal_point_px();
+    camera["camera_matrix"] = {
+        {lens.focal_px(), 0.0, c.x()}, {0.0, lens.focal_px(), c.y()}, {0.0, 0.0, 1.0}};
+  }
+  return {
+      {"format", "hoofimpact-trial/1"},
+      {"id", t.spec.id},
+      {"specimen", "A"},
+      {"surface", dynamics::SurfaceName(t.spec.surface)},
+      {"surface_angle_deg", t.spec.angle_deg},
+      {"fps", o.fps},
+      {"frames", {{"pattern", "frames/%06d.png"}, {"first", 0}, {"count", t.frames.size()}}},
+      {"camera", camera},
+      {"surface_line_px", {Vec(t.surface_line_px[0]), Vec(t.surface_line_px[1])}},
+      {"nominal_speed_m_s", t.spec.speed_m_s},
+      {"notes", "synthetic trial rendered by hoofimpact synth (seed " +
+                    std::to_string(t.spec.seed) + "); ground truth in truth.json"},
+  };
+}
+
+nlohmann::json HiddenEffectsJson(const HiddenEffects& h) {
+  const dynamics::ContactExtensions& x = h.contact;
+  const OutOfPlane& o = h.out_of_plane;
+  return {{"hunt_crossley_N_s_m2", x.hunt_crossley_N_s_m2},
+          {"stiffness_exponent_extra", x.stiffness_exponent_extra},
+          {"stiffness_reference_depth_m", x.stiffness_reference_depth_m},
+          {"unloading_stiffness_ratio", x.unloading_stiffness_ratio},
+          {"static_friction_excess", x.static_friction_excess},
+          {"tangential_compliance_ratio", x.tangential_compliance_ratio},
+          {"rolling_resistance_m", x.rolling_resistance_m},
+          {"out_of_plane",
+           {{"tilt_deg", o.tilt_deg},
+            {"roll_deg", o.roll_deg},
+            {"tilt_rate_deg_s", o.tilt_rate_deg_s},
+            {"roll_rate_deg_s", o.roll_rate_deg_s}}}};
+}
+
+nlohmann::json CameraEffectsJson(const CameraEffects& c) {
+  return {{"noise",
+           {{"on", c.noise}, {"full_well_e", c.full_well_e}, {"read_noise_e", c.read_noise_e}}},
+          {"black_level", c.black_level},
+          {"motion_blur",
+           {{"on", c.motion_blur}, {"exposure_s", c.exposure_s}, {"samples", c.blur_samples}}},
+          {"distortion",
+           {{"on", c.distortion},
+            {"k1", c.k1},
+            {"k2", c.k2},
+            {"p1", c.p1},
+            {"p2", c.p2},
+            {"k3", c.k3},
+            {"focal_px", c.focal_px},
+            {"principal_offset_px", Vec(c.principal_offset_px)}}},
+          {"defocus", {{"on", c.defocus}, {"sigma_px", c.defocus_sigma_px}}},
+          {"vignetting", {{"on", c.vignetting}, {"fraction", c.vignetting_fraction}}},
+          {"lighting_gradient",
+           {{"on", c.lighting_gradient}, {"fraction", c.lighting_gradient_fraction}}},
+          {"subpixel_jitter", c.subpixel_jitter},
+          {"drop_frame_probability", c.drop_frame_probability},
+          {"duplicate_frame_probability", c.duplicate_frame_probability}};
+}
+
+nlohmann::json TruthJson(const TrialTruth& t, const SpecimenGeometry& g, const RenderOptions& o) {
+  const dynamics::ImpactResult& r = t.impact;
+  const dynamics::ContactParameters& c = t.draw.contact;
+  nlohmann::json frames = nlohmann::json::array();
+  nlohmann::json defects = nlohmann::json::array();
+  for (std::size_t i = 0; i < t.frames.size(); ++i) {
+    frames.push_back(FrameJson(t.frames[i], g, static_cast<int>(i)));
+    if (!t.frames[i].defect.empty())
+      defects.push_back({{"frame", i}, {"defect", t.frames[i].defect}});
+  }
+  return {
+      {"format", "hoofimpact-truth/1"},
+      {"impact_time_s", t.impact_time_s},
+      {"v_SC_before_m_s", Vec(r.at_touch.v_SC)},
+      {"v_SC_after_m_s", Vec(r.at_separation.v_SC)},
+      {"w_before_rad_s", r.at_touch.w_rad_s},
+      {"w_after_rad_s", r.at_separation.w_rad_s},
+      {"v_ST_before_m_s", Vec(r.v_ST_before)},
+      {"v_ST_after_m_s", Vec(r.v_ST_after)},
+      {"e", Num(r.e)},
+      {"mu_eff", Num(r.mu_eff)},
+      {"contact_duration_s", r.t_separation_s},
+      {"energy_loss_J", r.energy_loss_J},
+      {"model",
+       {{"k_N_m", c.k_N_m},
+        {"b_N_s_m", c.b_N_s_m},
+        {"mu", c.mu},
+        {"zeta", t.draw.zeta},
+        {"e_drawn", t.draw.e_drawn},
+        {"gravity_m_s2", dynamics::kStandardGravity_m_s2},
+        {"hidden_effects", HiddenEffectsJson(t.spec.hidden)}}},
+      {"specimen", SpecimenJson(g)},
+      {"seed", t.spec.seed},
+      {"surface", dynamics::SurfaceName(t.spec.surface)},
+      {"surface_angle_deg", t.spec.angle_deg},
+      {"speed_m_s", t.spec.speed_m_s},
+      {"contact_point_px_undistorted", Vec(t.contact_px)},
+      {"first_frame_after_touch", t.first_frame_after_touch},
+      {"camera_effects", CameraEffectsJson(o.camera)},
+      {"image", {{"width_px", o.width_px}, {"height_px", o.height_px}, {"bit_depth", o.bit_depth}}},
+      {"frame_defects", defects},
+      {"frames", frames},
+  };
+}
+
+nlohmann::json StudyJson(const std::string& name, const SpecimenGeometry& g,
+                         const std::vector<std::string>& trial_ids) {
+  return {{"format", "hoofimpact-study/1"},
+          {"name", name},
+          {"specimens", {{"A", SpecimenJson(g)}}},
+          {"trials", trial_ids}};
+}
+
+}  // namespace hoof::synth

@@ -1,0 +1,39 @@
+#pragma once
+/// @file
+/// The JSON documents of a synthetic trial and study, exactly per docs FORMAT.md
+/// (hoofimpact-trial/1, hoofimpact-truth/1, hoofimpact-study/1). Extra knowledge of the
+/// renderer goes into truth.json only, so trial.json and study.json stay plain inputs.
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "synth/options.h"
+#include "synth/renderer.h"
+
+namespace hoof::synth {
+
+/// The specimen entry of study.json (mass, inertia, geometry and markers_B_m).
+nlohmann::json SpecimenJson(const SpecimenGeometry& geometry);
+
+/// trial.json: format, id, specimen "A", surface, angle, fps, frames, camera (m_per_px,
+/// gravity_image, and distortion with camera_matrix when the lens distorts),
+/// surface_line_px, nominal_speed_m_s and notes.
+nlohmann::json TrialJson(const TrialTruth& truth, const RenderOptions& options);
+
+/// truth.json: FORMAT.md's fields plus markers_px_undistorted, p_WC_m, out-of-plane angles,
+/// model (k, b, mu, zeta, the drawn e, hidden_effects), camera effects, frame defects.
+nlohmann::json TruthJson(const TrialTruth& truth, const SpecimenGeometry& geometry,
+                         const RenderOptions& options);
+
+/// study.json with specimen "A" and the trial folders in order.
+nlohmann::json StudyJson(const std::string& name, const SpecimenGeometry& geometry,
+                         const std::vector<std::string>& trial_ids);
+
+/// The hidden effects as recorded in truth.json's model.hidden_effects.
+nlohmann::json HiddenEffectsJson(const HiddenEffects& hidden);
+/// The camera effects as recorded in truth.json.
+nlohmann::json CameraEffectsJson(const CameraEffects& camera);
+
+}  // namespace hoof::synth

@@ -1,0 +1,96 @@
+#include "pipeline/study_format.h"
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace hoof::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* kStudy = R"({"format": "hoofimpact-study/1", "name": "t",
+  "specimens": {"A": {"mass_kg": 0.008, "inertia_kg_m2": 1.5207e-6, "end_radius_m": 0.009,
+    "d_EC_m": 0.0135, "markers_B_m": {"M1": [0.006, 0.0], "M2": [0.024, 0.0]}}}})";
+
+const char* kTrial = R"({"format": "hoofimpact-trial/1", "id": "t1", "specimen": "A",
+  "surface": "steel", "surface_angle_deg": 20.0, "fps": 8000.0,
+  "frames": {"pattern": "frames/%06d.png", "first": 0, "count": 64},
+  "camera": {"m_per_px": 1.5e-4, "gravity_image": [0.0, 2.0]},
+  "surface_line_px": [[10.0, 300.0], [500.0, 478.3]], "colour": "blue"})";
+
+fs::path Write(const std::string& name, const std::string& study, const std::string& trial) {
+  const fs::path dir = fs::path(HOOF_BINARY_DIR) / "test-output" / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir / "t1");
+  std::ofstream(dir / "study.json") << study;
+  std::ofstream(dir / "t1" / "trial.json") << trial;
+  return dir;
+}
+
+template <class Fn>
+void ExpectError(Fn fn, const std::string& needle) {
+  try {
+    fn();
+    FAIL() << "expected an error containing " << needle;
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+TEST(StudyFormatTest, ReadsTheDocumentedExample) {
+  const fs::path dir = Write("format_ok", kStudy, kTrial);
+  const StudySpec study = ReadStudy(dir);
+  ASSERT_EQ(study.trial_dirs.size(), 1u);  // no "trials": every sub-folder with a trial.json
+  const TrialSpec t = ReadTrial(study.trial_dirs[0], study);
+  EXPECT_EQ(t.id, "t1");
+  EXPECT_DOUBLE_EQ(t.specimen.mass_kg, 0.008);
+  ASSERT_EQ(t.specimen.markers_B_m.size(), 2u);
+  EXPECT_EQ(t.specimen.markers_B_m[1].first, "M2");
+  EXPECT_DOUBLE_EQ(t.camera.gravity_image.y(), 1.0);  // normalized
+  ASSERT_TRUE(t.surface_line_px.has_value());
+  // The unknown field is a warning naming the file, not an error.
+  ASSERT_EQ(t.warnings.size(), 1u);
+  EXPECT_NE(t.warnings[0].find("unknown field \"colour\""), std::string::npos);
+  EXPECT_NE(t.warnings[0].find("trial.json"), std::string::npos);
+}
+
+TEST(StudyFormatTest, MissingOrWrongFieldsNameFileAndField) {
+  std::string trial = kTrial;
+  trial.replace(trial.find("\"fps\": 8000.0,"), 14, "");
+  ExpectError([&] { ReadTrial(Write("format_nofps", kStudy, trial) / "t1"); },
+              "trial.json: field \"fps\" is missing");
+  trial = kTrial;
+  trial.replace(trial.find("\"m_per_px\": 1.5e-4"), 18, "\"m_per_px\": \"big\"");
+  ExpectError([&] { ReadTrial(Write("format_badscale", kStudy, trial) / "t1"); },
+              "field \"camera.m_per_px\" must be a number");
+  trial = kTrial;
+  trial.replace(trial.find("\"specimen\": \"A\""), 15, "\"specimen\": \"B\"");
+  ExpectError([&] { ReadTrial(Write("format_nospecimen", kStudy, trial) / "t1"); },
+              "field \"specimen\" names \"B\"");
+  ExpectError([&] { ReadTrial(Write("format_badjson", kStudy, "{\"format\": ") / "t1"); },
+              "trial.json: not valid JSON");
+  std::string study = kStudy;
+  study.replace(study.find("\"M2\": [0.024, 0.0]"), 18, "\"M2\": [0.024]");
+  ExpectError([&] { ReadStudy(Write("format_badmarker", study, kTrial)); },
+              "study.json: field \"specimens.A.markers_B_m.M2\" must be [x, y]");
+  ExpectError([&] { ReadStudy(fs::path(HOOF_BINARY_DIR) / "no-such-study"); },
+              "study.json: cannot open");
+}
+
+TEST(StudyFormatTest, ATrialMayCarryItsSpecimen) {
+  std::string trial = kTrial;
+  trial.insert(1, R"("specimen_parameters": {"mass_kg": 0.01, "inertia_kg_m2": 2e-6,
+    "end_radius_m": 0.009, "d_EC_m": 0.0135, "markers_B_m": {"A": [0, 0], "B": [0.02, 0]}},)");
+  const fs::path dir = fs::path(HOOF_BINARY_DIR) / "test-output" / "format_inline";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "t1");
+  std::ofstream(dir / "t1" / "trial.json") << trial;  // no study.json anywhere
+  const TrialSpec t = ReadTrial(dir / "t1");
+  EXPECT_DOUBLE_EQ(t.specimen.mass_kg, 0.01);
+}
+
+}  // namespace
+}  // namespace hoof::pipeline

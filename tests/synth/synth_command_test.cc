@@ -1,0 +1,88 @@
+// End-to-end tests of `hoofimpact synth`: a small trial and study, and clear errors for bad
+// input naming the option.
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "support/run_command.h"
+
+namespace hoof::cli {
+namespace {
+
+using hoof::testing::RunHoofimpact;
+namespace fs = std::filesystem;
+
+fs::path Fresh(const std::string& name) {
+  const fs::path p = fs::path(HOOF_BINARY_DIR) / "synth-cli-test" / name;
+  fs::remove_all(p);
+  fs::create_directories(p.parent_path());
+  return p;
+}
+
+TEST(SynthCommandTest, WritesATrialAndPrintsAJsonSummary) {
+  const fs::path out = Fresh("trial");
+  const auto r = RunHoofimpact("synth -o " + out.string() +
+                               " --surface concrete --angle-deg 10 --speed-m-s 2.5 --seed 3 "
+                               "--frames-before 4 --frames-after 4 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["trials"].size(), 1u);
+  EXPECT_EQ(j["trials"][0]["frames"], 8);
+  EXPECT_TRUE(fs::exists(out / "trial.json"));
+  EXPECT_TRUE(fs::exists(out / "truth.json"));
+  EXPECT_TRUE(fs::exists(out / "frames" / "000007.png"));
+  // An existing trial is not replaced without --overwrite.
+  const auto again =
+      RunHoofimpact("synth -o " + out.string() + " --frames-before 4 --frames-after 4");
+  EXPECT_EQ(again.exit_code, 1);
+  EXPECT_NE(again.err.find("--overwrite"), std::string::npos) << again.err;
+}
+
+TEST(SynthCommandTest, WritesASmallStudy) {
+  const fs::path out = Fresh("study");
+  const auto r = RunHoofimpact("synth --study -o " + out.string() +
+                               " --surfaces steel,asphalt --angles-deg 0 --speeds 3 "
+                               "--trials-per-cell 1 --frames-before 3 --frames-after 3 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["trials"].size(), 2u);
+  EXPECT_TRUE(fs::exists(out / "study.json"));
+  EXPECT_TRUE(fs::exists(out / "asphalt_0deg_v3.00_r1" / "frames" / "000005.png"));
+}
+
+TEST(SynthCommandTest, BadInputNamesTheOptionAndFails) {
+  const std::string out = Fresh("bad").string();
+  auto r = RunHoofimpact("synth -o " + out + " --speed-m-s -3");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--speed-m-s"), std::string::npos) << r.err;
+  r = RunHoofimpact("synth -o " + out + " --angle-deg 75");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--angle-deg"), std::string::npos) << r.err;
+  r = RunHoofimpact("synth -o " + out + " --surface wood");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--surface"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("wood"), std::string::npos) << r.err;
+  r = RunHoofimpact("synth -o /proc/hoof-no-such/trial");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--output"), std::string::npos) << r.err;
+  r = RunHoofimpact("synth -o " + out + " --study --speeds 2,-1");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--speeds"), std::string::npos) << r.err;
+  r = RunHoofimpact("synth -o " + out + " --tilt-deg 80");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("tilt_deg"), std::string::npos) << r.err;
+  r = RunHoofimpact("synth");
+  EXPECT_EQ(r.exit_code, 2);  // --output is required
+  r = RunHoofimpact("synth --help");
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* option :
+       {"--speed-m-s", "--angle-deg", "--m-per-px", "--no-noise", "--exposure-s", "--tilt-deg",
+        "--hunt-crossley-n-s-m2", "--study", "--trials-per-cell"})
+    EXPECT_NE(r.out.find(option), std::string::npos) << option;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+}  // namespace
+}  // namespace hoof::cli

@@ -1,0 +1,79 @@
+#include "tracking/frame_source.h"
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
+
+namespace hoof::tracking {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path FreshDir(const std::string& name) {
+  const fs::path dir = fs::path(HOOF_BINARY_DIR) / "test-output" / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir / "frames");
+  return dir;
+}
+
+template <class Fn>
+void ExpectError(Fn fn, const std::string& needle) {
+  try {
+    fn();
+    FAIL() << "expected an error containing " << needle;
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+TEST(FrameSourceTest, ReadsEightAndSixteenBitGreyAndColour) {
+  const fs::path dir = FreshDir("frames_depths");
+  cv::imwrite((dir / "frames/000000.png").string(), cv::Mat(4, 5, CV_8U, cv::Scalar(51)));
+  cv::imwrite((dir / "frames/000001.png").string(), cv::Mat(4, 5, CV_16U, cv::Scalar(13107)));
+  cv::imwrite((dir / "frames/000002.png").string(), cv::Mat(4, 5, CV_8UC3, cv::Scalar(51, 51, 51)));
+  ImageSequenceSource src(dir, "frames/%06d.png", 0, 3);
+  for (int i = 0; i < 3; ++i) {
+    const cv::Mat f = ToUnitFloat(src.Read(i));
+    EXPECT_EQ(f.channels(), 1);
+    EXPECT_NEAR(f.at<float>(2, 3), 0.2f, 1e-6) << "frame " << i;
+  }
+}
+
+TEST(FrameSourceTest, MissingAndCorruptFramesNameTheFile) {
+  const fs::path dir = FreshDir("frames_bad");
+  cv::imwrite((dir / "frames/000000.png").string(), cv::Mat(4, 5, CV_8U, cv::Scalar(51)));
+  {
+    std::ofstream bad(dir / "frames/000001.png");
+    bad << "this is not a PNG";
+  }
+  ImageSequenceSource src(dir, "frames/%06d.png", 0, 3);
+  ExpectError([&] { src.Read(1); }, "000001.png: frame 1 cannot be decoded");
+  ExpectError([&] { src.Read(2); }, "000002.png: frame 2 is missing");
+  EXPECT_THROW(ImageSequenceSource(dir, "frames/x.png", 0, 3), std::invalid_argument);
+  EXPECT_THROW(ImageSequenceSource(dir, "frames/%d_%d.png", 0, 3), std::invalid_argument);
+}
+
+TEST(FrameSourceTest, ReadsAVideoFile) {
+  const fs::path dir = FreshDir("frames_video");
+  const fs::path path = dir / "clip.avi";
+  cv::VideoWriter writer(path.string(), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 25.0,
+                         cv::Size(64, 48), false);
+  if (!writer.isOpened()) GTEST_SKIP() << "no MJPG encoder in this OpenCV build";
+  for (int i = 0; i < 5; ++i) writer.write(cv::Mat(48, 64, CV_8U, cv::Scalar(40 * i + 20)));
+  writer.release();
+  VideoSource src(path);
+  EXPECT_EQ(src.count(), 5);
+  for (int i : {0, 3, 1, 4}) {  // backwards reads reopen the file
+    const cv::Mat f = ToUnitFloat(src.Read(i));
+    EXPECT_NEAR(f.at<float>(24, 32), (40 * i + 20) / 255.0, 3.0 / 255) << "frame " << i;
+  }
+  ExpectError([&] { VideoSource(dir / "missing.avi"); }, "missing.avi");
+}
+
+}  // namespace
+}  // namespace hoof::tracking
