@@ -126,6 +126,20 @@ double RestitutionFromDampingRatio(double zeta) {
   return std::exp(-zeta / root * std::atan(root / zeta));
 }
 
+double RestitutionOfTwoPhaseLaw(double zeta) {
+  if (!(zeta >= 0.0 && std::isfinite(zeta))) {
+    std::ostringstream os;
+    os << "zeta = " << zeta << " is invalid: needs a finite zeta >= 0";
+    throw std::invalid_argument(os.str());
+  }
+  if (zeta < 1.0) return RestitutionFromDampingRatio(zeta);
+  if (zeta == 1.0) return std::exp(-1.0);
+  const double q = std::sqrt((zeta - 1.0) * (zeta + 1.0));
+  const double log_r = std::log((zeta + q) / (zeta - q));
+  return (std::exp(-(zeta - q) / (2 * q) * log_r) - std::exp(-(zeta + q) / (2 * q) * log_r)) /
+         (2 * q);
+}
+
 double DampingRatioFromRestitution(double e) {
   if (!(e > 0.0 && e <= 1.0)) {
     std::ostringstream os;
@@ -133,14 +147,14 @@ double DampingRatioFromRestitution(double e) {
     throw std::invalid_argument(os.str());
   }
   if (e == 1.0) return 0.0;
-  // e(zeta) falls monotonically from 1 at zeta = 0 to 0 as zeta -> 1.
-  auto f = [e](double z) { return RestitutionFromDampingRatio(z) - e; };
+  // e(zeta) falls monotonically from 1 at zeta = 0 toward 0; e ~ 1 / (2 zeta) for large zeta.
+  auto f = [e](double z) { return RestitutionOfTwoPhaseLaw(z) - e; };
+  const double hi = std::max(2.0, 2.0 / e);
   boost::math::tools::eps_tolerance<double> tol(50);
   std::uintmax_t max_iter = 200;
-  const auto [lo, hi] =
-      boost::math::tools::toms748_solve(f, 0.0, 1.0 - 1e-15, 1.0 - e, f(1.0 - 1e-15), tol,
-                                        max_iter);
-  return 0.5 * (lo + hi);
+  const auto [lo_z, hi_z] =
+      boost::math::tools::toms748_solve(f, 0.0, hi, 1.0 - e, f(hi), tol, max_iter);
+  return 0.5 * (lo_z + hi_z);
 }
 
 }  // namespace hoof::dynamics

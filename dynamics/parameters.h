@@ -98,8 +98,17 @@ double DampingForRatio(double zeta, double k_N_m, double mass_kg);
 /// std::invalid_argument naming "zeta" otherwise. e(0) = 1.
 double RestitutionFromDampingRatio(double zeta);
 
-/// Inverse of RestitutionFromDampingRatio for 0 < e <= 1: the zeta in [0, 1) that gives e.
-/// Throws std::invalid_argument naming "e" outside (0, 1].
+/// Coefficient of restitution of the two-phase law for a normal impact without gravity, for
+/// any zeta >= 0: underdamped (the closed form above), critically damped (e = exp(-1)) and
+/// overdamped, where compression ends at t_m = ln((zeta+q)/(zeta-q)) / (2 q wn), q =
+/// sqrt(zeta^2 - 1), and the elastic restitution returns e = wn |delta_m| / v =
+/// (r^(-(zeta-q)/(2q)) - r^(-(zeta+q)/(2q))) / (2q) with r = (zeta+q)/(zeta-q). e falls
+/// monotonically from 1 to 0 (about 1 / (2 zeta) for large zeta). Throws naming "zeta" for a
+/// negative or non-finite value.
+double RestitutionOfTwoPhaseLaw(double zeta);
+
+/// Inverse of RestitutionOfTwoPhaseLaw for 0 < e <= 1: the zeta >= 0 that gives e (zeta > 1
+/// for e < exp(-1) = 0.368). Throws std::invalid_argument naming "e" outside (0, 1].
 double DampingRatioFromRestitution(double e);
 
 }  // namespace hoof::dynamics

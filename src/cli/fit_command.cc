@@ -3,6 +3,7 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <cstdlib>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -31,6 +32,7 @@ struct FitArgs {
   dynamics::ContactFitOptions fit;
   bool json = false;
   std::string valley_csv;
+  std::vector<std::string> filters;  // COL=VALUE: keep only the rows where COL equals VALUE
 };
 
 /// Draws the paper's objective over (log k, b) in the terminal: darker is a smaller MPE, and
@@ -148,6 +150,9 @@ void RegisterFit(CLI::App& app, RunState& state) {
   cmd->add_option("--b-max", args->fit.b_max_N_s_m, "Upper bound of b (N s/m)")
       ->capture_default_str();
   cmd->add_option("--gravity-m-s2", args->fit.gravity_m_s2, "Gravity g")->capture_default_str();
+  cmd->add_option("--where", args->filters,
+                  "Keep only rows where COL=VALUE (numeric or text), e.g. surface_angle_deg=0; "
+                  "may be repeated");
   cmd->add_flag("--json", args->json, "Print a JSON array, one object per group");
   cmd->add_option("--valley-csv", args->valley_csv,
                   "Write the objective over the (k, b) grid and the valley as CSV");
@@ -155,11 +160,34 @@ void RegisterFit(CLI::App& app, RunState& state) {
   cmd->callback([args, &state] {
     const FitArgs& a = *args;
     const io::CsvTable table = io::CsvTable::Read(a.csv_path);
-    const std::vector<double> before = table.Numbers(a.before_col);
-    const std::vector<double> after = table.Numbers(a.after_col);
+    const std::size_t before_col = table.Column(a.before_col);
+    const std::size_t after_col = table.Column(a.after_col);
+    std::vector<double> before(table.rows()), after(table.rows());
     std::map<std::string, std::vector<dynamics::NormalImpact>> groups;
     const auto group_index = table.FindColumn(a.group_col);
+    std::vector<std::pair<std::size_t, std::string>> where;
+    for (const auto& f : a.filters) {
+      const auto eq = f.find('=');
+      if (eq == std::string::npos)
+        throw std::invalid_argument("--where \"" + f + "\" is invalid: expected COL=VALUE");
+      where.emplace_back(table.Column(f.substr(0, eq)), f.substr(eq + 1));
+    }
+    auto keep = [&](std::size_t r) {
+      for (const auto& [col, value] : where) {
+        const std::string& text = table.Text(r, col);
+        char* end = nullptr;
+        const double x = std::strtod(text.c_str(), &end), y = std::strtod(value.c_str(), &end);
+        const bool numeric = !text.empty() && !value.empty() && std::isfinite(x) && std::isfinite(y);
+        if (text != value && !(numeric && x == y)) return false;
+      }
+      return true;
+    };
     for (std::size_t r = 0; r < table.rows(); ++r) {
+      if (!keep(r)) continue;
+      // Parsed only for kept rows (a failed trial's "nan" may be filtered out). Speeds: signs
+      // (a downward velocity) are ignored.
+      before[r] = std::abs(table.Number(r, before_col));
+      after[r] = std::abs(table.Number(r, after_col));
       if (!(before[r] > 0) || !(after[r] > 0)) {
         std::ostringstream os;
         os << a.csv_path << ":" << table.LineOf(r) << ": speeds must be > 0 (columns \""
@@ -169,7 +197,7 @@ void RegisterFit(CLI::App& app, RunState& state) {
       const std::string g = group_index ? table.Text(r, *group_index) : "";
       groups[g].push_back({before[r], after[r]});
     }
-    if (groups.empty()) throw std::runtime_error(a.csv_path + ": no data rows");
+    if (groups.empty()) throw std::runtime_error(a.csv_path + ": no data rows (after --where)");
 
     nlohmann::json out = nlohmann::json::array();
     std::ostringstream grid;

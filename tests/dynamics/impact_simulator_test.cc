@@ -71,6 +71,21 @@ TEST(ImpactSimulatorTest, NormalImpactWithoutGravityMatchesClosedFormRestitution
   }
 }
 
+TEST(ImpactSimulatorTest, OverdampedNormalImpactsMatchTheirClosedForm) {
+  // zeta >= 1: compression still ends (delta' crosses zero once) and the elastic restitution
+  // returns e = wn |delta_m| / v.
+  const SpecimenParameters specimen;
+  SimulatorOptions options;
+  options.gravity_m_s2 = 0.0;
+  for (double zeta : {1.0, 1.5, 3.0, 10.0}) {
+    const double k = 5.86e7;
+    const ContactParameters contact{k, DampingForRatio(zeta, k, specimen.mass_kg), 0.0};
+    const ImpactResult r = ImpactSimulator(specimen, contact, options).Simulate(ImpactConditions::Paper(2.0, 0.0));
+    ASSERT_TRUE(r.success) << r.message;
+    EXPECT_NEAR(r.e, RestitutionOfTwoPhaseLaw(zeta), 1e-6) << "zeta " << zeta;
+  }
+}
+
 TEST(ImpactSimulatorTest, PhaseEventsMatchTheDampedOscillatorWithin1e12Seconds) {
   // Without gravity a normal impact is a 1-DOF oscillator. Compression: x'' + 2 zeta wn x' +
   // wn^2 x = 0 from x = 0, x' = -v, whose velocity vanishes at t_m = atan(sqrt(1-z^2)/z) / wd.

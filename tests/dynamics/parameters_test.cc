@@ -46,6 +46,20 @@ TEST(ParametersTest, ClosedFormRestitutionMatchesTheTable) {
   EXPECT_DOUBLE_EQ(RestitutionFromDampingRatio(0.0), 1.0);
 }
 
+TEST(ParametersTest, OverdampedRestitutionIsContinuousAndFalls) {
+  // Continuous at zeta = 1 from both sides (e = exp(-1)), monotone, and ~ 1/(2 zeta) far out.
+  EXPECT_NEAR(RestitutionOfTwoPhaseLaw(1.0 - 1e-7), std::exp(-1.0), 1e-6);
+  EXPECT_NEAR(RestitutionOfTwoPhaseLaw(1.0 + 1e-7), std::exp(-1.0), 1e-6);
+  double previous = 1.0;
+  for (double z = 0.0; z < 20; z += 0.25) {
+    const double e = RestitutionOfTwoPhaseLaw(z);
+    EXPECT_LT(e, previous + 1e-15) << z;
+    previous = e;
+  }
+  EXPECT_NEAR(RestitutionOfTwoPhaseLaw(1000.0) * 2000.0, 1.0, 1e-3);
+  for (double e : {0.3, 0.1, 0.02}) EXPECT_NEAR(RestitutionOfTwoPhaseLaw(DampingRatioFromRestitution(e)), e, 1e-12);
+}
+
 TEST(ParametersTest, DampingRatioFromRestitutionInvertsTheClosedForm) {
   for (double zeta : {0.01, 0.1, 0.3, 0.5, 0.8, 0.95}) {
     const double e = RestitutionFromDampingRatio(zeta);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -33,9 +34,15 @@ fs::path OutDir(const std::string& name) {
 fs::path RenderStudy(const std::string& name, const std::string& options) {
   const fs::path dir = OutDir(name);
   if (fs::exists(dir / "study.json")) return dir;
-  fs::remove_all(dir);
-  const auto r = hoof::testing::RunHoofimpact("synth --study -o " + dir.string() + " " + options);
+  // ctest runs test cases as parallel processes: render into a folder of our own, then rename
+  // it into place; whoever renames second keeps the first one's copy.
+  const fs::path tmp = dir.string() + ".tmp-" + std::to_string(::getpid());
+  fs::remove_all(tmp);
+  const auto r = hoof::testing::RunHoofimpact("synth --study -o " + tmp.string() + " " + options);
   EXPECT_EQ(r.exit_code, 0) << r.err;
+  std::error_code ec;
+  fs::rename(tmp, dir, ec);
+  if (ec) fs::remove_all(tmp);
   return dir;
 }
 
