@@ -30,6 +30,7 @@ struct AnalyzeArgs {
   std::string output;
   std::string csv;
   std::string tracks_csv;
+  std::string figures_dir;
   bool json = false;
   int jobs = 0;
   pipeline::TrialAnalysisOptions options;
@@ -127,6 +128,11 @@ void Run(AnalyzeArgs& a, RunState& state) {
   studyfile::WriteStudyFile(a.output, info, results);
   if (!a.csv.empty()) studyfile::WriteResultsCsv(a.csv, results);
   if (!a.tracks_csv.empty()) studyfile::WriteTracksCsv(a.tracks_csv, results);
+  std::size_t figure_count = 0;
+  for (const auto& r : results)
+    figure_count += WriteTrialFigures(r, a.options, a.figures_dir, /*always=*/false).size();
+  if (!a.figures_dir.empty())
+    std::cerr << "Figures: " << figure_count << " file(s) in " << a.figures_dir << "\n";
 
   std::size_t ok = 0;
   for (const auto& r : results) ok += r.success ? 1 : 0;
@@ -157,6 +163,8 @@ void RegisterAnalyze(CLI::App& app, RunState& state) {
   cmd->add_option("--csv", args->csv, "Also write the per-trial results as CSV");
   cmd->add_option("--tracks-csv", args->tracks_csv,
                   "Also write every trial's marker tracks and poses as one long CSV");
+  cmd->add_option("--figures", args->figures_dir,
+                  "Write a figure for every trial flagged for out-of-plane rotation here");
   cmd->add_option("--jobs", args->jobs, "Trials analysed in parallel (0 = all cores)")
       ->capture_default_str();
   AddAnalysisOptions(cmd, args->options, args->method);

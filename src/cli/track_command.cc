@@ -21,6 +21,7 @@ void RegisterTrack(CLI::App& app, RunState& state) {
     std::string trial_dir;
     std::string study_json;
     std::string tracks_csv;
+    std::string figures_dir;
     bool json = false;
     pipeline::TrialAnalysisOptions options;
     std::string method = "centroid";
@@ -35,6 +36,8 @@ void RegisterTrack(CLI::App& app, RunState& state) {
                   "study.json that defines the specimen (default: the one beside the trial)");
   cmd->add_option("--tracks-csv", args->tracks_csv, "Write the marker tracks and poses as CSV");
   cmd->add_flag("--json", args->json, "Print the result as one JSON object");
+  cmd->add_option("--figures", args->figures_dir,
+                  "Write the trial's figures (out-of-plane check, PNG and SVG) into this folder");
   AddAnalysisOptions(cmd, args->options, args->method);
 
   cmd->callback([args, &state] {
@@ -51,10 +54,12 @@ void RegisterTrack(CLI::App& app, RunState& state) {
     });
     if (tty) std::cerr << "\n";
     if (!a.tracks_csv.empty()) io::WriteTextAtomically(a.tracks_csv, TracksCsv(r));
+    const auto figures = WriteTrialFigures(r, a.options, a.figures_dir, /*always=*/true);
     if (a.json) {
       std::cout << TrialJson(r).dump(2) << "\n";
     } else {
       std::cout << TrialText(r);
+      for (const auto& f : figures) std::cout << "  figure: " << f << "\n";
     }
     if (!r.success) {
       std::cerr << "hoofimpact: error: " << r.error << "\n";

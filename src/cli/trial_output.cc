@@ -1,12 +1,15 @@
 #include "cli/trial_output.h"
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
 #include "cli/common_options.h"
 #include "io/csv.h"
+#include "report/figures.h"
 
 namespace hoof::cli {
 
@@ -143,6 +146,24 @@ std::string TracksCsv(const pipeline::TrialAnalysis& r) {
     os << "\n";
   }
   return os.str();
+}
+
+}  // namespace hoof::cli
+
+namespace hoof::cli {
+
+std::vector<std::string> WriteTrialFigures(const pipeline::TrialAnalysis& r,
+                                           const pipeline::TrialAnalysisOptions& options,
+                                           const std::string& dir, bool always) {
+  std::vector<std::string> written;
+  const bool flagged = std::find(r.flags.begin(), r.flags.end(), "out_of_plane") != r.flags.end();
+  if (dir.empty() || r.marker_distance_ratio.empty() || !(flagged || always)) return written;
+  for (const char* ext : {".png", ".svg"}) {
+    const std::string path = (std::filesystem::path(dir) / (r.spec.id + "_out_of_plane" + ext)).string();
+    report::WriteOutOfPlaneFigure(r, options.out_of_plane_threshold, path);
+    written.push_back(path);
+  }
+  return written;
 }
 
 }  // namespace hoof::cli

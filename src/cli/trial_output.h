@@ -4,6 +4,7 @@
 /// the analysis options shared by `track` and `analyze`.
 
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -24,5 +25,11 @@ nlohmann::json TrialJson(const pipeline::TrialAnalysis& r);
 std::string TrialText(const pipeline::TrialAnalysis& r);
 /// Per frame: marker centres (px), status and quality, pose (m, rad).
 std::string TracksCsv(const pipeline::TrialAnalysis& r);
+
+/// Writes `<dir>/<id>_out_of_plane.png` and `.svg` (the out-of-plane check as a figure) when
+/// the trial is flagged, or always with `always`. Returns the files written.
+std::vector<std::string> WriteTrialFigures(const pipeline::TrialAnalysis& r,
+                                           const pipeline::TrialAnalysisOptions& options,
+                                           const std::string& dir, bool always);
 
 }  // namespace hoof::cli

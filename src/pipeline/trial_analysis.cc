@@ -76,13 +76,16 @@ void CheckOutOfPlane(const TrialSpec& spec, const TrialAnalysisOptions& options,
                         (static_cast<int>(f) >= out.impact.after.first_frame &&
                          static_cast<int>(f) <= out.impact.after.last_frame);
     if (!in_fit || std::isnan(out.marker_distance_ratio[f])) continue;
-    if (!r.empty() && f > 0 && !std::isnan(out.marker_distance_ratio[f - 1]))
-      diffs.push_back(std::abs(out.marker_distance_ratio[f] - out.marker_distance_ratio[f - 1]));
+    if (!r.empty() && f > 1 && !std::isnan(out.marker_distance_ratio[f - 1]) &&
+        !std::isnan(out.marker_distance_ratio[f - 2]))
+      diffs.push_back(std::abs(out.marker_distance_ratio[f] - 2 * out.marker_distance_ratio[f - 1] +
+                               out.marker_distance_ratio[f - 2]));
     r.push_back(out.marker_distance_ratio[f]);
   }
   if (r.size() < 4) return;
-  // Noise from frame-to-frame differences (robust), range from 3-frame medians.
-  out.out_of_plane_noise = 1.4826 * Median(diffs) / std::sqrt(2.0);
+  // Noise from second differences, which a smooth trend (a steady rotation) hardly enters:
+  // for white noise of s.d. sigma they have s.d. sqrt(6) sigma. Range from 3-frame medians.
+  out.out_of_plane_noise = 1.4826 * Median(diffs) / std::sqrt(6.0);
   std::vector<double> smooth;
   for (std::size_t i = 1; i + 1 < r.size(); ++i) smooth.push_back(Median({r[i - 1], r[i], r[i + 1]}));
   const auto [lo, hi] = std::minmax_element(smooth.begin(), smooth.end());
