@@ -735,15 +735,7 @@ void WriteTablesCsv(const std::string& path, const std::vector<Table>& tables) {
         for (std::size_t c = labels ? 1 : 0; c < t.columns.size(); ++c) {
           out << io::CsvEscape(t.name) << ","
               << io::CsvEscape(labels ? (*labels)[r] : std::to_string(r)) << ","
-              << io::CsvEscape(t.columns[c].name) << ",";
-          const auto& v = t.columns[c].values;
-          if (const auto* d = std::get_if<std::vector<double>>(&v))
-            out << io::CsvNumber((*d)[r]);
-          else if (const auto* i = std::get_if<std::vector<std::int64_t>>(&v))
-            out << (*i)[r];
-          else
-            out << io::CsvEscape(std::get<std::vector<std::string>>(v)[r]);
-          out << "\n";
+              << io::CsvEscape(t.columns[c].name) << "," << t.columns[c].CsvCell(r) << "\n";
         }
     }
   });

@@ -404,6 +404,12 @@ std::size_t Column::size() const {
   return std::visit([](const auto& v) { return v.size(); }, values);
 }
 
+std::string Column::CsvCell(std::size_t row) const {
+  if (const auto* d = std::get_if<std::vector<double>>(&values)) return io::CsvNumber((*d)[row]);
+  if (const auto* n = std::get_if<std::vector<std::int64_t>>(&values)) return std::to_string((*n)[row]);
+  return io::CsvEscape(std::get<std::vector<std::string>>(values)[row]);
+}
+
 Column Column::Numbers(std::string name, std::string units, std::string description,
                        std::vector<double> values) {
   return Column{std::move(name), std::move(units), std::move(description), std::move(values)};
@@ -772,13 +778,7 @@ void WriteResultsCsv(const std::filesystem::path& path,
     for (std::size_t r = 0; r < trials.size(); ++r) {
       for (std::size_t c = 0; c < t.columns.size(); ++c) {
         if (c) out << ",";
-        const auto& v = t.columns[c].values;
-        if (const auto* d = std::get_if<std::vector<double>>(&v))
-          out << io::CsvNumber((*d)[r]);
-        else if (const auto* i = std::get_if<std::vector<std::int64_t>>(&v))
-          out << (*i)[r];
-        else
-          out << io::CsvEscape(std::get<std::vector<std::string>>(v)[r]);
+        out << t.columns[c].CsvCell(r);
       }
       out << "\n";
     }

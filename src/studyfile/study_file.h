@@ -59,6 +59,8 @@ struct Column {
 
   /// Number of rows.
   std::size_t size() const;
+  /// Row `row` as CSV text: a round-trip number, an integer, or an escaped string.
+  std::string CsvCell(std::size_t row) const;
   /// Column of doubles (IEEE 64-bit little-endian in the file).
   static Column Numbers(std::string name, std::string units, std::string description,
                         std::vector<double> values);

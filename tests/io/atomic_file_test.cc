@@ -8,24 +8,15 @@
 
 #include <gtest/gtest.h>
 
+#include "support/test_util.h"
+
 namespace hoof::io {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string ReadAll(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-fs::path FreshDir(const std::string& name) {
-  const fs::path dir = fs::path(HOOF_BINARY_DIR) / "test-output" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+using hoof::testing::FreshDir;
+using hoof::testing::ReadAll;
 
 TEST(AtomicFileTest, WritesCompleteFileAndLeavesNoTemporary) {
   const fs::path dir = FreshDir("atomic_ok");

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/test_util.h"
+
 namespace hoof::io {
 namespace {
 
@@ -15,15 +17,10 @@ CsvTable ParseText(const std::string& text) {
   return CsvTable::Parse(in, "test.csv");
 }
 
-template <class Fn>
-void ExpectError(Fn fn, const std::string& needle) {
-  try {
-    fn();
-    FAIL() << "expected an error containing " << needle;
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
-  }
-}
+const auto ExpectError = [](auto fn, const std::string& needle) {
+  hoof::testing::ExpectErrorContaining(fn, needle);
+};
+
 
 TEST(CsvTest, ParsesQuotedFieldsAndNumbers) {
   const CsvTable t = ParseText(

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/test_util.h"
+
 namespace hoof::pipeline {
 namespace {
 
@@ -30,15 +32,9 @@ fs::path Write(const std::string& name, const std::string& study, const std::str
   return dir;
 }
 
-template <class Fn>
-void ExpectError(Fn fn, const std::string& needle) {
-  try {
-    fn();
-    FAIL() << "expected an error containing " << needle;
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
-  }
-}
+const auto ExpectError = [](auto fn, const std::string& needle) {
+  hoof::testing::ExpectErrorContaining(fn, needle);
+};
 
 TEST(StudyFormatTest, ReadsTheDocumentedExample) {
   const fs::path dir = Write("format_ok", kStudy, kTrial);

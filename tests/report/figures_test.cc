@@ -10,18 +10,14 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "report/gnuplot.h"
+#include "support/test_util.h"
 
 namespace hoof::report {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string ReadAll(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using hoof::testing::ReadAll;
 
 pipeline::TrialAnalysis FlaggedTrial() {
   pipeline::TrialAnalysis t;

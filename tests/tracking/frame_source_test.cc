@@ -9,27 +9,22 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "support/test_util.h"
+
 namespace hoof::tracking {
 namespace {
 
 namespace fs = std::filesystem;
 
 fs::path FreshDir(const std::string& name) {
-  const fs::path dir = fs::path(HOOF_BINARY_DIR) / "test-output" / name;
-  fs::remove_all(dir);
+  const fs::path dir = hoof::testing::FreshDir(name);
   fs::create_directories(dir / "frames");
   return dir;
 }
 
-template <class Fn>
-void ExpectError(Fn fn, const std::string& needle) {
-  try {
-    fn();
-    FAIL() << "expected an error containing " << needle;
-  } catch (const std::exception& e) {
-    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
-  }
-}
+const auto ExpectError = [](auto fn, const std::string& needle) {
+  hoof::testing::ExpectErrorContaining(fn, needle);
+};
 
 TEST(FrameSourceTest, ReadsEightAndSixteenBitGreyAndColour) {
   const fs::path dir = FreshDir("frames_depths");
