@@ -62,6 +62,22 @@ Eigen::Vector2d ImageToWorld::ToWorld(const Eigen::Vector2d& p_I) const {
   return m_per_px * (R * up);
 }
 
+Eigen::Vector2d ImageToWorld::ToImage(const Eigen::Vector2d& p_W) const {
+  const double a = -RotationToWorld();
+  const Eigen::Matrix2d R{{std::cos(a), -std::sin(a)}, {std::sin(a), std::cos(a)}};
+  const Eigen::Vector2d up = R * (p_W / m_per_px);
+  const Eigen::Vector2d u{up.x(), -up.y()};  // undistorted image point
+  if (!distortion || !camera_matrix) return u;
+  const auto& k = *camera_matrix;
+  // Back to normalized camera coordinates, then through OpenCV's distortion model.
+  std::vector<cv::Point3d> obj{{(u.x() - k[2]) / k[0], (u.y() - k[5]) / k[4], 1.0}};
+  std::vector<cv::Point2d> img;
+  const cv::Mat K(3, 3, CV_64F, const_cast<double*>(k.data()));
+  const cv::Mat D(1, 5, CV_64F, const_cast<double*>(distortion->data()));
+  cv::projectPoints(obj, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), K, D, img);
+  return {img[0].x, img[0].y};
+}
+
 BodyPose FitPose(const std::vector<MarkerObservation>& observations,
                  const std::vector<Eigen::Vector2d>& layout_B_m, const ImageToWorld& camera) {
   BodyPose pose;

@@ -42,6 +42,9 @@ struct ImageToWorld {
   Eigen::Vector2d ToWorld(const Eigen::Vector2d& p_I) const;
   /// Angle (rad) to add to an image-frame direction angle (measured with y up) to get W.
   double RotationToWorld() const;
+  /// Image point (px, with lens distortion when a lens model is given) of a world position:
+  /// the inverse of ToWorld.
+  Eigen::Vector2d ToImage(const Eigen::Vector2d& p_W) const;
 };
 
 /// The body pose in W at one frame.

@@ -55,6 +55,16 @@ TEST(PoseTest, UndistortInvertsOpenCvsDistortion) {
   }
 }
 
+TEST(PoseTest, ToImageInvertsToWorld) {
+  ImageToWorld cam;
+  cam.m_per_px = 2e-4;
+  cam.gravity_I = Eigen::Vector2d(0.1, 1.0).normalized();  // a slightly rolled camera
+  cam.camera_matrix = std::array<double, 9>{1500, 0, 256, 0, 1500, 192, 0, 0, 1};
+  cam.distortion = std::array<double, 5>{-0.06, 0.02, 2e-4, -1e-4, 0};
+  for (const Eigen::Vector2d& p : {Eigen::Vector2d(12.5, 300.25), Eigen::Vector2d(470, 40)})
+    EXPECT_NEAR((cam.ToImage(cam.ToWorld(p)) - p).norm(), 0, 1e-3);
+}
+
 TEST(PoseTest, PoseFromTwoMarkers) {
   ImageToWorld cam;
   cam.m_per_px = 2e-4;

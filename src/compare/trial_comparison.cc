@@ -1,0 +1,316 @@
+#include "compare/trial_comparison.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include <boost/math/tools/minima.hpp>
+
+#include "tracking/pose.h"
+
+namespace hoof::compare {
+namespace {
+
+constexpr double kG = dynamics::kStandardGravity_m_s2;
+const Eigen::Vector2d kGravity_W{0.0, -kG};
+
+struct Axes {
+  double phi;
+  Eigen::Vector2d x_S, y_S;
+  explicit Axes(double phi_rad)
+      : phi(phi_rad), x_S(std::cos(phi_rad), -std::sin(phi_rad)), y_S(std::sin(phi_rad), std::cos(phi_rad)) {}
+  Eigen::Vector2d ToS(const Eigen::Vector2d& v) const { return {x_S.dot(v), y_S.dot(v)}; }
+  Eigen::Vector2d ToW(const Eigen::Vector2d& v) const { return x_S * v.x() + y_S * v.y(); }
+};
+
+Axes SurfaceAxes(const pipeline::TrialAnalysis& t) {
+  return Axes(t.spec.surface_angle_deg * std::numbers::pi / 180.0);
+}
+
+dynamics::SpecimenParameters Specimen(const pipeline::TrialAnalysis& t) {
+  dynamics::SpecimenParameters s;
+  s.mass_kg = t.spec.specimen.mass_kg;
+  s.inertia_kg_m2 = t.spec.specimen.inertia_kg_m2;
+  s.end_radius_m = t.spec.specimen.end_radius_m;
+  s.d_EC_m = t.spec.specimen.d_EC_m;
+  return s;
+}
+
+Eigen::Vector2d Dir(double angle) { return {std::cos(angle), std::sin(angle)}; }
+
+/// Height of the lowest point of the round end above the touch point, along y_S, for a body in
+/// free flight from `state` after time `dt`.
+double HeightOfT(const dynamics::BodyState& state, const Eigen::Vector2d& g_S, double dt,
+                 const dynamics::SpecimenParameters& sp) {
+  const dynamics::BodyState b = dynamics::PropagateFlight(state, g_S, dt);
+  return b.p_SC.y() - sp.d_EC_m * std::sin(b.theta_S_rad) - sp.end_radius_m;
+}
+
+/// Time after first touch where the simulated before and after flights give T the same height
+/// (as the measured fits define the impact time).
+double SimulatedMeetingTime(const dynamics::ImpactResult& r, double phi,
+                            const dynamics::SpecimenParameters& sp) {
+  const Eigen::Vector2d g_S = dynamics::GravityInSurfaceFrame(phi, kG);
+  auto f = [&](double tau) {
+    return HeightOfT(r.at_touch, g_S, tau, sp) - HeightOfT(r.at_separation, g_S, tau - r.t_separation_s, sp);
+  };
+  double lo = 0.0, hi = r.t_separation_s;
+  if (!(f(lo) >= 0 && f(hi) <= 0)) return 0.5 * r.t_separation_s;
+  for (int i = 0; i < 100 && hi - lo > 1e-15; ++i) (f(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
+  return 0.5 * (lo + hi);
+}
+
+/// The simulator for a trial's specimen and a contact law.
+dynamics::ImpactSimulator Simulator(const pipeline::TrialAnalysis& t, const dynamics::ContactParameters& c) {
+  return dynamics::ImpactSimulator(Specimen(t), c);
+}
+
+/// First-touch time such that the simulation's flights meet where the measured fits meet.
+double TouchTime(const pipeline::TrialAnalysis& t, const dynamics::ImpactSimulator& sim) {
+  const double t_star = t.impact.impact_time_s;
+  double t_touch = t_star - 5e-6;
+  for (int it = 0; it < 3; ++it) {
+    const auto r = sim.Simulate(MeasuredConditions(t, t_touch));
+    if (!r.success) break;
+    t_touch = t_star - SimulatedMeetingTime(r, SurfaceAxes(t).phi, sim.specimen());
+  }
+  return t_touch;
+}
+
+/// Simulated velocity of C in S and spin after the impact, carried to the measured impact time.
+std::pair<Eigen::Vector2d, double> AfterAtImpactTime(const pipeline::TrialAnalysis& t,
+                                                     const dynamics::ImpactResult& r, double t_touch) {
+  const Eigen::Vector2d g_S = dynamics::GravityInSurfaceFrame(SurfaceAxes(t).phi, kG);
+  const double dt = t.impact.impact_time_s - (t_touch + r.t_separation_s);
+  return {r.at_separation.v_SC + g_S * dt, r.at_separation.w_rad_s};
+}
+
+tracking::ImageToWorld Camera(const pipeline::TrialAnalysis& t) {
+  tracking::ImageToWorld cam;
+  cam.m_per_px = t.m_per_px_used;
+  cam.gravity_I = t.spec.camera.gravity_image;
+  cam.camera_matrix = t.spec.camera.camera_matrix;
+  cam.distortion = t.spec.camera.distortion;
+  return cam;
+}
+
+}  // namespace
+
+dynamics::ImpactConditions MeasuredConditions(const pipeline::TrialAnalysis& t, double t_touch_s) {
+  const Axes S = SurfaceAxes(t);
+  const auto& b = t.impact.before;
+  const double dt = t_touch_s - t.impact.impact_time_s;
+  dynamics::ImpactConditions c;
+  c.surface_angle_rad = S.phi;
+  c.v_SC_m_s = S.ToS(b.v_WC + kGravity_W * dt);
+  c.w_rad_s = b.w_rad_s;
+  c.theta_S_rad = b.theta_W_rad + b.w_rad_s * dt + S.phi;
+  return c;
+}
+
+ModelUncertainty Uncertainty(const SurfaceModel& model) {
+  ModelUncertainty u;
+  u.zeta_se = std::isfinite(model.zeta_fit.zeta_se) ? model.zeta_fit.zeta_se : 0.0;
+  u.mu_se = std::isfinite(model.mu_se) ? model.mu_se : 0.0;
+  return u;
+}
+
+TrialComparison CompareTrial(const pipeline::TrialAnalysis& t, const dynamics::ContactParameters& contact,
+                             const ModelUncertainty& uncertainty) {
+  TrialComparison out;
+  if (!t.success) {
+    out.message = "the trial was not measured: " + t.error;
+    return out;
+  }
+  try {
+    const dynamics::ImpactSimulator sim = Simulator(t, contact);
+    const dynamics::SpecimenParameters& sp = sim.specimen();
+    const Axes S = SurfaceAxes(t);
+    out.t_touch_s = TouchTime(t, sim);
+    const dynamics::ImpactConditions ic = MeasuredConditions(t, out.t_touch_s);
+
+    // Frame times, and samples through the contact for the energy (Figure 8).
+    const std::size_t frames = t.poses.size();
+    std::vector<double> times;
+    for (std::size_t f = 0; f < frames; ++f) times.push_back(static_cast<double>(f) / t.spec.fps - out.t_touch_s);
+    const auto first = sim.Simulate(ic);
+    if (!first.success) {
+      out.message = "simulation failed: " + first.message;
+      return out;
+    }
+    const int n_contact = 101;
+    for (int i = 0; i < n_contact; ++i)
+      times.push_back(-10e-6 + (first.t_separation_s + 20e-6) * i / (n_contact - 1));
+    out.sim = sim.Simulate(ic, times);
+
+    // Where the simulation's S frame lies in W: its origin is T at first touch.
+    const auto& b = t.impact.before;
+    const double dt = out.t_touch_s - t.impact.impact_time_s;
+    const Eigen::Vector2d p_WC_touch = b.p_WC + b.v_WC * dt + 0.5 * kGravity_W * dt * dt;
+    const double theta_touch = b.theta_W_rad + b.w_rad_s * dt;
+    const Eigen::Vector2d p_WT = p_WC_touch - sp.d_EC_m * Dir(theta_touch) - sp.end_radius_m * S.y_S;
+
+    const tracking::ImageToWorld cam = Camera(t);
+    for (std::size_t f = 0; f < frames; ++f) {
+      const auto& s = out.sim.samples[f];
+      FrameComparison fc;
+      fc.t_s = static_cast<double>(f) / t.spec.fps;
+      fc.p_WC_sim = p_WT + S.ToW(s.body.p_SC);
+      fc.theta_W_sim_rad = s.body.theta_S_rad - S.phi;
+      fc.kinetic_energy_sim_J = s.kinetic_energy_J;
+      const Eigen::Vector2d p_WE_sim = fc.p_WC_sim - sp.d_EC_m * Dir(fc.theta_W_sim_rad);
+      const Eigen::Matrix2d R{{std::cos(fc.theta_W_sim_rad), -std::sin(fc.theta_W_sim_rad)},
+                              {std::sin(fc.theta_W_sim_rad), std::cos(fc.theta_W_sim_rad)}};
+      const auto& pose = t.poses[f];
+      fc.measured = pose.valid;
+      if (pose.valid) {
+        fc.p_WC_meas = pose.p_WE + sp.d_EC_m * Dir(pose.theta_W_rad);
+        fc.theta_W_meas_rad = pose.theta_W_rad;
+      }
+      for (std::size_t m = 0; m < t.spec.specimen.markers_B_m.size(); ++m) {
+        const Eigen::Vector2d sim_px = cam.ToImage(p_WE_sim + R * t.spec.specimen.markers_B_m[m].second);
+        fc.markers_px_sim.push_back(sim_px);
+        const bool found = f < t.tracks.frames.size() && m < t.tracks.frames[f].size() && t.tracks.frames[f][m].found;
+        const Eigen::Vector2d meas = found ? t.tracks.frames[f][m].p_I
+                                           : Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+        fc.markers_px_meas.push_back(meas);
+        fc.marker_residual_px.push_back(found ? (meas - sim_px).norm() : std::numeric_limits<double>::quiet_NaN());
+      }
+      out.frames.push_back(fc);
+    }
+    for (int i = 0; i < n_contact; ++i) {
+      const auto& s = out.sim.samples[frames + static_cast<std::size_t>(i)];
+      out.contact_t_s.push_back(s.t_s);
+      out.contact_kinetic_energy_J.push_back(s.kinetic_energy_J);
+    }
+
+    // Velocities after the impact, and the simulated ones' uncertainty from the measured state
+    // before (one-sided differences of one standard error in vx, vy and w).
+    const auto [v_sim, w_sim] = AfterAtImpactTime(t, out.sim, out.t_touch_s);
+    out.v_SC_after_sim = v_sim;
+    out.w_after_sim = w_sim;
+    out.v_SC_after_meas = t.impact.v_SC_after;
+    out.w_after_meas = t.impact.w_after_rad_s;
+    Eigen::Vector2d var_v = Eigen::Vector2d::Zero();
+    double var_w = 0.0;
+    const double se_v = std::sqrt(b.cov_v_WC(0, 0));
+    for (int k = 0; k < 5; ++k) {
+      pipeline::TrialAnalysis shifted = t;  // cheap enough: a few per trial
+      auto& sb = shifted.impact.before;
+      dynamics::ContactParameters c = contact;
+      if (k < 2) {
+        sb.v_WC(k) += se_v;
+      } else if (k == 2) {
+        sb.w_rad_s += b.w_se_rad_s;
+      } else if (k == 3) {
+        if (uncertainty.zeta_se <= 0) continue;
+        const double zeta = dynamics::DampingRatio(c.k_N_m, c.b_N_s_m, sp.mass_kg);
+        c.b_N_s_m = dynamics::DampingForRatio(zeta + uncertainty.zeta_se, c.k_N_m, sp.mass_kg);
+      } else {
+        if (uncertainty.mu_se <= 0) continue;
+        c.mu += uncertainty.mu_se;
+      }
+      const auto r = dynamics::ImpactSimulator(sp, c).Simulate(MeasuredConditions(shifted, out.t_touch_s));
+      if (!r.success) continue;
+      const auto [v2, w2] = AfterAtImpactTime(shifted, r, out.t_touch_s);
+      var_v += (v2 - v_sim).cwiseAbs2();
+      var_w += (w2 - w_sim) * (w2 - w_sim);
+    }
+    out.v_SC_after_sim_se = var_v.cwiseSqrt();
+    out.w_after_sim_se = std::sqrt(var_w);
+    const Eigen::Vector2d se_meas = t.impact.v_SC_after_se;
+    for (int k = 0; k < 2; ++k)
+      out.v_SC_after_z(k) = (out.v_SC_after_meas(k) - v_sim(k)) /
+                            std::sqrt(se_meas(k) * se_meas(k) + var_v(k));
+    out.w_after_z = (out.w_after_meas - w_sim) /
+                    std::sqrt(t.impact.w_after_se_rad_s * t.impact.w_after_se_rad_s + var_w);
+    out.kinetic_energy_before_J = t.impact.kinetic_energy_before_J;
+    out.kinetic_energy_after_meas_J = t.impact.kinetic_energy_after_J;
+    out.kinetic_energy_after_sim_J = out.sim.kinetic_energy_after_J;
+    out.success = true;
+  } catch (const std::exception& e) {
+    out.message = t.spec.id + ": " + e.what();
+  }
+  return out;
+}
+
+SurfaceModel FitSurfaceModel(const std::string& surface, const std::vector<pipeline::TrialAnalysis>& trials) {
+  SurfaceModel m;
+  m.surface = surface;
+  std::vector<const pipeline::TrialAnalysis*> normal, oblique;
+  for (const auto& t : trials) {
+    if (!t.success || t.spec.surface != surface) continue;
+    (std::abs(t.spec.surface_angle_deg) < 1e-9 ? normal : oblique).push_back(&t);
+  }
+  m.normal_trials = static_cast<int>(normal.size());
+  m.oblique_trials = static_cast<int>(oblique.size());
+  if (normal.empty()) {
+    m.message = "no measured normal (0 deg) trials on " + surface + " to fit zeta to";
+    return m;
+  }
+  const dynamics::SpecimenParameters sp = Specimen(*normal.front());
+  std::vector<dynamics::NormalImpact> impacts;
+  for (const auto* t : normal) impacts.push_back({std::abs(t->impact.v_SC_before.y()), std::abs(t->impact.v_SC_after.y())});
+  dynamics::ContactFitOptions fo;
+  fo.map_points_k = fo.map_points_b = 0;
+  m.zeta_fit = dynamics::FitNormalContact(impacts, sp, fo);
+  if (!m.zeta_fit.success) {
+    m.message = "zeta fit failed: " + m.zeta_fit.message;
+    return m;
+  }
+  try {
+    m.k_N_m = dynamics::PaperContact(dynamics::ParseSurface(surface)).k_N_m;
+  } catch (const std::invalid_argument&) {
+    m.k_N_m = 1e8;
+  }
+  m.b_N_s_m = dynamics::DampingForRatio(m.zeta_fit.zeta, m.k_N_m, sp.mass_kg);
+  m.success = true;
+  if (oblique.empty()) {
+    m.mu = std::numeric_limits<double>::quiet_NaN();
+    m.mu_se = m.mu;
+    m.message = "no oblique trials on " + surface + ": mu not fitted";
+    return m;
+  }
+  // mu: least squares of the tangential velocity of C and the spin after the impact, weighted
+  // by their standard errors; touch times fixed from a first simulation (they hardly depend on
+  // mu).
+  std::vector<double> touch;
+  for (const auto* t : oblique) touch.push_back(TouchTime(*t, Simulator(*t, {m.k_N_m, m.b_N_s_m, 0.3})));
+  auto cost = [&](double mu) {
+    double s = 0;
+    for (std::size_t i = 0; i < oblique.size(); ++i) {
+      const auto& t = *oblique[i];
+      const auto r = Simulator(t, {m.k_N_m, m.b_N_s_m, mu}).Simulate(MeasuredConditions(t, touch[i]));
+      if (!r.success) continue;
+      const auto [v_sim, w_sim] = AfterAtImpactTime(t, r, touch[i]);
+      const double se_v = std::max(t.impact.v_SC_after_se.x(), 1e-6);
+      const double se_w = std::max(t.impact.w_after_se_rad_s, 1e-6);
+      s += std::pow((t.impact.v_SC_after.x() - v_sim.x()) / se_v, 2) +
+           std::pow((t.impact.w_after_rad_s - w_sim) / se_w, 2);
+    }
+    return s;
+  };
+  // A grid first (the sum has kinks where trials change between sliding and sticking), then
+  // Brent about the best grid point.
+  constexpr double kStep = 0.01, kMax = 1.5;
+  std::vector<double> grid;
+  for (double mu = 0; mu <= kMax + 1e-9; mu += kStep) grid.push_back(cost(mu));
+  const std::size_t best = static_cast<std::size_t>(std::min_element(grid.begin(), grid.end()) - grid.begin());
+  const double lo = std::max(0.0, (static_cast<double>(best) - 1) * kStep);
+  const double hi = std::min(kMax, (static_cast<double>(best) + 1) * kStep);
+  const auto [mu, s_min] = boost::math::tools::brent_find_minima(cost, lo, hi, 30);
+  m.mu = mu;
+  m.mu_only_lower_bound = std::all_of(grid.begin() + static_cast<std::ptrdiff_t>(best), grid.end(),
+                                      [&](double c) { return c <= s_min + 1.0; });
+  const double h = 2e-3;
+  const double curvature = (cost(mu + h) - 2 * s_min + cost(std::max(0.0, mu - h))) / (h * h);
+  m.mu_se = curvature > 0 && !m.mu_only_lower_bound ? std::sqrt(2.0 / curvature)
+                                                    : std::numeric_limits<double>::quiet_NaN();
+  if (m.mu_only_lower_bound)
+    m.message = "every mu above " + std::to_string(mu) + " fits the oblique trials on " + surface +
+                " as well: their contacts stick, so mu is bounded only from below";
+  return m;
+}
+
+}  // namespace hoof::compare

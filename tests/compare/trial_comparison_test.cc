@@ -1,0 +1,105 @@
+// Simulation against measurement on rendered studies without hidden effects: the model that
+// made the frames, fitted back from the measurements, must reproduce every trial.
+#include "compare/trial_comparison.h"
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "pipeline/truth_score.h"
+#include "support/run_command.h"
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+namespace hoof::compare {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A study rendered without per-trial scatter (every trial of a surface shares its contact
+/// law), so the surface model fitted to the measurements is the truth.
+const std::vector<pipeline::TrialAnalysis>& Trials() {
+  static const std::vector<pipeline::TrialAnalysis> trials = [] {
+    const fs::path dir = fs::path(HOOF_BINARY_DIR) / "test-output" /
+                         ("compare_study_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    const auto r = hoof::testing::RunHoofimpact(
+        "synth --study --no-scatter --surfaces steel,asphalt --angles-deg 0,20 --speeds 2,3,4 "
+        "--trials-per-cell 1 --seed 4 -o " + dir.string());
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const auto study = pipeline::ReadStudy(dir);
+    std::vector<pipeline::TrialAnalysis> out(study.trial_dirs.size());
+    std::vector<std::thread> pool;
+    for (int w = 0; w < 2; ++w)
+      pool.emplace_back([&, w] {
+        for (std::size_t i = static_cast<std::size_t>(w); i < out.size(); i += 2)
+          out[i] = pipeline::AnalyzeTrial(pipeline::ReadTrial(study.trial_dirs[i], study));
+      });
+    for (auto& t : pool) t.join();
+    return out;
+  }();
+  return trials;
+}
+
+TEST(TrialComparisonTest, SurfaceModelsRecoverTheRenderedContactLaw) {
+  for (const std::string surface : {"steel", "asphalt"}) {
+    const SurfaceModel m = FitSurfaceModel(surface, Trials());
+    ASSERT_TRUE(m.success) << m.message;
+    EXPECT_EQ(m.normal_trials, 3);
+    EXPECT_EQ(m.oblique_trials, 3);
+    // Truth: the paper's zeta and mu for the surface (no scatter), in every truth.json.
+    const auto& any = *std::find_if(Trials().begin(), Trials().end(),
+                                    [&](const auto& t) { return t.spec.surface == surface; });
+    const auto truth = nlohmann::json::parse(std::ifstream(any.spec.dir / "truth.json"));
+    const double zeta = truth["model"]["zeta"].get<double>();
+    const double mu = truth["model"]["mu"].get<double>();
+    EXPECT_NEAR(m.zeta_fit.zeta, zeta, 3 * m.zeta_fit.zeta_se + 1e-4) << surface;
+    if (m.mu_only_lower_bound) {
+      EXPECT_LE(m.mu, mu + 0.02) << surface;  // sticking contacts bound mu from below only
+    } else {
+      EXPECT_NEAR(m.mu, mu, 3 * m.mu_se + 1e-3) << surface;
+    }
+  }
+}
+
+TEST(TrialComparisonTest, SimulatedVelocitiesAgreeWithinTheMeasurementUncertainty) {
+  std::map<std::string, SurfaceModel> models;
+  for (const std::string surface : {"steel", "asphalt"}) models[surface] = FitSurfaceModel(surface, Trials());
+  for (const auto& t : Trials()) {
+    ASSERT_TRUE(t.success) << t.error;
+    dynamics::ContactParameters c = models[t.spec.surface].Contact();
+    if (std::isnan(c.mu)) c.mu = 0.0;
+    const TrialComparison cmp = CompareTrial(t, c, Uncertainty(models[t.spec.surface]));
+    ASSERT_TRUE(cmp.success) << cmp.message;
+    EXPECT_LT(std::abs(cmp.v_SC_after_z.x()), 3.0) << t.spec.id;
+    EXPECT_LT(std::abs(cmp.v_SC_after_z.y()), 3.0) << t.spec.id;
+    EXPECT_LT(std::abs(cmp.w_after_z), 3.0) << t.spec.id;
+    std::cout << t.spec.id << ": z = " << cmp.v_SC_after_z.transpose() << " " << cmp.w_after_z
+              << "\n";
+  }
+}
+
+TEST(TrialComparisonTest, MarkersAfterImpactStayWithinHalfAPixelOnSteel) {
+  const SurfaceModel steel = FitSurfaceModel("steel", Trials());
+  for (const auto& t : Trials()) {
+    if (t.spec.surface != "steel") continue;
+    const TrialComparison cmp = CompareTrial(t, steel.Contact());
+    ASSERT_TRUE(cmp.success) << cmp.message;
+    const int first_after = static_cast<int>(std::ceil(cmp.t_touch_s * t.spec.fps));
+    double worst = 0;
+    for (int f = first_after; f < first_after + 20 && f < static_cast<int>(cmp.frames.size()); ++f)
+      for (double r : cmp.frames[static_cast<std::size_t>(f)].marker_residual_px)
+        if (std::isfinite(r)) worst = std::max(worst, r);
+    EXPECT_LT(worst, 0.5) << t.spec.id;
+    std::cout << t.spec.id << ": worst marker residual over 20 frames after impact " << worst << " px\n";
+  }
+}
+
+}  // namespace
+}  // namespace hoof::compare
