@@ -1,5 +1,6 @@
 // Simulation against measurement on rendered studies without hidden effects: the model that
 // made the frames, fitted back from the measurements, must reproduce every trial.
+#include "compare/study_comparison.h"
 #include "compare/trial_comparison.h"
 
 #include <cmath>
@@ -99,6 +100,46 @@ TEST(TrialComparisonTest, MarkersAfterImpactStayWithinHalfAPixelOnSteel) {
     EXPECT_LT(worst, 0.5) << t.spec.id;
     std::cout << t.spec.id << ": worst marker residual over 20 frames after impact " << worst << " px\n";
   }
+}
+
+}  // namespace
+}  // namespace hoof::compare
+
+namespace hoof::compare {
+namespace {
+
+TEST(StudyComparisonTest, TablesGoIntoTheStudyFileAndReadBack) {
+  const auto& trials = Trials();
+  const StudyComparison cmp = CompareStudy(trials, 2);
+  ASSERT_EQ(cmp.surfaces.size(), 2u);
+  const fs::path file = fs::path(HOOF_BINARY_DIR) / "test-output" /
+                        ("compare_" + std::to_string(::getpid()) + ".h5");
+  studyfile::StudyInfo info;
+  info.name = "compare-test";
+  studyfile::WriteStudyFile(file, info, trials);
+  studyfile::WriteTables(file, "/comparison", "simulation against measurement",
+                         ComparisonTables(trials, cmp));
+  const auto surfaces = studyfile::ReadTable(file, "/comparison/surfaces");
+  EXPECT_EQ(surfaces.Get("surface").size(), 2u);
+  const auto rows = studyfile::ReadTable(file, "/comparison/trials");
+  const auto& z = std::get<std::vector<double>>(rows.Get("z_v_y").values);
+  ASSERT_EQ(z.size(), trials.size());
+  for (std::size_t i = 0; i < z.size(); ++i) {
+    EXPECT_TRUE(cmp.trials[i].success);
+    EXPECT_DOUBLE_EQ(z[i], cmp.trials[i].v_SC_after_z.y());
+  }
+  const auto frames = studyfile::ReadTable(file, "/comparison/frames/" + trials[0].spec.id);
+  const auto& res = std::get<std::vector<double>>(frames.Get("M1_residual_px").values);
+  ASSERT_EQ(res.size(), cmp.trials[0].frames.size());
+  for (std::size_t f = 0; f < res.size(); ++f) {
+    const double expected = cmp.trials[0].frames[f].marker_residual_px[0];
+    if (std::isnan(expected)) {
+      EXPECT_TRUE(std::isnan(res[f]));
+    } else {
+      EXPECT_DOUBLE_EQ(res[f], expected);
+    }
+  }
+  fs::remove(file);
 }
 
 }  // namespace
