@@ -20,6 +20,7 @@
 #include "cli/trial_output.h"
 #include "pipeline/study_format.h"
 #include "pipeline/trial_analysis.h"
+#include "report/figures.h"
 #include "studyfile/study_file.h"
 
 namespace hoof::cli {
@@ -31,6 +32,7 @@ struct AnalyzeArgs {
   std::string csv;
   std::string tracks_csv;
   std::string figures_dir;
+  bool figures_all = false;
   bool json = false;
   int jobs = 0;
   pipeline::TrialAnalysisOptions options;
@@ -128,11 +130,16 @@ void Run(AnalyzeArgs& a, RunState& state) {
   studyfile::WriteStudyFile(a.output, info, results);
   if (!a.csv.empty()) studyfile::WriteResultsCsv(a.csv, results);
   if (!a.tracks_csv.empty()) studyfile::WriteTracksCsv(a.tracks_csv, results);
-  std::size_t figure_count = 0;
-  for (const auto& r : results)
-    figure_count += WriteTrialFigures(r, a.options, a.figures_dir, /*always=*/false).size();
-  if (!a.figures_dir.empty())
+  if (!a.figures_dir.empty()) {
+    std::size_t figure_count = 0;
+    for (const auto& r : results)
+      figure_count += WriteTrialFigures(r, a.options, a.figures_dir, /*always=*/false,
+                                        /*displacement=*/a.figures_all)
+                          .size();
+    // The study figures come from the file just written, as `hoofimpact figures` draws them.
+    figure_count += report::WriteStudyFigures(studyfile::ReadStudyResults(a.output), a.figures_dir).size();
     std::cerr << "Figures: " << figure_count << " file(s) in " << a.figures_dir << "\n";
+  }
 
   std::size_t ok = 0;
   for (const auto& r : results) ok += r.success ? 1 : 0;
@@ -164,7 +171,12 @@ void RegisterAnalyze(CLI::App& app, RunState& state) {
   cmd->add_option("--tracks-csv", args->tracks_csv,
                   "Also write every trial's marker tracks and poses as one long CSV");
   cmd->add_option("--figures", args->figures_dir,
-                  "Write a figure for every trial flagged for out-of-plane rotation here");
+                  "Write figures here (PNG and SVG): the study figures e_by_angle, e_by_speed, "
+                  "mu_eff_by_angle, mu_eff_by_speed, and <id>_out_of_plane for every trial "
+                  "flagged for out-of-plane rotation");
+  cmd->add_flag("--figures-all", args->figures_all,
+                "With --figures, also draw every trial's <id>_displacement (the paper's Figure 3)")
+      ->needs("--figures");
   cmd->add_option("--jobs", args->jobs, "Trials analysed in parallel (0 = all cores)")
       ->capture_default_str();
   AddAnalysisOptions(cmd, args->options, args->method);

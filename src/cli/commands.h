@@ -27,5 +27,6 @@ void RegisterSynth(CLI::App& app, RunState& state);
 void RegisterTrack(CLI::App& app, RunState& state);
 void RegisterAnalyze(CLI::App& app, RunState& state);
 void RegisterScore(CLI::App& app, RunState& state);
+void RegisterFigures(CLI::App& app, RunState& state);
 
 }  // namespace hoof::cli

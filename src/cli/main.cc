@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   hoof::cli::RegisterTrack(app, state);
   hoof::cli::RegisterAnalyze(app, state);
   hoof::cli::RegisterScore(app, state);
+  hoof::cli::RegisterFigures(app, state);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

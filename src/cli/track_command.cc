@@ -37,7 +37,8 @@ void RegisterTrack(CLI::App& app, RunState& state) {
   cmd->add_option("--tracks-csv", args->tracks_csv, "Write the marker tracks and poses as CSV");
   cmd->add_flag("--json", args->json, "Print the result as one JSON object");
   cmd->add_option("--figures", args->figures_dir,
-                  "Write the trial's figures (out-of-plane check, PNG and SVG) into this folder");
+                  "Write the trial's figures into this folder (PNG and SVG): <id>_displacement (the "
+                  "paper's Figure 3) and <id>_out_of_plane");
   AddAnalysisOptions(cmd, args->options, args->method);
 
   cmd->callback([args, &state] {
@@ -54,7 +55,8 @@ void RegisterTrack(CLI::App& app, RunState& state) {
     });
     if (tty) std::cerr << "\n";
     if (!a.tracks_csv.empty()) io::WriteTextAtomically(a.tracks_csv, TracksCsv(r));
-    const auto figures = WriteTrialFigures(r, a.options, a.figures_dir, /*always=*/true);
+    const auto figures = WriteTrialFigures(r, a.options, a.figures_dir, /*always=*/true,
+                                           /*displacement=*/true);
     if (a.json) {
       std::cout << TrialJson(r).dump(2) << "\n";
     } else {

@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <numbers>
 #include <sstream>
+#include <stdexcept>
+#include <utility>
 
 #include "report/gnuplot.h"
 
@@ -43,6 +47,268 @@ void WriteOutOfPlaneFigure(const pipeline::TrialAnalysis& trial, double threshol
     plot.horizontal_lines_title = "flag threshold (a change wider than the band)";
   }
   RenderPlot(plot, output);
+}
+
+// ---- Figure 3 -------------------------------------------------------------------------------
+
+namespace {
+
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+
+/// Converts C's position in W to the figure's units and frame.
+struct FigureFrame {
+  Eigen::Vector2d origin_W, x_S, y_S;
+  void Add(DisplacementSamples& s, double t_s, const Eigen::Vector2d& p_WC, double theta_rad) const {
+    const Eigen::Vector2d r = p_WC - origin_W;
+    s.t_ms.push_back(1e3 * t_s);
+    s.x_S_mm.push_back(1e3 * x_S.dot(r));
+    s.y_S_mm.push_back(1e3 * y_S.dot(r));
+    s.theta_deg.push_back(kDegPerRad * theta_rad);
+  }
+};
+
+/// `fit` sampled evenly over [t0_s, t1_s] (times since frame 0) about the impact time.
+DisplacementSamples SampleFit(const kinematics::FlightFit& fit, double impact_time_s, double t0_s,
+                              double t1_s, int samples, double g, const FigureFrame& frame) {
+  DisplacementSamples s;
+  for (int i = 0; i < samples; ++i) {
+    const double t = t0_s + (t1_s - t0_s) * i / (samples - 1);
+    const double dt = t - impact_time_s;
+    const Eigen::Vector2d p = fit.p_WC + fit.v_WC * dt + Eigen::Vector2d(0, -0.5 * g * dt * dt);
+    frame.Add(s, t, p, fit.theta_W_rad + fit.w_rad_s * dt);
+  }
+  return s;
+}
+
+}  // namespace
+
+DisplacementCurves ComputeDisplacementCurves(const pipeline::TrialAnalysis& trial,
+                                             int samples_per_fit, double gravity_m_s2) {
+  if (samples_per_fit < 2)
+    throw std::invalid_argument("samples_per_fit must be >= 2, got " + std::to_string(samples_per_fit));
+  const double phi = trial.spec.surface_angle_deg / kDegPerRad;
+  const double d = trial.spec.specimen.d_EC_m;
+  const double fps = trial.spec.fps;
+  const auto com = [d](const tracking::BodyPose& p) {
+    return Eigen::Vector2d(p.p_WE + d * Eigen::Vector2d(std::cos(p.theta_W_rad), std::sin(p.theta_W_rad)));
+  };
+  DisplacementCurves c;
+  const auto& k = trial.impact;
+  c.has_fit = k.success;
+  FigureFrame frame{{0, 0}, {std::cos(phi), -std::sin(phi)}, {std::sin(phi), std::cos(phi)}};
+  if (c.has_fit) {
+    frame.origin_W = k.before.p_WC;
+  } else {
+    const auto first = std::find_if(trial.poses.begin(), trial.poses.end(),
+                                    [](const tracking::BodyPose& p) { return p.valid; });
+    if (first != trial.poses.end()) frame.origin_W = com(*first);
+  }
+  for (std::size_t f = 0; f < trial.poses.size(); ++f)
+    if (trial.poses[f].valid)
+      frame.Add(c.measured, static_cast<double>(f) / fps, com(trial.poses[f]), trial.poses[f].theta_W_rad);
+  if (c.has_fit) {
+    c.impact_time_ms = 1e3 * k.impact_time_s;
+    c.fit_before = SampleFit(k.before, k.impact_time_s, k.before.first_frame / fps, k.impact_time_s,
+                             samples_per_fit, gravity_m_s2, frame);
+    c.fit_after = SampleFit(k.after, k.impact_time_s, k.impact_time_s, k.after.last_frame / fps,
+                            samples_per_fit, gravity_m_s2, frame);
+  }
+  return c;
+}
+
+namespace {
+
+Series Curve(std::string title, const std::vector<double>& t, const std::vector<double>& y,
+             std::string style, std::string options) {
+  Series s;
+  s.title = std::move(title);
+  s.x = t;
+  s.y = y;
+  s.style = std::move(style);
+  s.options = std::move(options);
+  return s;
+}
+
+constexpr const char* kPointsX = "lc rgb '#1f77b4' pt 7 ps 0.6";
+constexpr const char* kPointsY = "lc rgb '#d62728' pt 5 ps 0.6";
+constexpr const char* kLineX = "lc rgb '#0b3c68' lw 2";
+constexpr const char* kLineY = "lc rgb '#7a1010' lw 2";
+
+}  // namespace
+
+void WriteDisplacementFigure(const pipeline::TrialAnalysis& trial,
+                             const std::filesystem::path& output) {
+  const DisplacementCurves c = ComputeDisplacementCurves(trial);
+  if (c.measured.t_ms.empty())
+    throw std::runtime_error(output.string() + ": trial " + trial.spec.id + " has no valid pose to plot");
+  Plot a, b;
+  a.title = "(a) displacement of the centre of mass C in the surface frame S";
+  a.x_label = "time t (ms)";
+  a.y_label = "displacement of C (mm)";
+  a.key = "inside bottom right";
+  b.title = "(b) angle of the hoof wall";
+  b.x_label = "time t (ms)";
+  b.y_label = "angle {/Symbol q} of x_B from x_W (deg)";
+  b.key = "inside top left";
+  const auto& m = c.measured;
+  a.series.push_back(Curve("x_S (along the surface)", m.t_ms, m.x_S_mm, "points", kPointsX));
+  a.series.push_back(Curve("y_S (normal)", m.t_ms, m.y_S_mm, "points", kPointsY));
+  b.series.push_back(Curve("measured", m.t_ms, m.theta_deg, "points", kPointsX));
+  if (c.has_fit) {
+    for (const DisplacementSamples* f : {&c.fit_before, &c.fit_after}) {
+      const bool first = f == &c.fit_before;
+      a.series.push_back(Curve(first ? "x_S fit (parabola)" : "", f->t_ms, f->x_S_mm, "lines", kLineX));
+      a.series.push_back(Curve(first ? "y_S fit (parabola)" : "", f->t_ms, f->y_S_mm, "lines", kLineY));
+      b.series.push_back(Curve(first ? "fit (line)" : "", f->t_ms, f->theta_deg, "lines", kLineX));
+    }
+    std::ostringstream label;
+    label.precision(4);
+    label << "impact, t* = " << c.impact_time_ms << " ms";
+    a.vertical_lines.emplace_back(c.impact_time_ms, label.str());
+    b.vertical_lines.emplace_back(c.impact_time_ms, label.str());
+  }
+  std::ostringstream title;
+  title.precision(3);
+  title << trial.spec.id << ": " << trial.spec.surface << ", surface angle "
+        << trial.spec.surface_angle_deg << " deg";
+  if (trial.spec.nominal_speed_m_s) title << ", nominal speed " << *trial.spec.nominal_speed_m_s << " m/s";
+  if (trial.impact.success) title << " (e = " << trial.impact.e << ")";
+  MultiPlot fig;
+  fig.title = title.str();
+  fig.panels = {a, b};
+  fig.rows = 2;
+  fig.width_px = 900;
+  fig.height_px = 900;
+  RenderPlot(fig, output);
+}
+
+// ---- Figures 4 and 5 ------------------------------------------------------------------------
+
+namespace {
+
+double Value(const studyfile::TrialResult& t, StudyQuantity q) {
+  return q == StudyQuantity::kRestitution ? t.e : t.mu_eff;
+}
+
+double Level(const studyfile::TrialResult& t, StudyFactor f) {
+  return f == StudyFactor::kImpactAngle ? t.surface_angle_deg : t.nominal_speed_m_s;
+}
+
+}  // namespace
+
+std::vector<CellSummary> SummarizeByCell(const std::vector<studyfile::TrialResult>& trials,
+                                         StudyQuantity quantity, StudyFactor factor) {
+  std::vector<std::string> surfaces;  // in order of first appearance
+  std::map<std::pair<std::size_t, double>, std::vector<double>> cells;
+  for (const auto& t : trials) {
+    const double v = Value(t, quantity), level = Level(t, factor);
+    if (!t.success || !std::isfinite(v) || !std::isfinite(level)) continue;
+    if (quantity == StudyQuantity::kEffectiveFriction && !(t.surface_angle_deg > 0)) continue;
+    auto it = std::find(surfaces.begin(), surfaces.end(), t.surface);
+    if (it == surfaces.end()) it = surfaces.insert(surfaces.end(), t.surface);
+    cells[{static_cast<std::size_t>(it - surfaces.begin()), level}].push_back(v);
+  }
+  std::vector<CellSummary> out;
+  for (const auto& [key, values] : cells) {
+    CellSummary s;
+    s.surface = surfaces[key.first];
+    s.level = key.second;
+    s.n = values.size();
+    double sum = 0.0;
+    for (double v : values) sum += v;
+    s.mean = sum / static_cast<double>(s.n);
+    double ss = 0.0;
+    for (double v : values) ss += (v - s.mean) * (v - s.mean);
+    s.sd = s.n > 1 ? std::sqrt(ss / static_cast<double>(s.n - 1)) : NAN;
+    out.push_back(s);
+  }
+  return out;
+}
+
+namespace {
+
+/// One series per surface, nudged sideways (see WriteStudyFigure).
+std::vector<Series> SurfaceSeries(const std::vector<CellSummary>& cells) {
+  std::vector<double> levels;
+  std::vector<std::string> surfaces;
+  for (const auto& c : cells) {
+    levels.push_back(c.level);
+    if (std::find(surfaces.begin(), surfaces.end(), c.surface) == surfaces.end()) surfaces.push_back(c.surface);
+  }
+  std::sort(levels.begin(), levels.end());
+  double spacing = 0.0;
+  for (std::size_t i = 1; i < levels.size(); ++i)
+    if (levels[i] > levels[i - 1] && (spacing == 0.0 || levels[i] - levels[i - 1] < spacing))
+      spacing = levels[i] - levels[i - 1];
+  if (spacing == 0.0) spacing = 1.0;
+  static const char* const kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
+  static const int kPointTypes[] = {7, 5, 9, 11, 13, 15};
+  std::vector<Series> out;
+  for (std::size_t k = 0; k < surfaces.size(); ++k) {
+    Series s;
+    s.title = surfaces[k];
+    s.options = std::string("lw 1.5 ps 1.3 lc rgb '") + kColours[k % 6] + "' pt " + std::to_string(kPointTypes[k % 6]);
+    const double shift = 0.05 * spacing * (static_cast<double>(k) - 0.5 * static_cast<double>(surfaces.size() - 1));
+    for (const auto& c : cells)
+      if (c.surface == surfaces[k]) {
+        s.x.push_back(c.level + shift);
+        s.y.push_back(c.mean);
+        s.y_error.push_back(c.sd);
+      }
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+}  // namespace
+
+bool WriteStudyFigure(const studyfile::StudyResults& study, StudyQuantity quantity,
+                      StudyFactor factor, const std::filesystem::path& output) {
+  const std::vector<CellSummary> cells = SummarizeByCell(study.trials, quantity, factor);
+  if (cells.empty()) return false;
+  std::size_t n_min = cells.front().n, n_max = cells.front().n;
+  for (const auto& c : cells) {
+    n_min = std::min(n_min, c.n);
+    n_max = std::max(n_max, c.n);
+  }
+  const bool e = quantity == StudyQuantity::kRestitution;
+  const bool angle = factor == StudyFactor::kImpactAngle;
+  std::ostringstream title;
+  title << (e ? "Coefficient of restitution" : "Effective coefficient of friction (oblique impacts)")
+        << " by " << (angle ? "impact angle" : "nominal speed") << "\nmean ± s.d., n = " << n_min;
+  if (n_max != n_min) title << "–" << n_max;
+  title << " trials per point";
+  if (!study.name.empty()) title << " (" << study.name << ")";
+  Plot plot;
+  plot.title = title.str();
+  plot.x_label = angle ? "impact angle {/Symbol f} (deg)" : "nominal impact speed (m/s)";
+  plot.y_label = e ? "coefficient of restitution e" : "effective coefficient of friction {/Symbol m}_{eff}";
+  plot.key = "outside right top";
+  plot.series = SurfaceSeries(cells);
+  plot.width_px = 900;
+  plot.height_px = 550;
+  RenderPlot(plot, output);
+  return true;
+}
+
+std::vector<std::filesystem::path> WriteStudyFigures(const studyfile::StudyResults& study,
+                                                     const std::filesystem::path& dir) {
+  struct Item {
+    const char* name;
+    StudyQuantity quantity;
+    StudyFactor factor;
+  };
+  const Item items[] = {{"e_by_angle", StudyQuantity::kRestitution, StudyFactor::kImpactAngle},
+                        {"e_by_speed", StudyQuantity::kRestitution, StudyFactor::kSpeed},
+                        {"mu_eff_by_angle", StudyQuantity::kEffectiveFriction, StudyFactor::kImpactAngle},
+                        {"mu_eff_by_speed", StudyQuantity::kEffectiveFriction, StudyFactor::kSpeed}};
+  std::vector<std::filesystem::path> written;
+  for (const Item& item : items)
+    for (const char* ext : {".png", ".svg"}) {
+      const std::filesystem::path path = dir / (std::string(item.name) + ext);
+      if (WriteStudyFigure(study, item.quantity, item.factor, path)) written.push_back(path);
+    }
+  return written;
 }
 
 }  // namespace hoof::report

@@ -1,5 +1,6 @@
 #include "report/gnuplot.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -15,6 +16,10 @@ namespace {
 std::string Quote(const std::string& s) {
   std::string out = "\"";
   for (char c : s) {
+    if (c == '\n') {  // a line break in a title
+      out += "\\n";
+      continue;
+    }
     if (c == '"' || c == '\\') out += '\\';
     out += c;
   }
@@ -23,41 +28,59 @@ std::string Quote(const std::string& s) {
 
 std::string Number(double v) { return std::isfinite(v) ? io::CsvNumber(v) : "NaN"; }
 
-}  // namespace
-
-std::string GnuplotScript(const Plot& plot, const std::filesystem::path& output) {
-  std::ostringstream os;
-  const std::string ext = output.extension().string();
-  if (ext == ".svg")
-    os << "set terminal svg size " << plot.width_px << "," << plot.height_px
+void Terminal(std::ostream& os, const std::filesystem::path& output, int width_px, int height_px) {
+  if (output.extension() == ".svg")
+    os << "set terminal svg size " << width_px << "," << height_px
        << " dynamic enhanced font 'Sans,12' background '#ffffff'\n";
   else
-    os << "set terminal pngcairo size " << plot.width_px << "," << plot.height_px
+    os << "set terminal pngcairo size " << width_px << "," << height_px
        << " enhanced font 'Sans,11'\n";
   os << "set output " << Quote(output.string()) << "\n";
+}
+
+/// Data blocks `$<prefix><i>`: "x y [error]" per row.
+void DataBlocks(std::ostream& os, const Plot& plot, const std::string& prefix) {
+  for (std::size_t i = 0; i < plot.series.size(); ++i) {
+    const Series& s = plot.series[i];
+    os << "$" << prefix << i << " << EOD\n";
+    for (std::size_t k = 0; k < s.x.size() && k < s.y.size(); ++k) {
+      os << Number(s.x[k]) << " " << Number(s.y[k]);
+      if (!s.y_error.empty()) os << " " << Number(k < s.y_error.size() ? s.y_error[k] : NAN);
+      os << "\n";
+    }
+    os << "EOD\n";
+  }
+}
+
+/// Settings and the plot command of one plot; undoes its objects, arrows and labels after.
+void PlotCommands(std::ostream& os, const Plot& plot, const std::string& prefix) {
   os << "set title " << Quote(plot.title) << " noenhanced\n";
   os << "set xlabel " << Quote(plot.x_label) << "\nset ylabel " << Quote(plot.y_label) << "\n";
-  os << "set grid\nset key inside bottom left box opaque noenhanced\nset datafile missing 'NaN'\n";
+  os << "set grid\nset key " << plot.key << " box opaque noenhanced\n"
+     << "set datafile missing 'NaN'\nset autoscale fix\n"
+     << "set offsets graph 0.04, graph 0.04, graph 0.06, graph 0.06\n";
   int obj = 1;
   for (const auto& [a, b] : plot.shaded_x_ranges)
     os << "set object " << obj++ << " rect from " << Number(a) << ", graph 0 to " << Number(b)
        << ", graph 1 fc rgb '#dde8f5' fs solid 0.6 noborder behind\n";
-  for (std::size_t i = 0; i < plot.series.size(); ++i) {
-    const Series& s = plot.series[i];
-    os << "$d" << i << " << EOD\n";
-    for (std::size_t k = 0; k < s.x.size() && k < s.y.size(); ++k) {
-      os << Number(s.x[k]) << " " << Number(s.y[k]);
-      if (!s.y_error.empty()) os << " " << Number(k < s.y_error.size() ? s.y_error[k] : 0.0);
-      os << "\n";
-    }
-    os << "EOD\n";
+  int arrow = 1;
+  for (const auto& [x, label] : plot.vertical_lines) {
+    os << "set arrow " << arrow << " from " << Number(x) << ", graph 0 to " << Number(x)
+       << ", graph 1 nohead dt 2 lw 1.5 lc rgb '#555555'\n";
+    os << "set label " << arrow++ << " " << Quote(label) << " at " << Number(x)
+       << ", graph 0.96 offset 0.5, 0 left noenhanced textcolor rgb '#555555'\n";
   }
   os << "plot ";
   bool first = true;
   for (std::size_t i = 0; i < plot.series.size(); ++i) {
     const Series& s = plot.series[i];
-    os << (first ? "" : ", ") << "$d" << i << " using 1:2" << (s.y_error.empty() ? "" : ":3")
-       << " with " << (s.y_error.empty() ? s.style : "yerrorbars") << " title " << Quote(s.title);
+    const std::string data = "$" + prefix + std::to_string(i);
+    const std::string look = " lt " + std::to_string(i + 1) + (s.options.empty() ? "" : " " + s.options);
+    os << (first ? "" : ", ") << data << " using 1:2 with " << s.style << look << " title "
+       << Quote(s.title);
+    // Error bars as a second plot of the same data: rows whose error is NaN are skipped there
+    // only, so their point is still drawn.
+    if (!s.y_error.empty()) os << ", " << data << " using 1:2:3 with yerrorbars" << look << " notitle";
     first = false;
   }
   for (double y : plot.horizontal_lines) {
@@ -66,17 +89,23 @@ std::string GnuplotScript(const Plot& plot, const std::filesystem::path& output)
                                                : std::string("notitle"));
     first = false;
   }
-  os << "\nset output\n";
-  return os.str();
+  os << "\nunset object\nunset arrow\nunset label\n";
 }
 
-void RenderPlot(const Plot& plot, const std::filesystem::path& output) {
-  if (plot.series.empty())
-    throw std::runtime_error(output.string() + ": a figure needs at least one data series");
+/// Runs gnuplot on the script that `make_script(temporary_output)` gives and commits the
+/// output; see RenderPlot.
+template <class MakeScript>
+void Render(const std::filesystem::path& output, const MakeScript& make_script) {
   const auto tmp_out = io::TemporaryPathFor(output).string() + output.extension().string();
   const auto script = io::TemporaryPathFor(output).string() + ".gp";
-  if (output.has_parent_path()) std::filesystem::create_directories(output.parent_path());
-  io::WriteTextAtomically(script, GnuplotScript(plot, tmp_out));
+  std::error_code ec;
+  if (output.has_parent_path()) std::filesystem::create_directories(output.parent_path(), ec);
+  if (ec) throw std::runtime_error(output.string() + ": cannot create its folder: " + ec.message());
+  try {
+    io::WriteTextAtomically(script, make_script(tmp_out));
+  } catch (const std::exception& e) {
+    throw std::runtime_error(output.string() + ": cannot write the gnuplot script: " + e.what());
+  }
   const std::string cmd = "gnuplot " + Quote(script) + " 2>" + Quote(script + ".err");
   const int rc = std::system(cmd.c_str());
   std::string err;
@@ -86,7 +115,6 @@ void RenderPlot(const Plot& plot, const std::filesystem::path& output) {
     ss << in.rdbuf();
     err = ss.str();
   }
-  std::error_code ec;
   std::filesystem::remove(script, ec);
   std::filesystem::remove(script + ".err", ec);
   if (rc != 0 || !std::filesystem::exists(tmp_out) || std::filesystem::file_size(tmp_out) == 0) {
@@ -98,6 +126,51 @@ void RenderPlot(const Plot& plot, const std::filesystem::path& output) {
                              (err.empty() ? "" : ": " + err));
   }
   io::CommitTemporary(tmp_out, output);
+}
+
+}  // namespace
+
+std::string GnuplotScript(const Plot& plot, const std::filesystem::path& output) {
+  std::ostringstream os;
+  Terminal(os, output, plot.width_px, plot.height_px);
+  DataBlocks(os, plot, "d");
+  PlotCommands(os, plot, "d");
+  os << "set output\n";
+  return os.str();
+}
+
+std::string GnuplotScript(const MultiPlot& figure, const std::filesystem::path& output) {
+  std::ostringstream os;
+  Terminal(os, output, figure.width_px, figure.height_px);
+  const std::size_t rows = static_cast<std::size_t>(std::max(figure.rows, 1));
+  const std::size_t cols = (figure.panels.size() + rows - 1) / rows;
+  const auto prefix = [](std::size_t p) {  // a stream, not "p" + ...: GCC 12 -Wrestrict
+    std::ostringstream s;
+    s << "p" << p << "d";
+    return s.str();
+  };
+  for (std::size_t p = 0; p < figure.panels.size(); ++p) DataBlocks(os, figure.panels[p], prefix(p));
+  os << "set multiplot layout " << rows << "," << cols << " title " << Quote(figure.title)
+     << " noenhanced font ',13'\n";
+  for (std::size_t p = 0; p < figure.panels.size(); ++p)
+    PlotCommands(os, figure.panels[p], prefix(p));
+  os << "unset multiplot\nset output\n";
+  return os.str();
+}
+
+void RenderPlot(const Plot& plot, const std::filesystem::path& output) {
+  if (plot.series.empty())
+    throw std::runtime_error(output.string() + ": a figure needs at least one data series");
+  Render(output, [&](const std::string& tmp) { return GnuplotScript(plot, tmp); });
+}
+
+void RenderPlot(const MultiPlot& figure, const std::filesystem::path& output) {
+  if (figure.panels.empty()) throw std::runtime_error(output.string() + ": a figure needs a panel");
+  for (const Plot& p : figure.panels)
+    if (p.series.empty())
+      throw std::runtime_error(output.string() + ": panel \"" + p.title +
+                               "\" needs at least one data series");
+  Render(output, [&](const std::string& tmp) { return GnuplotScript(figure, tmp); });
 }
 
 }  // namespace hoof::report

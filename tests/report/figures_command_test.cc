@@ -1,0 +1,99 @@
+// End-to-end tests of the figure commands: a tiny study is rendered with `hoofimpact synth
+// --study`, analysed with `analyze --figures`, and drawn again from the study file alone with
+// `hoofimpact figures`; `track --figures` draws one trial's Figure 3.
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <unistd.h>
+
+#include "support/run_command.h"
+#include "support/test_util.h"
+
+namespace hoof::report {
+namespace {
+
+namespace fs = std::filesystem;
+using hoof::testing::ReadAll;
+using hoof::testing::RunHoofimpact;
+
+const char* const kStudyFigures[] = {"e_by_angle", "e_by_speed", "mu_eff_by_angle", "mu_eff_by_speed"};
+
+fs::path Root() {
+  return fs::path(HOOF_BINARY_DIR) / "figures_command_test" / std::to_string(::getpid());
+}
+
+/// A readable PNG with content (curves and text give many grey levels).
+void ExpectFigure(const fs::path& png) {
+  const cv::Mat image = cv::imread(png.string());
+  ASSERT_FALSE(image.empty()) << png;
+  cv::Scalar mean, sd;
+  cv::meanStdDev(image, mean, sd);
+  EXPECT_GT(sd[0], 10.0) << png;
+}
+
+/// 2 surfaces x 2 angles x 2 speeds x 2 repetitions = 16 short trials, analysed once.
+class FiguresCommandTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    fs::remove_all(Root());
+    fs::create_directories(Root());
+    const auto s = RunHoofimpact("synth --study --surfaces steel,asphalt --angles-deg 0,20 --speeds 2,3"
+                                 " --trials-per-cell 2 --frames-before 26 --frames-after 26 --seed 5 -o " +
+                                 (Root() / "study").string());
+    ASSERT_EQ(s.exit_code, 0) << s.err;
+    const auto a = RunHoofimpact("analyze " + (Root() / "study").string() + " -o " + StudyFile().string() +
+                                 " --jobs 2 --figures " + (Root() / "analyze_figures").string());
+    ASSERT_EQ(a.exit_code, 0) << a.out << a.err;
+  }
+  static void TearDownTestSuite() { fs::remove_all(Root()); }
+  static fs::path StudyFile() { return Root() / "f.h5"; }
+};
+
+TEST_F(FiguresCommandTest, AnalyzeWritesTheStudyFiguresButNoTrialFigureByDefault) {
+  const fs::path dir = Root() / "analyze_figures";
+  for (const char* name : kStudyFigures) {
+    ExpectFigure(dir / (std::string(name) + ".png"));
+    EXPECT_TRUE(fs::is_regular_file(dir / (std::string(name) + ".svg"))) << name;
+  }
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string().find("_displacement"), std::string::npos) << e.path();
+}
+
+TEST_F(FiguresCommandTest, FiguresDrawsTheStudyFiguresFromTheFileAlone) {
+  const fs::path dir = Root() / "figures";
+  const auto r = RunHoofimpact("figures " + StudyFile().string() + " -o " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
+  EXPECT_EQ(files, 8);  // four figures, PNG and SVG, nothing temporary
+  for (const char* name : kStudyFigures) {
+    ExpectFigure(dir / (std::string(name) + ".png"));
+    EXPECT_NE(r.out.find(name), std::string::npos) << r.out;
+  }
+  EXPECT_NE(ReadAll(dir / "e_by_speed.svg").find("Coefficient of restitution by nominal speed"),
+            std::string::npos);
+  EXPECT_NE(ReadAll(dir / "mu_eff_by_angle.svg").find("steel"), std::string::npos);
+}
+
+TEST_F(FiguresCommandTest, MissingStudyFileFailsNamingIt) {
+  const fs::path missing = Root() / "no_such.h5";
+  const auto r = RunHoofimpact("figures " + missing.string() + " -o " + (Root() / "x").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find(missing.string()), std::string::npos) << r.err;
+}
+
+TEST_F(FiguresCommandTest, TrackWritesFigureThree) {
+  const fs::path dir = Root() / "track_figures";
+  const std::string trial = "steel_20deg_v3.00_r1";
+  const auto r = RunHoofimpact("track " + (Root() / "study" / trial).string() + " --figures " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ExpectFigure(dir / (trial + "_displacement.png"));
+  EXPECT_NE(ReadAll(dir / (trial + "_displacement.svg")).find(trial + ": steel, surface angle 20 deg"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace hoof::report
