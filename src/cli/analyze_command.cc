@@ -18,6 +18,7 @@
 
 #include "cli/commands.h"
 #include "cli/trial_output.h"
+#include "pipeline/study_analysis.h"
 #include "pipeline/study_format.h"
 #include "pipeline/trial_analysis.h"
 #include "report/figures.h"
@@ -39,51 +40,6 @@ struct AnalyzeArgs {
   std::string method = "centroid";
   std::string command_line;
 };
-
-/// Reads and analyses one trial folder. Never throws: a trial.json that cannot be read (or
-/// any other exception) becomes a failed TrialAnalysis whose error names the file.
-pipeline::TrialAnalysis AnalyzeOne(const std::filesystem::path& dir,
-                                   const pipeline::StudySpec& study,
-                                   const pipeline::TrialAnalysisOptions& options) {
-  try {
-    const pipeline::TrialSpec spec = pipeline::ReadTrial(dir, study);
-    return pipeline::AnalyzeTrial(spec, options);
-  } catch (const std::exception& e) {
-    pipeline::TrialAnalysis failed;
-    failed.spec.dir = dir;
-    failed.spec.id = dir.filename().string();
-    failed.success = false;
-    failed.error = e.what();
-    return failed;
-  }
-}
-
-/// Analyses every trial on `jobs` threads; results are stored by index, so the order is the
-/// study's whatever the scheduling. `done(n)` is called (serialized) after each trial.
-std::vector<pipeline::TrialAnalysis> AnalyzeAll(const pipeline::StudySpec& study,
-                                                const pipeline::TrialAnalysisOptions& options,
-                                                int jobs,
-                                                const std::function<void(std::size_t)>& done) {
-  const std::size_t n = study.trial_dirs.size();
-  std::vector<pipeline::TrialAnalysis> results(n);
-  std::atomic<std::size_t> next{0};
-  std::size_t finished = 0;
-  std::mutex mutex;
-  const auto worker = [&] {
-    for (std::size_t i = next++; i < n; i = next++) {
-      results[i] = AnalyzeOne(study.trial_dirs[i], study, options);
-      const std::lock_guard<std::mutex> lock(mutex);
-      ++finished;
-      if (done) done(finished);
-    }
-  };
-  const std::size_t threads = std::min<std::size_t>(static_cast<std::size_t>(std::max(jobs, 1)), n);
-  std::vector<std::thread> pool;
-  for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  return results;
-}
 
 std::string Summary(const std::vector<pipeline::TrialAnalysis>& results, const std::string& output,
                     double seconds) {
@@ -113,7 +69,7 @@ void Run(AnalyzeArgs& a, RunState& state) {
   const bool tty = ::isatty(STDERR_FILENO) != 0;
   const std::size_t n = study.trial_dirs.size();
   const auto start = std::chrono::steady_clock::now();
-  const auto results = AnalyzeAll(study, a.options, jobs, [&](std::size_t done) {
+  const auto results = pipeline::AnalyzeStudy(study, a.options, jobs, [&](std::size_t done) {
     if (tty) std::cerr << "\r  analysing: " << done << "/" << n << " trials" << std::flush;
   });
   if (tty) std::cerr << "\n";

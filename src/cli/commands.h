@@ -3,6 +3,8 @@
 /// Each `hoofimpact` subcommand lives in its own file and registers itself on the app here.
 /// Subcommands only parse arguments, call the libraries and print; they hold no algorithms.
 
+#include <string>
+
 #include <CLI/CLI.hpp>
 
 namespace hoof::cli {
@@ -25,8 +27,13 @@ void RegisterFit(CLI::App& app, RunState& state);
 void RegisterStats(CLI::App& app, RunState& state);
 void RegisterSynth(CLI::App& app, RunState& state);
 void RegisterTrack(CLI::App& app, RunState& state);
+void RegisterRun(CLI::App& app, RunState& state);
 void RegisterAnalyze(CLI::App& app, RunState& state);
 void RegisterScore(CLI::App& app, RunState& state);
 void RegisterFigures(CLI::App& app, RunState& state);
+
+/// The study statistics of `stats STUDY_H5` (stored under /stats, printed, and written to
+/// `out_csv` when not empty); `run` uses it too.
+void RunStudyStatistics(const std::string& study_h5, double alpha, const std::string& out_csv);
 
 }  // namespace hoof::cli

@@ -899,4 +899,12 @@ void RegisterStats(CLI::App& app, RunState& state) {
   });
 }
 
+void RunStudyStatistics(const std::string& study_h5, double alpha, const std::string& out_csv) {
+  StatsArgs a;
+  a.study_h5 = study_h5;
+  a.alpha = alpha;
+  a.out_csv = out_csv;
+  RunStudy(a);
+}
+
 }  // namespace hoof::cli

@@ -305,7 +305,11 @@ SurfaceModel FitSurfaceModel(const std::string& surface, const std::vector<pipel
                                       [&](double c) { return c <= s_min + 1.0; });
   const double h = 2e-3;
   const double curvature = (cost(mu + h) - 2 * s_min + cost(std::max(0.0, mu - h))) / (h * h);
-  m.mu_se = curvature > 0 && !m.mu_only_lower_bound ? std::sqrt(2.0 / curvature)
+  // Standard error from the curvature, scaled by the reduced chi-square (the usual least-squares
+  // practice: when trials scatter more than their measurement errors, mu is less certain).
+  const double dof = std::max(1.0, 2.0 * static_cast<double>(oblique.size()) - 1.0);
+  const double scale = std::max(1.0, s_min / dof);
+  m.mu_se = curvature > 0 && !m.mu_only_lower_bound ? std::sqrt(2.0 / curvature * scale)
                                                     : std::numeric_limits<double>::quiet_NaN();
   if (m.mu_only_lower_bound)
     m.message = "every mu above " + std::to_string(mu) + " fits the oblique trials on " + surface +

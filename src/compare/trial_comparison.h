@@ -33,7 +33,9 @@ struct SurfaceModel {
   /// simulated from its measured state before impact. Searched on a 0.01 grid over [0, 1.5],
   /// then refined (Brent).
   double mu = 0.0;
-  double mu_se = 0.0;  ///< from the curvature of that sum of squares (NaN when undefined)
+  /// From the curvature of that sum of squares, scaled by the reduced chi-square when it
+  /// exceeds 1 (trials scatter more than their measurement errors); NaN when undefined.
+  double mu_se = 0.0;
   /// True when every mu above the estimate fits as well (within 1 of the minimum sum): the
   /// contacts stick, and the data bound mu only from below.
   bool mu_only_lower_bound = false;

@@ -1,0 +1,50 @@
+// `hoofimpact run` end to end on a small rendered study without per-trial scatter, where the
+// fitted model is the truth and every trial must agree with its simulation.
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "studyfile/study_file.h"
+#include "support/run_command.h"
+
+namespace hoof::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using hoof::testing::RunHoofimpact;
+
+TEST(RunCommandTest, TheWholeStudyEndToEnd) {
+  const fs::path base = fs::path(HOOF_BINARY_DIR) / "test-output" / ("run_" + std::to_string(::getpid()));
+  fs::remove_all(base);
+  auto r = RunHoofimpact("synth --study --no-scatter --surfaces steel,concrete --angles-deg 0,20 "
+                         "--speeds 2.5,3.5 --trials-per-cell 2 --seed 8 -o " + (base / "study").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = RunHoofimpact("run " + (base / "study").string() + " -o " + (base / "out").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("16 measured, 0 failed"), std::string::npos) << r.out;
+  const fs::path h5 = base / "out" / "study.h5";
+  // The comparison: every trial agrees with the simulation of the fitted (true) model within
+  // three combined standard errors.
+  const auto trials = studyfile::ReadTable(h5, "/comparison/trials");
+  for (const char* z : {"z_v_x", "z_v_y", "z_w"})
+    for (double v : std::get<std::vector<double>>(trials.Get(z).values)) EXPECT_LT(std::abs(v), 3.0) << z;
+  // Statistics stored, CSVs and figures written.
+  EXPECT_NO_THROW(studyfile::ReadTable(h5, "/stats/e/by_surface/anova"));
+  EXPECT_TRUE(fs::exists(base / "out" / "results.csv"));
+  EXPECT_TRUE(fs::exists(base / "out" / "stats.csv"));
+  EXPECT_TRUE(fs::exists(base / "out" / "figures" / "e_by_angle.png"));
+  EXPECT_TRUE(fs::exists(base / "out" / "figures" / "mu_eff_by_angle.svg"));
+  fs::remove_all(base);
+}
+
+TEST(RunCommandTest, AMissingStudyIsAClearError) {
+  const auto r = RunHoofimpact("run /nonexistent-study-folder");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("nonexistent-study-folder"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace hoof::cli
