@@ -31,6 +31,8 @@ void RegisterRun(CLI::App& app, RunState& state);
 void RegisterAnalyze(CLI::App& app, RunState& state);
 void RegisterScore(CLI::App& app, RunState& state);
 void RegisterFigures(CLI::App& app, RunState& state);
+void RegisterReport(CLI::App& app, RunState& state);
+void RegisterOverlay(CLI::App& app, RunState& state);
 
 /// The study statistics of `stats STUDY_H5` (stored under /stats, printed, and written to
 /// `out_csv` when not empty); `run` uses it too.

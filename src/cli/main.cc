@@ -22,6 +22,8 @@ int main(int argc, char** argv) {
   hoof::cli::RegisterAnalyze(app, state);
   hoof::cli::RegisterScore(app, state);
   hoof::cli::RegisterFigures(app, state);
+  hoof::cli::RegisterReport(app, state);
+  hoof::cli::RegisterOverlay(app, state);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

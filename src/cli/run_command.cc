@@ -19,6 +19,7 @@
 #include "compare/study_comparison.h"
 #include "pipeline/study_analysis.h"
 #include "report/figures.h"
+#include "report/html_report.h"
 #include "studyfile/study_file.h"
 
 namespace hoof::cli {
@@ -127,8 +128,14 @@ void Run(RunArgs& a, RunState& state) {
       figures.emplace_back(f);
   std::cout << "\n== 4. " << figures.size() << " figure file(s) in " << (out / "figures").string() << "\n";
 
+  // 5. The report.
+  const auto page = report::WriteHtmlReport(h5, out / "report.html");
+  std::cout << "\n== 5. Report: " << page.output.string() << " (" << page.bytes / 1024
+            << " KiB, " << page.replays << " replay(s); open it in a browser, no network needed)\n";
+
   std::cout << "\nDone in " << std::fixed << std::setprecision(1) << Since(t0) << " s. Outputs in "
             << std::filesystem::absolute(out).string() << ":\n"
+            << "  report.html  the report: summary, model, replay, figures, trials, statistics\n"
             << "  study.h5     everything (docs/hdf5-schema.md)\n"
             << "  results.csv  per-trial results\n"
             << "  stats.csv    the statistics tables\n"

@@ -37,6 +37,8 @@ TEST(RunCommandTest, TheWholeStudyEndToEnd) {
   EXPECT_TRUE(fs::exists(base / "out" / "stats.csv"));
   EXPECT_TRUE(fs::exists(base / "out" / "figures" / "e_by_angle.png"));
   EXPECT_TRUE(fs::exists(base / "out" / "figures" / "mu_eff_by_angle.svg"));
+  EXPECT_GT(fs::file_size(base / "out" / "report.html"), 10000u);
+  EXPECT_NE(r.out.find("report.html"), std::string::npos);
   fs::remove_all(base);
 }
 

@@ -1,0 +1,629 @@
+#include "report/html_report.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include <unistd.h>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "io/atomic_file.h"
+#include "pipeline/study_format.h"
+#include "report/figures.h"
+#include "studyfile/study_file.h"
+#include "tracking/frame_source.h"
+
+namespace hoof::report {
+namespace {
+
+namespace fs = std::filesystem;
+using studyfile::Table;
+
+// ---- small helpers ------------------------------------------------------------------------
+
+std::string Fmt(double v, int precision = 4) {
+  if (!std::isfinite(v)) return "&ndash;";
+  std::ostringstream s;
+  s.precision(precision);
+  s << v;
+  return s.str();
+}
+
+/// A number for the embedded JSON: NaN and infinities become null.
+std::string JsonNumber(double v) {
+  if (!std::isfinite(v)) return "null";
+  std::ostringstream s;
+  s.precision(7);
+  s << v;
+  return s.str();
+}
+
+/// A JSON string literal that is also safe inside <script> ("</" cannot close the element).
+std::string JsonString(std::string_view text) {
+  std::string out = "\"";
+  for (char c : text) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '<': out += "\\u003c"; break;
+      case '>': out += "\\u003e"; break;
+      case '&': out += "\\u0026"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(c));
+          out += buf;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+std::string ReadBinary(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path.string() + ": cannot read");
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::optional<Table> TryReadTable(const fs::path& h5, const std::string& path) {
+  try {
+    return studyfile::ReadTable(h5, path);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+const studyfile::Column* FindColumn(const Table& t, const std::string& name) {
+  for (const auto& c : t.columns)
+    if (c.name == name) return &c;
+  return nullptr;
+}
+
+double Num(const Table& t, const std::string& name, std::size_t row) {
+  const auto* c = FindColumn(t, name);
+  if (!c || row >= c->size()) return std::nan("");
+  if (const auto* d = std::get_if<std::vector<double>>(&c->values)) return (*d)[row];
+  if (const auto* i = std::get_if<std::vector<std::int64_t>>(&c->values))
+    return static_cast<double>((*i)[row]);
+  return std::nan("");
+}
+
+std::string Text(const Table& t, const std::string& name, std::size_t row) {
+  const auto* c = FindColumn(t, name);
+  if (!c || row >= c->size()) return "";
+  if (const auto* s = std::get_if<std::vector<std::string>>(&c->values)) return (*s)[row];
+  return "";
+}
+
+std::size_t Rows(const Table& t) { return t.columns.empty() ? 0 : t.columns.front().size(); }
+
+/// Any table as an HTML table: numbers to 4 significant digits, p-values to 3.
+std::string RenderTable(const Table& t, const std::string& caption) {
+  std::ostringstream h;
+  h << "<table class=\"data\"><caption>" << HtmlEscape(caption) << "</caption><thead><tr>";
+  for (const auto& c : t.columns)
+    h << "<th title=\"" << HtmlEscape(c.description) << "\">" << HtmlEscape(c.name) << "</th>";
+  h << "</tr></thead><tbody>";
+  for (std::size_t r = 0; r < Rows(t); ++r) {
+    h << "<tr>";
+    for (const auto& c : t.columns) {
+      if (const auto* s = std::get_if<std::vector<std::string>>(&c.values)) {
+        h << "<td>" << HtmlEscape((*s)[r]) << "</td>";
+      } else {
+        const double v = Num(t, c.name, r);
+        const bool small_p = c.name == "p" && std::isfinite(v) && v < 0.05;
+        h << "<td class=\"num" << (small_p ? " sig" : "") << "\">"
+          << Fmt(v, c.name == "p" ? 3 : 4) << "</td>";
+      }
+    }
+    h << "</tr>";
+  }
+  if (Rows(t) == 0)
+    h << "<tr><td colspan=\"" << t.columns.size() << "\">(no rows)</td></tr>";
+  h << "</tbody></table>";
+  return h.str();
+}
+
+// ---- sections ----------------------------------------------------------------------------
+
+std::string SummarySection(const studyfile::StudyResults& study, const fs::path& h5) {
+  std::ostringstream h;
+  int measured = 0;
+  for (const auto& t : study.trials) measured += t.success ? 1 : 0;
+  const int failed = static_cast<int>(study.trials.size()) - measured;
+  h << "<section id=\"summary\"><h2>Study</h2><dl class=\"facts\">"
+    << "<dt>Name</dt><dd>" << HtmlEscape(study.name) << "</dd>"
+    << "<dt>Study file</dt><dd><code>" << HtmlEscape(fs::absolute(h5).string()) << "</code></dd>"
+    << "<dt>Study folder</dt><dd><code>" << HtmlEscape(study.study_dir) << "</code></dd>"
+    << "<dt>Created</dt><dd>" << HtmlEscape(study.created_utc) << " by hoofimpact "
+    << HtmlEscape(study.hoofimpact_version) << "</dd>"
+    << "<dt>Trials</dt><dd><span id=\"n-trials\">" << study.trials.size() << "</span>: "
+    << "<span class=\"ok\">" << measured << " measured</span>, <span class=\""
+    << (failed > 0 ? "bad" : "ok") << "\">" << failed << " failed</span></dd></dl>";
+  if (failed > 0) {
+    h << "<h3>Failed trials</h3><ul class=\"failed\">";
+    for (const auto& t : study.trials)
+      if (!t.success)
+        h << "<li><b>" << HtmlEscape(t.id) << "</b>: " << HtmlEscape(t.error) << "</li>";
+    h << "</ul>";
+  }
+  h << "</section>";
+  return h.str();
+}
+
+std::string ModelSection(const Table& surfaces) {
+  std::ostringstream h;
+  h << "<section id=\"model\"><h2>Contact model per surface</h2>"
+    << "<p class=\"note\">Fitted from the measured trials (<code>/comparison/surfaces</code>): "
+       "zeta from the normal impacts, mu from the oblique ones. The stiffness k is not "
+       "identified by velocities alone.</p>"
+    << "<table class=\"data\"><thead><tr><th>surface</th><th>normal trials</th><th>oblique "
+       "trials</th><th>zeta</th><th>zeta 95 % interval</th><th>mu</th><th>k</th><th>note</th>"
+       "</tr></thead><tbody>";
+  for (std::size_t r = 0; r < Rows(surfaces); ++r) {
+    const bool ok = Num(surfaces, "success", r) == 1.0;
+    h << "<tr><td>" << HtmlEscape(Text(surfaces, "surface", r)) << "</td><td class=\"num\">"
+      << Fmt(Num(surfaces, "normal_trials", r)) << "</td><td class=\"num\">"
+      << Fmt(Num(surfaces, "oblique_trials", r)) << "</td>";
+    if (!ok) {
+      h << "<td colspan=\"4\" class=\"bad\">no model</td><td>"
+        << HtmlEscape(Text(surfaces, "message", r)) << "</td></tr>";
+      continue;
+    }
+    const double lo = Num(surfaces, "zeta_ci_low", r), hi = Num(surfaces, "zeta_ci_high", r);
+    h << "<td class=\"num\">" << Fmt(Num(surfaces, "zeta", r)) << "</td><td class=\"num\">"
+      << (std::isfinite(lo) && std::isfinite(hi) ? Fmt(lo) + " .. " + Fmt(hi)
+                                                  : std::string("not available"))
+      << "</td><td class=\"num\">";
+    const double mu = Num(surfaces, "mu", r), mu_se = Num(surfaces, "mu_se", r);
+    if (Num(surfaces, "mu_only_lower_bound", r) == 1.0)
+      h << "&ge; " << Fmt(mu) << " (contacts stick)";
+    else
+      h << Fmt(mu) << (std::isfinite(mu_se) ? " &plusmn; " + Fmt(mu_se, 2) : "");
+    h << "</td><td>k not identified</td><td>" << HtmlEscape(Text(surfaces, "message", r))
+      << "</td></tr>";
+  }
+  h << "</tbody></table></section>";
+  return h.str();
+}
+
+std::string StatsSection(const fs::path& h5) {
+  std::ostringstream h;
+  h << "<section id=\"statistics\"><h2>Statistics</h2>";
+  bool any = false;
+  for (const std::string r : {"e", "mu_eff"}) {
+    const std::string label = r == "e" ? "e (restitution)" : "mu_eff (effective friction, oblique trials)";
+    std::ostringstream part;
+    bool have = false;
+    if (auto cells = TryReadTable(h5, "/stats/" + r + "/cells")) {
+      part << RenderTable(*cells, "Mean (s.d., n) per surface x angle");
+      have = true;
+    }
+    for (const std::string factor : {"surface", "angle", "speed"})
+      if (auto anova = TryReadTable(h5, "/stats/" + r + "/by_" + factor + "/anova")) {
+        part << RenderTable(*anova, "One-way ANOVA by " + factor);
+        have = true;
+      }
+    if (auto two = TryReadTable(h5, "/stats/" + r + "/two_way")) {
+      part << RenderTable(*two, "Two-way ANOVA, surface x angle");
+      have = true;
+    }
+    if (auto notes = TryReadTable(h5, "/stats/" + r + "/notes"); notes && Rows(*notes) > 0)
+      part << RenderTable(*notes, "Notes");
+    if (have) h << "<h3>" << HtmlEscape(label) << "</h3><div class=\"tables\">" << part.str() << "</div>";
+    any = any || have;
+  }
+  if (!any)
+    h << "<p class=\"bad\">No statistics in the study file: run <code>hoofimpact stats</code>.</p>";
+  h << "</section>";
+  return h.str();
+}
+
+std::string FiguresSection(const studyfile::StudyResults& study, int& count) {
+  const fs::path dir = fs::temp_directory_path() /
+                       ("hoofimpact-report-" + std::to_string(::getpid()) + "-" +
+                        std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
+  std::ostringstream h;
+  h << "<section id=\"figures\"><h2>Figures</h2><div class=\"figures\">";
+  try {
+    for (const auto& path : WriteStudyFigures(study, dir)) {
+      if (path.extension() != ".png") continue;
+      h << "<figure><img alt=\"" << HtmlEscape(path.stem().string())
+        << "\" src=\"data:image/png;base64," << Base64(ReadBinary(path)) << "\"><figcaption>"
+        << HtmlEscape(path.stem().string()) << "</figcaption></figure>";
+      ++count;
+    }
+  } catch (...) {
+    fs::remove_all(dir);
+    throw;
+  }
+  fs::remove_all(dir);
+  if (count == 0) h << "<p>No figure: no trial was measured.</p>";
+  h << "</div></section>";
+  return h.str();
+}
+
+std::string TrialsSection(const studyfile::StudyResults& study, const Table& cmp) {
+  std::map<std::string, std::size_t> row_of;
+  for (std::size_t r = 0; r < Rows(cmp); ++r) row_of[Text(cmp, "id", r)] = r;
+  std::ostringstream h;
+  h << "<section id=\"trials\"><h2>Trials</h2><p class=\"note\">z = (measured &minus; "
+       "simulated) / combined standard error of the velocity after impact (along the surface, "
+       "normal) and of the spin; |z| &gt; 3 is marked.</p><table class=\"data\" "
+       "id=\"trial-table\"><thead><tr><th>trial</th><th>surface</th><th>angle (deg)</th>"
+       "<th>speed (m/s)</th><th>e</th><th>mu_eff</th><th>flags</th><th>z v<sub>x</sub></th>"
+       "<th>z v<sub>y</sub></th><th>z w</th><th>note</th></tr></thead><tbody>";
+  for (const auto& t : study.trials) {
+    h << "<tr class=\"" << (t.success ? "trial" : "trial failed") << "\"><td>" << HtmlEscape(t.id)
+      << "</td><td>" << HtmlEscape(t.surface) << "</td><td class=\"num\">"
+      << Fmt(t.surface_angle_deg) << "</td><td class=\"num\">" << Fmt(t.nominal_speed_m_s)
+      << "</td>";
+    if (!t.success) {
+      h << "<td colspan=\"6\" class=\"bad\">failed</td><td>" << HtmlEscape(t.error) << "</td></tr>";
+      continue;
+    }
+    h << "<td class=\"num\">" << Fmt(t.e) << " &plusmn; " << Fmt(t.e_se, 2) << "</td><td class=\"num\">"
+      << (std::isfinite(t.mu_eff) ? Fmt(t.mu_eff) + " &plusmn; " + Fmt(t.mu_eff_se, 2) : "&ndash;")
+      << "</td><td>";
+    for (const auto& f : t.flags) h << "<span class=\"flag\">" << HtmlEscape(f) << "</span> ";
+    h << "</td>";
+    const auto it = row_of.find(t.id);
+    std::string note;
+    for (const char* z : {"z_v_x", "z_v_y", "z_w"}) {
+      const double v = it == row_of.end() ? std::nan("") : Num(cmp, z, it->second);
+      h << "<td class=\"num" << (std::abs(v) > 3.0 ? " bad" : "") << "\">" << Fmt(v, 3) << "</td>";
+    }
+    if (it != row_of.end() && Num(cmp, "success", it->second) != 1.0)
+      note = Text(cmp, "message", it->second);
+    h << "<td>" << HtmlEscape(note) << "</td></tr>";
+  }
+  h << "</tbody></table></section>";
+  return h.str();
+}
+
+// ---- replay ------------------------------------------------------------------------------
+
+/// The trials to replay: successful ones, one per surface first, then in file order.
+std::vector<const studyfile::TrialResult*> PickReplays(const studyfile::StudyResults& study,
+                                                       int n) {
+  std::vector<const studyfile::TrialResult*> candidates, picked;
+  for (const auto& t : study.trials)
+    if (t.success) candidates.push_back(&t);
+  std::set<std::string> surfaces;
+  for (const auto* t : candidates)
+    if (static_cast<int>(picked.size()) < n && surfaces.insert(t->surface).second) picked.push_back(t);
+  for (const auto* t : candidates)
+    if (static_cast<int>(picked.size()) < n && std::find(picked.begin(), picked.end(), t) == picked.end())
+      picked.push_back(t);
+  return picked;
+}
+
+fs::path TrialFolder(const studyfile::TrialResult& t, const std::string& study_dir) {
+  fs::path dir = t.dir;
+  if (fs::exists(dir / "trial.json")) return dir;
+  const fs::path alt = fs::path(study_dir) / dir.filename();
+  if (fs::exists(alt / "trial.json")) return alt;
+  throw std::runtime_error("trial folder " + dir.string() + " not found");
+}
+
+/// Frames [first, last) of the trial as JPEG data URIs, grey levels stretched over the range
+/// of those frames, downscaled to max_width. Sets `scale` (shown px per image px).
+std::vector<std::string> EncodeFrames(const studyfile::TrialResult& t, const std::string& study_dir,
+                                      int first, int last, const HtmlReportOptions& o,
+                                      double& scale) {
+  const pipeline::TrialSpec spec = pipeline::ReadTrial(TrialFolder(t, study_dir));
+  std::unique_ptr<tracking::FrameSource> source;
+  if (spec.frames.is_video())
+    source = std::make_unique<tracking::VideoSource>(spec.dir / spec.frames.video);
+  else
+    source = std::make_unique<tracking::ImageSequenceSource>(spec.dir, spec.frames.pattern,
+                                                             spec.frames.first, spec.frames.count);
+  std::vector<cv::Mat> frames;
+  double lo = 1e300, hi = -1e300;
+  for (int f = first; f < last && f < source->count(); ++f) {
+    cv::Mat grey;
+    source->Read(f).convertTo(grey, CV_32F);
+    double a = 0, b = 0;
+    cv::minMaxLoc(grey, &a, &b);
+    lo = std::min(lo, a);
+    hi = std::max(hi, b);
+    frames.push_back(grey);
+  }
+  std::vector<std::string> uris;
+  if (frames.empty()) return uris;
+  scale = std::min(1.0, o.replay_max_width_px / static_cast<double>(frames[0].cols));
+  const double gain = hi > lo ? 255.0 / (hi - lo) : 1.0;
+  for (const cv::Mat& f : frames) {
+    cv::Mat small, bytes;
+    cv::resize(f, small, cv::Size(), scale, scale, cv::INTER_AREA);
+    small.convertTo(bytes, CV_8U, gain, -lo * gain);
+    std::vector<uchar> jpeg;
+    cv::imencode(".jpg", bytes, jpeg, {cv::IMWRITE_JPEG_QUALITY, o.jpeg_quality});
+    uris.push_back("data:image/jpeg;base64," +
+                   Base64(std::string_view(reinterpret_cast<const char*>(jpeg.data()), jpeg.size())));
+  }
+  return uris;
+}
+
+/// Marker names of a /comparison/frames table: the columns "<M>_sim_x_px".
+std::vector<std::string> MarkerNames(const Table& t) {
+  const std::string suffix = "_sim_x_px";
+  std::vector<std::string> names;
+  for (const auto& c : t.columns)
+    if (c.name.size() > suffix.size() && c.name.ends_with(suffix))
+      names.push_back(c.name.substr(0, c.name.size() - suffix.size()));
+  return names;
+}
+
+/// One replay as a JSON object, with its frames as hidden <img> elements appended to `imgs`
+/// (in the document, so the page's load event waits for them).
+std::string ReplayJson(const studyfile::TrialResult& t, const std::string& study_dir,
+                       const Table& frames_table, const HtmlReportOptions& o, int index,
+                       std::string& imgs) {
+  const int n_frames = static_cast<int>(Rows(frames_table));
+  const int impact = static_cast<int>(std::lround(t.impact_time_s * t.fps));
+  const int first = std::clamp(impact - o.frames_per_replay / 2, 0, std::max(0, n_frames - 1));
+  const int last = std::min(n_frames, first + o.frames_per_replay);
+  double scale = 1.0;
+  const auto uris = EncodeFrames(t, study_dir, first, last, o, scale);
+  if (uris.empty()) throw std::runtime_error("no frames could be read");
+  const std::vector<std::string> markers = MarkerNames(frames_table);
+  std::ostringstream j;
+  j << "{\"id\":" << JsonString(t.id) << ",\"surface\":" << JsonString(t.surface)
+    << ",\"scale\":" << JsonNumber(scale) << ",\"impact\":" << impact << ",\"markers\":[";
+  for (std::size_t m = 0; m < markers.size(); ++m) j << (m ? "," : "") << JsonString(markers[m]);
+  j << "],\"frames\":[";
+  for (int k = 0; k < static_cast<int>(uris.size()); ++k) {
+    const auto r = static_cast<std::size_t>(first + k);
+    imgs += "<img class=\"frame\" id=\"f" + std::to_string(index) + "_" + std::to_string(k) +
+            "\" alt=\"\" src=\"" + uris[static_cast<std::size_t>(k)] + "\">";
+    j << (k ? "," : "") << "{\"frame\":" << first + k << ",\"t_ms\":"
+      << JsonNumber(Num(frames_table, "t_s", r) * 1e3) << ",\"sim\":[";
+    for (std::size_t m = 0; m < markers.size(); ++m)
+      j << (m ? "," : "") << "[" << JsonNumber(Num(frames_table, markers[m] + "_sim_x_px", r)) << ","
+        << JsonNumber(Num(frames_table, markers[m] + "_sim_y_px", r)) << "]";
+    j << "],\"meas\":[";
+    for (std::size_t m = 0; m < markers.size(); ++m)
+      j << (m ? "," : "") << "[" << JsonNumber(Num(frames_table, markers[m] + "_meas_x_px", r))
+        << "," << JsonNumber(Num(frames_table, markers[m] + "_meas_y_px", r)) << "]";
+    j << "]}";
+  }
+  j << "]}";
+  return j.str();
+}
+
+
+std::string ReplaySection(const studyfile::StudyResults& study, const fs::path& h5,
+                          const HtmlReportOptions& o, HtmlReportSummary& summary) {
+  std::string json = "[", imgs;
+  for (const auto* t : PickReplays(study, o.replay_trials)) {
+    try {
+      const Table frames = studyfile::ReadTable(h5, "/comparison/frames/" + t->id);
+      std::string trial_imgs;
+      const std::string one = ReplayJson(*t, study.study_dir, frames, o, summary.replays, trial_imgs);
+      json += (summary.replays ? "," : "") + one;
+      imgs += trial_imgs;
+      ++summary.replays;
+    } catch (const std::exception& e) {
+      summary.notes += t->id + ": no replay (" + e.what() + ")\n";
+    }
+  }
+  json += "]";
+  std::ostringstream h;
+  h << "<section id=\"replay\"><h2>Replay</h2>";
+  if (summary.replays == 0) {
+    h << "<p>No replay: " << (o.replay_trials == 0 ? "none asked for" : "no trial's frames could be read")
+      << ".</p>";
+  } else {
+    h << "<p class=\"note\">The " << o.frames_per_replay << " frames around the impact. "
+      << "<span class=\"key meas\">&#9675; measured marker</span> "
+      << "<span class=\"key sim\">+ simulated marker</span> (the surface's fitted contact law, "
+         "started from the measured state before impact). Arrow keys step frames.</p>"
+      << "<div class=\"replay-controls\"><label>Trial <select id=\"replay-trial\"></select></label>"
+      << "<button id=\"replay-prev\" type=\"button\">&#9664; prev</button>"
+      << "<input id=\"replay-frame\" type=\"range\" min=\"0\" max=\"0\" value=\"0\" step=\"1\">"
+      << "<button id=\"replay-next\" type=\"button\">next &#9654;</button>"
+      << "<label><input id=\"replay-overlay\" type=\"checkbox\" checked> overlay</label>"
+      << "<span id=\"replay-info\"></span></div>"
+      << "<canvas id=\"replay-canvas\" width=\"480\" height=\"270\"></canvas>";
+  }
+  h << "<div class=\"frames-store\">" << imgs << "</div>"
+    << "<script type=\"application/json\" id=\"replay-data\">" << json << "</script></section>";
+  return h.str();
+}
+
+constexpr const char* kCss = R"css(
+*{box-sizing:border-box}
+body{margin:0;font:14px/1.45 system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;color:#1d2330;background:#f4f6f9}
+header{background:#1f3a5f;color:#fff;padding:18px 32px}
+header h1{margin:0;font-size:22px}
+header p{margin:4px 0 0;opacity:.8}
+nav{background:#28486f;padding:6px 32px}
+nav a{color:#dbe7ff;margin-right:18px;text-decoration:none;font-weight:600}
+main{max-width:1240px;margin:0 auto;padding:8px 24px 40px}
+section{background:#fff;border-radius:8px;box-shadow:0 1px 3px rgba(0,0,0,.12);padding:14px 22px;margin:18px 0}
+h2{margin:0 0 10px;font-size:18px;color:#1f3a5f;border-bottom:2px solid #e3e8ef;padding-bottom:4px}
+h3{font-size:15px;margin:14px 0 6px}
+dl.facts{display:grid;grid-template-columns:130px 1fr;gap:3px 12px;margin:0}
+dl.facts dt{font-weight:600;color:#55607a}dl.facts dd{margin:0}
+code{font-size:12px;background:#eef1f5;padding:1px 4px;border-radius:3px;word-break:break-all}
+table.data{border-collapse:collapse;margin:6px 14px 12px 0;font-size:13px}
+table.data caption{text-align:left;font-weight:600;padding:2px 0 4px;color:#344}
+table.data th{background:#e8edf4;text-align:left;padding:4px 8px;font-weight:600}
+table.data td{padding:3px 8px;border-top:1px solid #e5e8ee}
+table.data tbody tr:nth-child(even){background:#f8f9fb}
+td.num{text-align:right;font-variant-numeric:tabular-nums;white-space:nowrap}
+.sig{font-weight:700;color:#a3223a}
+.ok{color:#1b7a3a;font-weight:600}.bad{color:#b3261e;font-weight:600}
+.note{color:#55607a;margin:4px 0 10px}
+.tables{display:flex;flex-wrap:wrap;align-items:flex-start}
+.figures{display:grid;grid-template-columns:repeat(auto-fill,minmax(540px,1fr));gap:12px}
+figure{margin:0}figure img{width:100%;border:1px solid #e3e8ef;border-radius:4px}
+figcaption{text-align:center;color:#55607a;font-size:12px}
+.flag{display:inline-block;background:#fff1d6;color:#7a4b00;border-radius:3px;padding:0 5px;font-size:12px}
+.frames-store{display:none}
+.replay-controls{display:flex;flex-wrap:wrap;gap:10px;align-items:center;margin-bottom:8px}
+#replay-frame{width:320px}
+#replay-info{font-variant-numeric:tabular-nums;color:#344}
+#replay-canvas{display:block;width:min(100%,720px);background:#000;border-radius:4px}
+.key{display:inline-block;font-weight:700;margin-right:10px}.key.meas{color:#00a152}.key.sim{color:#e0157f}
+tr.failed{background:#fdecea!important}
+)css";
+
+/// Installed first: a script error or console.error marks the page (title and an attribute),
+/// which a test reads back from the DOM.
+constexpr const char* kErrorJs = R"js(
+(function(){
+  function mark(m){document.title='JS-ERROR: '+m;document.documentElement.setAttribute('data-js-error',String(m));}
+  window.onerror=function(m,s,l){mark(m+' (line '+l+')');};
+  window.addEventListener('unhandledrejection',function(e){mark('unhandled rejection: '+e.reason);});
+  var ce=console.error;console.error=function(){mark('console.error: '+Array.prototype.join.call(arguments,' '));ce.apply(console,arguments);};
+})();
+)js";
+
+constexpr const char* kReplayJs = R"js(
+(function(){
+  var data=JSON.parse(document.getElementById('replay-data').textContent);
+  if(!data.length) return;
+  var sel=document.getElementById('replay-trial'),slider=document.getElementById('replay-frame'),
+      ov=document.getElementById('replay-overlay'),canvas=document.getElementById('replay-canvas'),
+      info=document.getElementById('replay-info'),ctx=canvas.getContext('2d'),cur=0;
+  data.forEach(function(r,i){var o=document.createElement('option');o.value=String(i);
+    o.textContent=r.id+' ('+r.surface+')';sel.appendChild(o);});
+  function ok(p){return p[0]!==null&&p[1]!==null;}
+  function draw(){
+    var r=data[cur],k=Number(slider.value),f=r.frames[k],im=document.getElementById('f'+cur+'_'+k),z=1.5;
+    canvas.width=Math.round(im.naturalWidth*z);canvas.height=Math.round(im.naturalHeight*z);
+    ctx.drawImage(im,0,0,canvas.width,canvas.height);
+    if(ov.checked){
+      var s=r.scale*z;ctx.lineWidth=2;
+      ctx.strokeStyle='#00e676';
+      f.meas.forEach(function(p){if(!ok(p))return;ctx.beginPath();ctx.arc(p[0]*s,p[1]*s,7,0,2*Math.PI);ctx.stroke();});
+      ctx.strokeStyle='#ff2d95';
+      f.sim.forEach(function(p){if(!ok(p))return;var x=p[0]*s,y=p[1]*s;ctx.beginPath();
+        ctx.moveTo(x-8,y);ctx.lineTo(x+8,y);ctx.moveTo(x,y-8);ctx.lineTo(x,y+8);ctx.stroke();});
+    }
+    var d=f.frame-r.impact;
+    info.textContent='frame '+f.frame+' ('+(d>=0?'+':'')+d+' from impact), t = '+
+      (f.t_ms===null?'?':f.t_ms.toFixed(3))+' ms';
+    canvas.setAttribute('data-drawn-frame',String(f.frame));
+    document.body.setAttribute('data-replay-drawn',r.id);
+  }
+  function select(i){cur=i;var r=data[i];slider.max=String(r.frames.length-1);
+    var k=0;r.frames.forEach(function(f,j){if(f.frame<=r.impact)k=j;});slider.value=String(k);draw();}
+  function step(d){slider.value=String(Math.min(Number(slider.max),Math.max(0,Number(slider.value)+d)));draw();}
+  sel.addEventListener('change',function(){select(Number(sel.value));});
+  slider.addEventListener('input',draw);ov.addEventListener('change',draw);
+  document.getElementById('replay-prev').addEventListener('click',function(){step(-1);});
+  document.getElementById('replay-next').addEventListener('click',function(){step(1);});
+  document.addEventListener('keydown',function(e){if(e.key==='ArrowLeft')step(-1);if(e.key==='ArrowRight')step(1);});
+  if(location.hash.indexOf('overlay=off')>=0)ov.checked=false;
+  if(document.readyState==='complete')select(0);else window.addEventListener('load',function(){select(0);});
+})();
+)js";
+
+}  // namespace
+
+void HtmlReportOptions::Validate() const {
+  auto check = [](bool ok, const char* field, int value, const char* range) {
+    if (!ok)
+      throw std::invalid_argument(std::string("HtmlReportOptions.") + field + " = " +
+                                  std::to_string(value) + ": must be in " + range);
+  };
+  check(replay_trials >= 0 && replay_trials <= 50, "replay_trials", replay_trials, "0..50");
+  check(frames_per_replay >= 2 && frames_per_replay <= 400, "frames_per_replay", frames_per_replay, "2..400");
+  check(replay_max_width_px >= 64 && replay_max_width_px <= 4096, "replay_max_width_px",
+        replay_max_width_px, "64..4096");
+  check(jpeg_quality >= 1 && jpeg_quality <= 100, "jpeg_quality", jpeg_quality, "1..100");
+}
+
+std::string HtmlEscape(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&#39;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string Base64(std::string_view bytes) {
+  static constexpr char kAlphabet[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  std::size_t i = 0;
+  for (; i + 2 < bytes.size(); i += 3) {
+    const std::uint32_t v = static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[i])) << 16 |
+                            static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[i + 1])) << 8 |
+                            static_cast<unsigned char>(bytes[i + 2]);
+    for (int s = 18; s >= 0; s -= 6) out += kAlphabet[(v >> s) & 63u];
+  }
+  if (i < bytes.size()) {
+    std::uint32_t v = static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[i])) << 16;
+    if (i + 1 < bytes.size()) v |= static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[i + 1])) << 8;
+    out += kAlphabet[(v >> 18) & 63u];
+    out += kAlphabet[(v >> 12) & 63u];
+    out += i + 1 < bytes.size() ? kAlphabet[(v >> 6) & 63u] : '=';
+    out += '=';
+  }
+  return out;
+}
+
+HtmlReportSummary WriteHtmlReport(const fs::path& study_h5, const fs::path& output,
+                                  const HtmlReportOptions& options) {
+  options.Validate();
+  if (!fs::is_regular_file(study_h5))
+    throw std::runtime_error(study_h5.string() + ": no such study file");
+  const studyfile::StudyResults study = studyfile::ReadStudyResults(study_h5);
+  const auto surfaces = TryReadTable(study_h5, "/comparison/surfaces");
+  const auto cmp = TryReadTable(study_h5, "/comparison/trials");
+  if (!surfaces || !cmp)
+    throw std::runtime_error(study_h5.string() +
+                             ": no /comparison in the study file; run `hoofimpact run` first");
+  HtmlReportSummary summary;
+  summary.output = output;
+  summary.trials = static_cast<int>(study.trials.size());
+  std::ostringstream h;
+  h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+    << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
+    << "<title>hoofimpact report: " << HtmlEscape(study.name) << "</title>"
+    << "<script>" << kErrorJs << "</script><style>" << kCss << "</style></head><body>"
+    << "<header><h1>hoofimpact report: " << HtmlEscape(study.name) << "</h1><p>"
+    << study.trials.size() << " trials &middot; " << HtmlEscape(study.created_utc)
+    << "</p></header><nav><a href=\"#summary\">Study</a><a href=\"#model\">Contact model</a>"
+    << "<a href=\"#replay\">Replay</a><a href=\"#figures\">Figures</a><a href=\"#trials\">Trials</a>"
+    << "<a href=\"#statistics\">Statistics</a></nav><main>"
+    << SummarySection(study, study_h5) << ModelSection(*surfaces)
+    << ReplaySection(study, study_h5, options, summary)
+    << FiguresSection(study, summary.figures) << TrialsSection(study, *cmp)
+    << StatsSection(study_h5) << "</main><script>" << kReplayJs << "</script></body></html>\n";
+  const std::string page = h.str();
+  io::WriteTextAtomically(output, page);
+  summary.bytes = page.size();
+  return summary;
+}
+
+}  // namespace hoof::report
