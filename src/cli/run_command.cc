@@ -18,6 +18,7 @@
 #include "cli/trial_output.h"
 #include "compare/study_comparison.h"
 #include "pipeline/study_analysis.h"
+#include "report/comparison_figures.h"
 #include "report/figures.h"
 #include "report/html_report.h"
 #include "studyfile/study_file.h"
@@ -122,6 +123,7 @@ void Run(RunArgs& a, RunState& state) {
   // 4. Figures.
   const auto results = studyfile::ReadStudyResults(h5);
   auto figures = report::WriteStudyFigures(results, out / "figures");
+  for (const auto& f : report::WriteComparisonFigures(h5, out / "figures")) figures.push_back(f);
   for (const auto& t : trials)
     for (const auto& f : WriteTrialFigures(t, a.options, (out / "figures").string(),
                                            /*always=*/false, a.trial_figures))
@@ -139,7 +141,7 @@ void Run(RunArgs& a, RunState& state) {
             << "  study.h5     everything (docs/hdf5-schema.md)\n"
             << "  results.csv  per-trial results\n"
             << "  stats.csv    the statistics tables\n"
-            << "  figures/     the paper's figures 3-5 and flagged trials' out-of-plane checks\n";
+            << "  figures/     the paper's figures 4-8 (3 with --trial-figures), out-of-plane checks\n";
   state.exit_code = ok == trials.size() ? kExitOk : ok == 0 ? kExitFailure : kExitPartial;
 }
 

@@ -38,6 +38,13 @@ TEST(RunCommandTest, TheWholeStudyEndToEnd) {
   EXPECT_TRUE(fs::exists(base / "out" / "figures" / "e_by_angle.png"));
   EXPECT_TRUE(fs::exists(base / "out" / "figures" / "mu_eff_by_angle.svg"));
   EXPECT_GT(fs::file_size(base / "out" / "report.html"), 10000u);
+  // The paper's Figures 6-8: velocities after normal and oblique impacts, and energy.
+  EXPECT_TRUE(fs::exists(base / "out" / "figures" / "velocity_normal.png"));
+  EXPECT_TRUE(fs::exists(base / "out" / "figures" / "velocity_oblique.svg"));
+  int energy = 0;
+  for (const auto& e : fs::directory_iterator(base / "out" / "figures"))
+    energy += e.path().filename().string().rfind("energy_", 0) == 0 && e.path().extension() == ".png";
+  EXPECT_EQ(energy, 2);  // one oblique trial per surface
   EXPECT_NE(r.out.find("report.html"), std::string::npos);
   fs::remove_all(base);
 }

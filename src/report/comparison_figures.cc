@@ -1,0 +1,148 @@
+#include "report/comparison_figures.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+#include "report/gnuplot.h"
+#include "studyfile/study_file.h"
+
+namespace hoof::report {
+namespace {
+
+const std::vector<double>& Numbers(const studyfile::Table& t, const std::string& column) {
+  return std::get<std::vector<double>>(t.Get(column).values);
+}
+
+void Render(const Plot& plot, const std::filesystem::path& dir, const std::string& name,
+            std::vector<std::filesystem::path>& written) {
+  for (const char* ext : {".png", ".svg"}) {
+    const auto path = dir / (name + ext);
+    RenderPlot(plot, path);
+    written.push_back(path);
+  }
+}
+
+}  // namespace
+
+std::vector<std::filesystem::path> WriteComparisonFigures(const std::filesystem::path& study_h5,
+                                                          const std::filesystem::path& dir) {
+  const studyfile::StudyResults study = studyfile::ReadStudyResults(study_h5);
+  const studyfile::Table cmp = studyfile::ReadTable(study_h5, "/comparison/trials");
+  const auto& ids = std::get<std::vector<std::string>>(cmp.Get("id").values);
+  const auto& vxm = Numbers(cmp, "v_SC_after_meas_x_m_s");
+  const auto& vym = Numbers(cmp, "v_SC_after_meas_y_m_s");
+  const auto& vxs = Numbers(cmp, "v_SC_after_sim_x_m_s");
+  const auto& vys = Numbers(cmp, "v_SC_after_sim_y_m_s");
+  const auto& ke0 = Numbers(cmp, "kinetic_energy_before_J");
+  const auto& ke1 = Numbers(cmp, "kinetic_energy_after_meas_J");
+  std::map<std::string, std::size_t> row;
+  for (std::size_t i = 0; i < ids.size(); ++i) row[ids[i]] = i;
+
+  std::vector<std::filesystem::path> written;
+  std::vector<std::string> surfaces;
+  for (const auto& t : study.trials)
+    if (std::find(surfaces.begin(), surfaces.end(), t.surface) == surfaces.end() && !t.surface.empty())
+      surfaces.push_back(t.surface);
+
+  // Figure 6: normal impacts.
+  Plot normal;
+  normal.title = "Velocity of C after normal impacts: measured and simulated";
+  normal.x_label = "impact speed |v_{C,y}| before (m/s)";
+  normal.y_label = "normal velocity of C after (m/s)";
+  normal.key = "outside right top";
+  // Figure 7: oblique impacts, measured against simulated.
+  Plot oblique;
+  oblique.title = "Velocity of C after oblique impacts: measured against simulated";
+  oblique.x_label = "simulated (m/s)";
+  oblique.y_label = "measured (m/s)";
+  oblique.key = "outside right top";
+  double lo = 1e9, hi = -1e9;
+  for (std::size_t s = 0; s < surfaces.size(); ++s) {
+    Series nm{surfaces[s] + " measured", {}, {}, {}, "points", ""};
+    Series ns{surfaces[s] + " simulated", {}, {}, {}, "points", ""};
+    Series ox{surfaces[s] + " along the surface", {}, {}, {}, "points", ""};
+    Series oy{surfaces[s] + " normal", {}, {}, {}, "points", ""};
+    const std::string colour = s == 0 ? "#1f77b4" : s == 1 ? "#d62728" : "#2ca02c";
+    nm.options = "pt 7 ps 1.2 lc rgb '" + colour + "'";
+    ns.options = "pt 6 ps 1.6 lc rgb '" + colour + "'";
+    ox.options = "pt 5 ps 1.0 lc rgb '" + colour + "'";
+    oy.options = "pt 9 ps 1.2 lc rgb '" + colour + "'";
+    for (const auto& t : study.trials) {
+      const auto it = row.find(t.id);
+      if (t.surface != surfaces[s] || !t.success || it == row.end() || !std::isfinite(vys[it->second])) continue;
+      const std::size_t i = it->second;
+      if (std::abs(t.surface_angle_deg) < 1e-9) {
+        nm.x.push_back(std::abs(t.v_SC_before_m_s.y()));
+        nm.y.push_back(vym[i]);
+        ns.x.push_back(std::abs(t.v_SC_before_m_s.y()));
+        ns.y.push_back(vys[i]);
+      } else {
+        ox.x.push_back(vxs[i]);
+        ox.y.push_back(vxm[i]);
+        oy.x.push_back(vys[i]);
+        oy.y.push_back(vym[i]);
+        for (double v : {vxs[i], vxm[i], vys[i], vym[i]}) {
+          lo = std::min(lo, v);
+          hi = std::max(hi, v);
+        }
+      }
+    }
+    if (!nm.x.empty()) {
+      normal.series.push_back(nm);
+      normal.series.push_back(ns);
+    }
+    if (!ox.x.empty()) {
+      oblique.series.push_back(ox);
+      oblique.series.push_back(oy);
+    }
+  }
+  std::filesystem::create_directories(dir);
+  if (!normal.series.empty()) Render(normal, dir, "velocity_normal", written);
+  if (!oblique.series.empty()) {
+    const double pad = 0.05 * (hi - lo + 1e-9);
+    oblique.series.push_back({"measured = simulated", {lo - pad, hi + pad}, {lo - pad, hi + pad}, {}, "lines", ""});
+    oblique.series.back().options = "dt 2 lc rgb '#777777'";
+    Render(oblique, dir, "velocity_oblique", written);
+  }
+
+  // Figure 8: kinetic energy through the contact, one oblique trial per surface.
+  std::set<std::string> done;
+  for (const auto& t : study.trials) {
+    const auto it = row.find(t.id);
+    if (!t.success || it == row.end() || std::abs(t.surface_angle_deg) < 1e-9 || done.count(t.surface)) continue;
+    const std::size_t i = it->second;
+    if (!std::isfinite(ke0[i])) continue;
+    studyfile::Table energy;
+    try {
+      energy = studyfile::ReadTable(study_h5, "/comparison/energy/" + t.id);
+    } catch (const std::runtime_error&) {
+      continue;
+    }
+    done.insert(t.surface);
+    Plot p;
+    p.title = t.id + ": kinetic energy through the impact";
+    p.x_label = "time since first touch (us)";
+    p.y_label = "kinetic energy (mJ)";
+    p.key = "outside right top";
+    Series sim{"simulated", {}, {}, {}, "lines", ""};
+    sim.options = "lw 2 lc rgb '#1f77b4'";
+    for (std::size_t k = 0; k < energy.Get("t_since_touch_s").size(); ++k) {
+      sim.x.push_back(1e6 * Numbers(energy, "t_since_touch_s")[k]);
+      sim.y.push_back(1e3 * Numbers(energy, "kinetic_energy_J")[k]);
+    }
+    const double t0 = sim.x.front(), t1 = sim.x.back();
+    Series before{"measured before", {t0, 0.0}, {1e3 * ke0[i], 1e3 * ke0[i]}, {}, "lines", ""};
+    before.options = "lw 2 dt 2 lc rgb '#d62728'";
+    Series after{"measured after", {0.5 * t1, t1}, {1e3 * ke1[i], 1e3 * ke1[i]}, {}, "lines", ""};
+    after.options = "lw 2 dt 2 lc rgb '#2ca02c'";
+    p.series = {sim, before, after};
+    Render(p, dir, "energy_" + t.id, written);
+  }
+  return written;
+}
+
+}  // namespace hoof::report
