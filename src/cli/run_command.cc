@@ -80,7 +80,8 @@ void Run(RunArgs& a, RunState& state) {
   std::cout << "\n== 2. The contact law per surface, and every trial simulated from its measured state\n";
   const compare::StudyComparison cmp = compare::CompareStudy(trials, jobs);
   studyfile::WriteTables(h5, "/comparison", "simulation against measurement (hoofimpact run)",
-                         compare::ComparisonTables(trials, cmp));
+                         compare::ComparisonTables(trials, cmp), {},
+                         compare::ComparisonLinks(trials, cmp));
   std::cout << std::defaultfloat << std::setprecision(4);
   for (const auto& [surface, m] : cmp.surfaces) {
     std::cout << "  " << std::left << std::setw(9) << surface << std::right;

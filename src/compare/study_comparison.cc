@@ -147,7 +147,8 @@ std::vector<Table> ComparisonTables(const std::vector<pipeline::TrialAnalysis>& 
     const std::size_t markers = trials[i].spec.specimen.markers_B_m.size();
     std::vector<std::int64_t> frame, measured;
     std::vector<double> t, xs, ys, ths, xm, ym, thm, ke;
-    std::vector<std::vector<double>> mxs(markers), mys(markers), mxm(markers), mym(markers), res(markers);
+    std::vector<std::vector<double>> mxs(markers), mys(markers), mxm(markers), mym(markers),
+        res(markers), mxw(markers), myw(markers);
     for (std::size_t f = 0; f < c.frames.size(); ++f) {
       const auto& fc = c.frames[f];
       frame.push_back(static_cast<std::int64_t>(f));
@@ -161,6 +162,8 @@ std::vector<Table> ComparisonTables(const std::vector<pipeline::TrialAnalysis>& 
       thm.push_back(fc.measured ? fc.theta_W_meas_rad : kNaN);
       ke.push_back(fc.kinetic_energy_sim_J);
       for (std::size_t m = 0; m < markers; ++m) {
+        mxw[m].push_back(fc.markers_W_sim[m].x());
+        myw[m].push_back(fc.markers_W_sim[m].y());
         mxs[m].push_back(fc.markers_px_sim[m].x());
         mys[m].push_back(fc.markers_px_sim[m].y());
         mxm[m].push_back(fc.markers_px_meas[m].x());
@@ -183,6 +186,8 @@ std::vector<Table> ComparisonTables(const std::vector<pipeline::TrialAnalysis>& 
               Column::Numbers("kinetic_energy_sim_J", "J", "simulated kinetic energy", ke)}};
     for (std::size_t m = 0; m < markers; ++m) {
       const std::string n = trials[i].spec.specimen.markers_B_m[m].first;
+      ft.columns.push_back(Column::Numbers(n + "_sim_x_m", "m", "simulated marker centre in W", mxw[m]));
+      ft.columns.push_back(Column::Numbers(n + "_sim_y_m", "m", "simulated marker centre in W", myw[m]));
       ft.columns.push_back(Column::Numbers(n + "_sim_x_px", "px", "simulated marker centre", mxs[m]));
       ft.columns.push_back(Column::Numbers(n + "_sim_y_px", "px", "simulated marker centre", mys[m]));
       ft.columns.push_back(Column::Numbers(n + "_meas_x_px", "px", "tracked marker centre (NaN: not found)", mxm[m]));
@@ -196,6 +201,19 @@ std::vector<Table> ComparisonTables(const std::vector<pipeline::TrialAnalysis>& 
                             Column::Numbers("kinetic_energy_J", "J", "kinetic energy of the body", c.contact_kinetic_energy_J)}});
   }
   return tables;
+}
+
+std::vector<std::pair<std::string, std::string>> ComparisonLinks(
+    const std::vector<pipeline::TrialAnalysis>& trials, const StudyComparison& comparison) {
+  std::vector<std::pair<std::string, std::string>> links;
+  const std::vector<std::string> groups = studyfile::TrialGroupNames(trials);
+  for (std::size_t i = 0; i < trials.size(); ++i) {
+    if (!comparison.trials[i].success) continue;
+    const std::string trial = "/trials/" + groups[i];
+    links.emplace_back(trial + "/comparison_frames", "/comparison/frames/" + trials[i].spec.id);
+    links.emplace_back(trial + "/comparison_energy", "/comparison/energy/" + trials[i].spec.id);
+  }
+  return links;
 }
 
 }  // namespace hoof::compare

@@ -6,6 +6,7 @@
 
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "compare/trial_comparison.h"
@@ -27,5 +28,11 @@ StudyComparison CompareStudy(const std::vector<pipeline::TrialAnalysis>& trials,
 /// the contact, paper Figure 8).
 std::vector<studyfile::Table> ComparisonTables(const std::vector<pipeline::TrialAnalysis>& trials,
                                                const StudyComparison& comparison);
+
+/// Soft links that put each compared trial's tables under its own group too:
+/// `/trials/<group>/comparison_frames` -> `/comparison/frames/<id>` and
+/// `/trials/<group>/comparison_energy` -> `/comparison/energy/<id>` (for WriteTables).
+std::vector<std::pair<std::string, std::string>> ComparisonLinks(
+    const std::vector<pipeline::TrialAnalysis>& trials, const StudyComparison& comparison);
 
 }  // namespace hoof::compare

@@ -169,7 +169,9 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& t, const dynamics::C
         fc.theta_W_meas_rad = pose.theta_W_rad;
       }
       for (std::size_t m = 0; m < t.spec.specimen.markers_B_m.size(); ++m) {
-        const Eigen::Vector2d sim_px = cam.ToImage(p_WE_sim + R * t.spec.specimen.markers_B_m[m].second);
+        const Eigen::Vector2d sim_W = p_WE_sim + R * t.spec.specimen.markers_B_m[m].second;
+        fc.markers_W_sim.push_back(sim_W);
+        const Eigen::Vector2d sim_px = cam.ToImage(sim_W);
         fc.markers_px_sim.push_back(sim_px);
         const bool found = f < t.tracks.frames.size() && m < t.tracks.frames[f].size() && t.tracks.frames[f][m].found;
         const Eigen::Vector2d meas = found ? t.tracks.frames[f][m].p_I

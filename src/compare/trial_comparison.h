@@ -53,6 +53,7 @@ struct FrameComparison {
   bool measured = false;                ///< the frame has a measured pose
   Eigen::Vector2d p_WC_meas{0, 0};
   double theta_W_meas_rad = 0.0;
+  std::vector<Eigen::Vector2d> markers_W_sim;    ///< simulated marker centres in W (m)
   std::vector<Eigen::Vector2d> markers_px_sim;   ///< per layout marker
   std::vector<Eigen::Vector2d> markers_px_meas;  ///< NaN where not found
   std::vector<double> marker_residual_px;        ///< |measured - simulated|, NaN where not found

@@ -22,6 +22,7 @@
 
 #include "io/atomic_file.h"
 #include "pipeline/study_format.h"
+#include "report/comparison_figures.h"
 #include "report/figures.h"
 #include "studyfile/study_file.h"
 #include "tracking/frame_source.h"
@@ -235,14 +236,19 @@ std::string StatsSection(const fs::path& h5) {
   return h.str();
 }
 
-std::string FiguresSection(const studyfile::StudyResults& study, int& count) {
+std::string FiguresSection(const studyfile::StudyResults& study, const fs::path& study_h5,
+                           int& count) {
   const fs::path dir = fs::temp_directory_path() /
                        ("hoofimpact-report-" + std::to_string(::getpid()) + "-" +
                         std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
   std::ostringstream h;
   h << "<section id=\"figures\"><h2>Figures</h2><div class=\"figures\">";
   try {
-    for (const auto& path : WriteStudyFigures(study, dir)) {
+    // Figures 4-5 (e and mu_eff by angle and speed) and 6-8 (velocities after normal and
+    // oblique impacts against the simulation, kinetic energy through an impact).
+    std::vector<fs::path> paths = WriteStudyFigures(study, dir);
+    for (const auto& p : WriteComparisonFigures(study_h5, dir)) paths.push_back(p);
+    for (const auto& path : paths) {
       if (path.extension() != ".png") continue;
       h << "<figure><img alt=\"" << HtmlEscape(path.stem().string())
         << "\" src=\"data:image/png;base64," << Base64(ReadBinary(path)) << "\"><figcaption>"
@@ -618,7 +624,7 @@ HtmlReportSummary WriteHtmlReport(const fs::path& study_h5, const fs::path& outp
     << "<a href=\"#statistics\">Statistics</a></nav><main>"
     << SummarySection(study, study_h5) << ModelSection(*surfaces)
     << ReplaySection(study, study_h5, options, summary)
-    << FiguresSection(study, summary.figures) << TrialsSection(study, *cmp)
+    << FiguresSection(study, study_h5, summary.figures) << TrialsSection(study, *cmp)
     << StatsSection(study_h5) << "</main><script>" << kReplayJs << "</script></body></html>\n";
   const std::string page = h.str();
   io::WriteTextAtomically(output, page);

@@ -590,7 +590,8 @@ void WriteStudyFile(const std::filesystem::path& path, const StudyInfo& info,
 
 void WriteTables(const std::filesystem::path& path, const std::string& group,
                  const std::string& description, const std::vector<Table>& tables,
-                 const std::function<void(std::size_t)>& after_table) {
+                 const std::function<void(std::size_t)>& after_table,
+                 const std::vector<std::pair<std::string, std::string>>& soft_links) {
   if (group.size() < 2 || group.front() != '/')
     throw std::invalid_argument("group \"" + group + "\" must be an absolute path below /");
   for (const Table& t : tables) t.Validate();
@@ -615,6 +616,12 @@ void WriteTables(const std::filesystem::path& path, const std::string& group,
         for (std::size_t i = 0; i < tables.size(); ++i) {
           WriteTable(g, tables[i]);
           if (after_table) after_table(i);
+        }
+        for (const auto& [link, target] : soft_links) {
+          if (h5::PathExists(root, link)) root.unlink(link);
+          if (H5Lcreate_soft(target.c_str(), root.getId(), link.c_str(), H5P_DEFAULT,
+                             H5P_DEFAULT) < 0)
+            throw std::runtime_error(path.string() + ": cannot link " + link + " to " + target);
         }
         file.flush(H5F_SCOPE_GLOBAL);
       });

@@ -23,6 +23,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -104,9 +105,13 @@ void WriteStudyFile(const std::filesystem::path& path, const StudyInfo& info,
 /// file is touched. `after_table(i)` as in WriteStudyFile. Throws std::runtime_error naming the
 /// file when it is missing or not a study file, and std::invalid_argument for a bad table.
 /// Space of a replaced group is not reclaimed (h5repack does that).
+/// `soft_links`: (link, target) pairs of absolute paths; after the tables are written each
+/// `link` becomes an HDF5 soft link to `target` (an existing link or object there is replaced),
+/// in the same atomic update, so data kept in one place can be found under each trial too.
 void WriteTables(const std::filesystem::path& path, const std::string& group,
                  const std::string& description, const std::vector<Table>& tables,
-                 const std::function<void(std::size_t)>& after_table = {});
+                 const std::function<void(std::size_t)>& after_table = {},
+                 const std::vector<std::pair<std::string, std::string>>& soft_links = {});
 
 /// Reads the table whose group is `table_path` (absolute, e.g. "/results" or
 /// "/stats/e/by_surface/anova") back, columns in their written order; its name is the path

@@ -118,7 +118,13 @@ TEST(StudyComparisonTest, TablesGoIntoTheStudyFileAndReadBack) {
   info.name = "compare-test";
   studyfile::WriteStudyFile(file, info, trials);
   studyfile::WriteTables(file, "/comparison", "simulation against measurement",
-                         ComparisonTables(trials, cmp));
+                         ComparisonTables(trials, cmp), {}, ComparisonLinks(trials, cmp));
+  // Each trial's tables are also found under its own group (soft links).
+  const auto linked = studyfile::ReadTable(
+      file, "/trials/" + studyfile::TrialGroupNames(trials)[0] + "/comparison_frames");
+  EXPECT_EQ(linked.Get("M1_residual_px").size(), cmp.trials[0].frames.size());
+  // Simulated marker positions in W and in the image agree through the camera model.
+  EXPECT_EQ(linked.Get("M1_sim_x_m").size(), cmp.trials[0].frames.size());
   const auto surfaces = studyfile::ReadTable(file, "/comparison/surfaces");
   EXPECT_EQ(surfaces.Get("surface").size(), 2u);
   const auto rows = studyfile::ReadTable(file, "/comparison/trials");

@@ -96,7 +96,9 @@ class HtmlReportPageTest : public ::testing::Test {
     r = RunHoofimpact("report " + (Root() / "out" / "study.h5").string() + " -o " +
                       (Root() / "report").string());
     ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
-    EXPECT_NE(r.out.find("4 trials, 4 figures, 4 replays"), std::string::npos) << r.out << r.err;
+    // Figures: e and mu_eff by angle and by speed (4), velocities after normal and oblique
+    // impacts (2), and the energy through one oblique impact per surface (2).
+    EXPECT_NE(r.out.find("4 trials, 8 figures, 4 replays"), std::string::npos) << r.out << r.err;
   }
   static void TearDownTestSuite() { fs::remove_all(Root()); }
   static fs::path Page() { return Root() / "report" / "report.html"; }
