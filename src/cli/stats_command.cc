@@ -793,7 +793,12 @@ void PrintCells(std::ostream& os, const ResponseAnalysis& r) {
       std::ostringstream cell;
       cell << std::setprecision(4);
       for (const auto& c : r.cells)
-        if (c.label == surface + "|" + angle) cell << c.mean << " (" << c.sd << ", " << c.n << ")";
+        if (c.label == surface + "|" + angle) {
+          // The s.d. of a one-trial cell is undefined: print "-", not 0.
+          cell << c.mean << " (";
+          if (c.n > 1) cell << c.sd; else cell << "-";
+          cell << ", " << c.n << ")";
+        }
       os << std::setw(26) << (cell.str().empty() ? "-" : cell.str());
     }
     os << std::right << "\n";

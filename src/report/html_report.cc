@@ -285,7 +285,10 @@ std::string TrialsSection(const studyfile::StudyResults& study, const Table& cmp
       continue;
     }
     h << "<td class=\"num\">" << Fmt(t.e) << " &plusmn; " << Fmt(t.e_se, 2) << "</td><td class=\"num\">"
-      << (std::isfinite(t.mu_eff) ? Fmt(t.mu_eff) + " &plusmn; " + Fmt(t.mu_eff_se, 2) : "&ndash;")
+      // mu_eff is an oblique-impact measure (as in the paper): none for normal impacts.
+      << (std::isfinite(t.mu_eff) && std::abs(t.surface_angle_deg) > 0
+              ? Fmt(t.mu_eff) + " &plusmn; " + Fmt(t.mu_eff_se, 2)
+              : "&ndash;")
       << "</td><td>";
     for (const auto& f : t.flags) h << "<span class=\"flag\">" << HtmlEscape(f) << "</span> ";
     h << "</td>";

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <string>
 #include <cstdint>
 #include <limits>
 #include <sstream>
@@ -17,6 +18,20 @@
 
 namespace hoof::stats {
 namespace {
+
+/// y + shift as long double; throws std::invalid_argument naming the group when it is not > 0
+/// (Box-Cox needs positive data).
+long double Shifted(double y, double shift, const std::string& group) {
+  const long double x = static_cast<long double>(y) + shift;
+  if (!(x > 0.0L)) {
+    std::ostringstream os;
+    os.precision(17);
+    os << "Box-Cox needs positive values: group \"" << group << "\" value " << y << " plus shift "
+       << shift << " is not > 0";
+    throw std::invalid_argument(os.str());
+  }
+  return x;
+}
 
 constexpr int kGridCells = 120;
 constexpr std::array<double, 7> kSimpleLambdas = {-2.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0};
@@ -36,14 +51,7 @@ LogData MakeLogData(const GroupedData& data, double shift) {
   for (std::size_t g = 0; g < data.groups(); ++g) {
     d.u.emplace_back();
     for (double y : data.values[g]) {
-      const long double x = static_cast<long double>(y) + shift;
-      if (!(x > 0.0L)) {
-        std::ostringstream os;
-        os.precision(17);
-        os << "Box-Cox needs positive values: group \"" << data.labels[g] << "\" value " << y
-           << " plus shift " << shift << " is not > 0";
-        throw std::invalid_argument(os.str());
-      }
+      const long double x = Shifted(y, shift, data.labels[g]);
       const long double u = std::log1p((x - c) / c);
       d.u.back().push_back(u);
       sum_u.Add(u);
@@ -212,14 +220,7 @@ GroupedData ApplyBoxCox(const GroupedData& data, double lambda, double shift) {
   out.values.resize(data.groups());
   for (std::size_t g = 0; g < data.groups(); ++g) {
     for (double y : data.values[g]) {
-      const long double x = static_cast<long double>(y) + shift;
-      if (!(x > 0.0L)) {
-        std::ostringstream os;
-        os.precision(17);
-        os << "Box-Cox needs positive values: group \"" << data.labels[g] << "\" value " << y
-           << " plus shift " << shift << " is not > 0";
-        throw std::invalid_argument(os.str());
-      }
+      const long double x = Shifted(y, shift, data.labels[g]);
       const long double log_x = std::log(x);
       const long double t = lambda == 0.0 ? log_x : std::expm1(lambda * log_x) / lambda;
       out.values[g].push_back(static_cast<double>(t));
