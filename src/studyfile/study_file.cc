@@ -2,9 +2,12 @@
 
 #include <H5Cpp.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <ctime>
 #include <limits>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -394,6 +397,274 @@ std::vector<double> CheckedNumbers(const Table& t, const std::string& name) {
   throw std::runtime_error(t.name + "/" + name + " is not numeric");
 }
 
+// ------------------------------------------------------------------------------------------
+// Reading trials back
+// ------------------------------------------------------------------------------------------
+
+/// Throws std::runtime_error naming the file when its root attribute `format` is not ours.
+void CheckFormat(const H5::Group& root, const std::filesystem::path& path) {
+  const std::string format = h5::GetAttrText(root, "format", path.string());
+  if (format != kStudyFileFormat)
+    throw std::runtime_error(path.string() + ": format \"" + format + "\", expected \"" +
+                             kStudyFileFormat + "\"");
+}
+
+std::string ShapeText(const std::vector<hsize_t>& dims) {
+  std::string out = "[";
+  for (std::size_t i = 0; i < dims.size(); ++i) out += (i ? ", " : "") + std::to_string(dims[i]);
+  return out + "]";
+}
+
+std::optional<double> UnlessNaN(double v) {
+  if (std::isnan(v)) return std::nullopt;
+  return v;
+}
+
+/// The datasets of one group, read with their shapes checked. `where` is the file and the
+/// group ("study.h5:/trials/x"); every error names it and the item.
+class GroupReader {
+ public:
+  GroupReader(const H5::Group& group, std::string where)
+      : group_(group), where_(std::move(where)) {}
+
+  const std::string& where() const { return where_; }
+  bool Has(const std::string& name) const { return group_.nameExists(name); }
+
+  GroupReader Group(const std::string& name) const {
+    if (!Has(name)) throw std::runtime_error(Item(name) + " does not exist");
+    if (group_.childObjType(name) != H5O_TYPE_GROUP)
+      throw std::runtime_error(Item(name) + " is not a group");
+    return GroupReader(group_.openGroup(name), Item(name));
+  }
+  /// Length of the 1-D dataset `name`.
+  hsize_t Length(const std::string& name) const {
+    const std::vector<hsize_t> shape = h5::Shape(Open(name));
+    if (shape.size() != 1)
+      throw std::runtime_error(Item(name) + " has shape " + ShapeText(shape) +
+                               ", expected one dimension");
+    return shape[0];
+  }
+  std::vector<double> Doubles(const std::string& name, const std::vector<hsize_t>& dims) const {
+    return h5::ReadDoubles(Open(name, dims), Item(name));
+  }
+  double Scalar(const std::string& name) const { return Doubles(name, {})[0]; }
+  Eigen::Vector2d Vec2(const std::string& name) const {
+    const std::vector<double> v = Doubles(name, {2});
+    return {v[0], v[1]};
+  }
+  std::vector<std::int64_t> Integers(const std::string& name,
+                                     const std::vector<hsize_t>& dims) const {
+    return h5::ReadIntegers(Open(name, dims), Item(name));
+  }
+  int Int(const std::string& name) const {
+    const std::int64_t v = Integers(name, {})[0];
+    if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+      throw std::runtime_error(Item(name) + " = " + std::to_string(v) + " is out of range");
+    return static_cast<int>(v);
+  }
+  bool Bool(const std::string& name) const { return Integers(name, {})[0] != 0; }
+  std::vector<std::string> Texts(const std::string& name, const std::vector<hsize_t>& dims) const {
+    return h5::ReadTexts(Open(name, dims), Item(name));
+  }
+  std::string Text(const std::string& name) const { return Texts(name, {})[0]; }
+  /// A 1-D text dataset of any length.
+  std::vector<std::string> TextList(const std::string& name) const {
+    return Texts(name, {Length(name)});
+  }
+
+ private:
+  std::string Item(const std::string& name) const { return where_ + "/" + name; }
+  H5::DataSet Open(const std::string& name) const {
+    if (!Has(name)) throw std::runtime_error(Item(name) + " does not exist");
+    if (group_.childObjType(name) != H5O_TYPE_DATASET)
+      throw std::runtime_error(Item(name) + " is not a dataset");
+    return group_.openDataSet(name);
+  }
+  H5::DataSet Open(const std::string& name, const std::vector<hsize_t>& dims) const {
+    H5::DataSet d = Open(name);
+    const std::vector<hsize_t> shape = h5::Shape(d);
+    if (shape != dims)
+      throw std::runtime_error(Item(name) + " has shape " + ShapeText(shape) + ", expected " +
+                               ShapeText(dims));
+    return d;
+  }
+
+  H5::Group group_;
+  std::string where_;
+};
+
+pipeline::SpecimenSpec ReadSpecimen(const GroupReader& g) {
+  pipeline::SpecimenSpec s;
+  s.mass_kg = g.Scalar("mass_kg");
+  s.inertia_kg_m2 = g.Scalar("inertia_kg_m2");
+  s.end_radius_m = g.Scalar("end_radius_m");
+  s.d_EC_m = g.Scalar("d_EC_m");
+  s.length_m = g.Scalar("length_m");
+  s.width_m = g.Scalar("width_m");
+  s.thickness_m = g.Scalar("thickness_m");
+  const std::vector<std::string> names = g.TextList("marker_names");
+  const std::vector<double> p = g.Doubles("markers_B_m", {names.size(), 2});
+  for (std::size_t i = 0; i < names.size(); ++i)
+    s.markers_B_m.emplace_back(names[i], Eigen::Vector2d(p[2 * i], p[2 * i + 1]));
+  return s;
+}
+
+void ReadTrialMetadata(const GroupReader& g, pipeline::TrialAnalysis& r) {
+  pipeline::TrialSpec& s = r.spec;
+  s.id = g.Text("id");
+  s.dir = g.Text("dir");
+  s.specimen_id = g.Text("specimen");
+  s.surface = g.Text("surface");
+  s.surface_angle_deg = g.Scalar("surface_angle_deg");
+  s.fps = g.Scalar("fps");
+  s.nominal_speed_m_s = UnlessNaN(g.Scalar("nominal_speed_m_s"));
+  s.frames.first = g.Int("frames_first");
+  s.frames.count = g.Int("frames_count");
+  s.camera.m_per_px = g.Scalar("camera_m_per_px");
+  s.camera.gravity_image = g.Vec2("camera_gravity_image");
+  if (g.Has("camera_distortion")) {
+    const std::vector<double> v = g.Doubles("camera_distortion", {5});
+    s.camera.distortion.emplace();
+    std::copy(v.begin(), v.end(), s.camera.distortion->begin());
+  }
+  if (g.Has("camera_matrix")) {
+    const std::vector<double> v = g.Doubles("camera_matrix", {3, 3});
+    s.camera.camera_matrix.emplace();
+    std::copy(v.begin(), v.end(), s.camera.camera_matrix->begin());
+  }
+  if (g.Has("surface_line_px")) {
+    const std::vector<double> v = g.Doubles("surface_line_px", {2, 2});
+    s.surface_line_px =
+        std::array<Eigen::Vector2d, 2>{Eigen::Vector2d(v[0], v[1]), Eigen::Vector2d(v[2], v[3])};
+  }
+  s.notes = g.Text("notes");
+  s.warnings = g.TextList("input_warnings");
+  r.m_per_px_used = g.Scalar("m_per_px_used");
+  const double from_markers = g.Scalar("m_per_px_from_markers");
+  r.m_per_px_from_markers = std::isnan(from_markers) ? 0.0 : from_markers;
+  r.surface_angle_measured_deg = UnlessNaN(g.Scalar("surface_angle_measured_deg"));
+  r.seconds = g.Scalar("analysis_seconds");
+}
+
+tracking::MarkerTracks ReadTracks(const GroupReader& g) {
+  tracking::MarkerTracks t;
+  t.names = g.TextList("marker_names");
+  const hsize_t F = g.Length("t_s"), M = t.names.size();
+  const std::vector<double> p = g.Doubles("p_I_px", {F, M, 2});
+  const std::vector<std::int64_t> found = g.Integers("found", {F, M});
+  const std::vector<std::string> status = g.Texts("status", {F, M});
+  const std::vector<double> quality = g.Doubles("quality", {F, M});
+  const std::vector<double> radius = g.Doubles("radius_px", {F, M});
+  t.frames.assign(F, std::vector<tracking::MarkerObservation>(M));
+  for (std::size_t f = 0; f < F; ++f) {
+    for (std::size_t m = 0; m < M; ++m) {
+      const std::size_t i = f * M + m;
+      tracking::MarkerObservation& o = t.frames[f][m];
+      o.found = found[i] != 0;
+      o.status = status[i];
+      o.quality = quality[i];
+      if (o.found) {  // the file holds no centre or radius for a marker not found
+        o.p_I = {p[2 * i], p[2 * i + 1]};
+        o.radius_px = radius[i];
+      }
+    }
+  }
+  t.warnings = g.TextList("warnings");
+  return t;
+}
+
+void ReadPoses(const GroupReader& g, pipeline::TrialAnalysis& r) {
+  const hsize_t F = g.Length("t_s");
+  const std::vector<std::int64_t> valid = g.Integers("valid", {F});
+  const std::vector<double> p = g.Doubles("p_WE_m", {F, 2});
+  const std::vector<double> theta = g.Doubles("theta_W_rad", {F});
+  const std::vector<double> rms = g.Doubles("rms_residual_m", {F});
+  const std::vector<std::int64_t> used = g.Integers("markers_used", {F});
+  const std::vector<double> distance = g.Doubles("marker_distance_m", {F});
+  r.marker_distance_ratio = g.Doubles("marker_distance_ratio", {F});
+  r.poses.assign(F, tracking::BodyPose{});
+  for (std::size_t f = 0; f < F; ++f) {
+    tracking::BodyPose& q = r.poses[f];
+    q.valid = valid[f] != 0;
+    q.markers_used = static_cast<int>(used[f]);
+    if (q.valid) {  // an invalid pose's numbers are NaN in the file
+      q.p_WE = {p[2 * f], p[2 * f + 1]};
+      q.theta_W_rad = theta[f];
+      q.rms_residual_m = rms[f];
+      q.marker_distance_m = std::isnan(distance[f]) ? 0.0 : distance[f];
+    }
+  }
+  r.out_of_plane_change = g.Scalar("out_of_plane_change");
+  r.out_of_plane_noise = g.Scalar("out_of_plane_noise");
+}
+
+kinematics::FlightFit ReadFit(const GroupReader& g) {
+  kinematics::FlightFit fit;
+  fit.first_frame = g.Int("first_frame");
+  fit.last_frame = g.Int("last_frame");
+  fit.n = g.Int("n");
+  fit.p_WC = g.Vec2("p_WC_m");
+  fit.v_WC = g.Vec2("v_WC_m_s");
+  const std::vector<double> cov = g.Doubles("cov_v_WC_m2_s2", {2, 2});
+  fit.cov_v_WC << cov[0], cov[1], cov[2], cov[3];
+  fit.theta_W_rad = g.Scalar("theta_W_rad");
+  fit.theta_se_rad = g.Scalar("theta_se_rad");
+  fit.w_rad_s = g.Scalar("w_rad_s");
+  fit.w_se_rad_s = g.Scalar("w_se_rad_s");
+  fit.rms_residual_m = g.Scalar("rms_residual_m");
+  fit.rms_theta_residual_rad = g.Scalar("rms_theta_residual_rad");
+  return fit;
+}
+
+void ReadImpact(const GroupReader& g, kinematics::ImpactKinematics& k) {
+  k.impact_time_s = g.Scalar("impact_time_s");
+  k.impact_frame = g.Int("impact_frame");
+  k.v_SC_before = g.Vec2("v_SC_before_m_s");
+  k.v_SC_before_se = g.Vec2("v_SC_before_se_m_s");
+  k.v_SC_after = g.Vec2("v_SC_after_m_s");
+  k.v_SC_after_se = g.Vec2("v_SC_after_se_m_s");
+  k.v_ST_before = g.Vec2("v_ST_before_m_s");
+  k.v_ST_after = g.Vec2("v_ST_after_m_s");
+  k.w_before_rad_s = g.Scalar("w_before_rad_s");
+  k.w_before_se_rad_s = g.Scalar("w_before_se_rad_s");
+  k.w_after_rad_s = g.Scalar("w_after_rad_s");
+  k.w_after_se_rad_s = g.Scalar("w_after_se_rad_s");
+  k.e = g.Scalar("e");
+  k.e_se = g.Scalar("e_se");
+  const Eigen::Vector2d e_ci = g.Vec2("e_ci");
+  k.e_ci_low = e_ci.x();
+  k.e_ci_high = e_ci.y();
+  k.mu_eff = g.Scalar("mu_eff");
+  k.mu_eff_se = g.Scalar("mu_eff_se");
+  const Eigen::Vector2d mu_ci = g.Vec2("mu_eff_ci");
+  k.mu_eff_ci_low = mu_ci.x();
+  k.mu_eff_ci_high = mu_ci.y();
+  k.kinetic_energy_before_J = g.Scalar("kinetic_energy_before_J");
+  k.kinetic_energy_after_J = g.Scalar("kinetic_energy_after_J");
+  k.warnings = g.TextList("warnings");
+}
+
+/// One `/trials/<id>` group; the specimen is filled in by the caller.
+pipeline::TrialAnalysis ReadTrialGroup(const GroupReader& g) {
+  pipeline::TrialAnalysis r;
+  r.success = g.Bool("success");
+  r.error = g.Text("error");
+  r.flags = g.TextList("flags");
+  r.warnings = g.TextList("warnings");
+  ReadTrialMetadata(g.Group("metadata"), r);
+  r.tracks = ReadTracks(g.Group("tracks"));
+  ReadPoses(g.Group("poses"), r);
+  r.impact.message = g.Text("impact_message");
+  if (g.Has("results")) {  // written only when the impact was measured, with the fits
+    r.impact.success = true;
+    const GroupReader fits = g.Group("fits");
+    r.impact.before = ReadFit(fits.Group("before"));
+    r.impact.after = ReadFit(fits.Group("after"));
+    ReadImpact(g.Group("results"), r.impact);
+  }
+  return r;
+}
+
 }  // namespace
 
 // ------------------------------------------------------------------------------------------
@@ -664,10 +935,7 @@ StudyResults ReadStudyResults(const std::filesystem::path& path) {
   try {
     const H5::H5File file(path.string(), H5F_ACC_RDONLY);
     const H5::Group root = file.openGroup("/");
-    const std::string format = h5::GetAttrText(root, "format", path.string());
-    if (format != kStudyFileFormat)
-      throw std::runtime_error(path.string() + ": format \"" + format + "\", expected \"" +
-                               kStudyFileFormat + "\"");
+    CheckFormat(root, path);
     out.name = h5::GetAttrText(root, "name", path.string());
     out.study_dir = h5::GetAttrText(root, "study_dir", path.string());
     out.hoofimpact_version = h5::GetAttrText(root, "hoofimpact_version", path.string());
@@ -764,6 +1032,59 @@ StudyResults ReadStudyResults(const std::filesystem::path& path) {
       const H5::Group g = file.openGroup(r.group);
       r.flags = h5::ReadTexts(g.openDataSet("flags"), where + "/flags");
       r.warnings = h5::ReadTexts(g.openDataSet("warnings"), where + "/warnings");
+    }
+  } catch (const H5::Exception& e) {
+    RethrowHdf5(e, path);
+  }
+  return out;
+}
+
+std::vector<pipeline::TrialAnalysis> ReadTrialAnalyses(const std::filesystem::path& path) {
+  H5::Exception::dontPrint();
+  if (!std::filesystem::is_regular_file(path))
+    throw std::runtime_error(path.string() + ": no such file");
+  try {
+    const H5::H5File file(path.string(), H5F_ACC_RDONLY);
+    CheckFormat(file.openGroup("/"), path);
+  } catch (const H5::Exception& e) {
+    RethrowHdf5(e, path);
+  }
+  const Table results = ReadTable(path, "/results");
+  std::vector<std::string> ids, groups;
+  try {
+    ids = CheckedStrings(results, "id");
+    groups = CheckedStrings(results, "group");
+  } catch (const std::exception& e) {
+    throw std::runtime_error(path.string() + ": " + e.what());
+  }
+  std::vector<pipeline::TrialAnalysis> out;
+  try {
+    const H5::H5File file(path.string(), H5F_ACC_RDONLY);
+    const H5::Group root_group = file.openGroup("/");
+    const GroupReader root(root_group, path.string() + ":");
+    std::map<std::string, pipeline::SpecimenSpec> specimens;  // read once each
+    for (std::size_t i = 0; i < groups.size(); ++i) {
+      const std::string where = path.string() + ":" + groups[i];
+      if (groups[i].size() < 2 || groups[i].front() != '/')
+        throw std::runtime_error(path.string() + ":/results/group row " + std::to_string(i) +
+                                 " is \"" + groups[i] + "\", not a group path");
+      if (!h5::PathExists(root_group, groups[i]))
+        throw std::runtime_error(where + " does not exist");
+      if (root_group.childObjType(groups[i]) != H5O_TYPE_GROUP)
+        throw std::runtime_error(where + " is not a group");
+      pipeline::TrialAnalysis r = ReadTrialGroup(GroupReader(file.openGroup(groups[i]), where));
+      if (r.spec.id != ids[i])
+        throw std::runtime_error(where + "/metadata/id is \"" + r.spec.id +
+                                 "\", /results/id says \"" + ids[i] + "\"");
+      if (!r.spec.specimen_id.empty()) {
+        auto it = specimens.find(r.spec.specimen_id);
+        if (it == specimens.end()) {
+          const GroupReader g = root.Group("study").Group("specimens").Group(r.spec.specimen_id);
+          it = specimens.emplace(r.spec.specimen_id, ReadSpecimen(g)).first;
+        }
+        r.spec.specimen = it->second;
+      }
+      out.push_back(std::move(r));
     }
   } catch (const H5::Exception& e) {
     RethrowHdf5(e, path);

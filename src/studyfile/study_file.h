@@ -162,6 +162,14 @@ struct StudyResults {
 /// std::runtime_error naming the file and the missing or malformed item.
 StudyResults ReadStudyResults(const std::filesystem::path& path);
 
+/// Reads every trial of the study file back as the analysis that wrote it: spec (metadata,
+/// specimen, camera), success and error, tracks, poses, the before and after fits, the impact
+/// results, the calibration checks, flags and warnings, in the order of `/results`. Enough to
+/// simulate a trial against its measurement (compare::CompareTrial) without the frames. Fields
+/// the file does not hold (the frame file pattern or video) are left at their defaults. Throws
+/// std::runtime_error naming the file and the missing or malformed item.
+std::vector<pipeline::TrialAnalysis> ReadTrialAnalyses(const std::filesystem::path& path);
+
 /// Writes the per-trial results as CSV (one row per trial; the columns of `/results`),
 /// atomically.
 void WriteResultsCsv(const std::filesystem::path& path,
