@@ -63,14 +63,16 @@ struct Model {
   Eigen::Vector2d g_S{0.0, 0.0};
   // Extensions (ContactExtensions); all zero is the baseline.
   double c_hc = 0, p_exp = 0, inv_delta_ref = 0, r_unload = 0, rho = 0, k_t = 0;
-  bool nonlinear = false, rolling = false;
+  double mu_slope = 0;  // mu s of speed-dependent friction (s/m); rigid stick only
+  bool nonlinear = false, rolling = false, speed_friction = false;
 
   // Mode.
   bool compression = true;
   double delta_m = 0, P_m = 0, delta_p = 0;  // restitution law, set at maximum compression
   FrictionMode friction = FrictionMode::kNone;
   bool stick = false;
-  double slip_coef = 0.0;  // F = slip_coef * P while sliding
+  double slip_coef = 0.0;   // F = slip_coef * P while sliding
+  double slip_slope = 0.0;  // and, with speed-dependent friction, F gains -slip_slope v_T P
   NearAngle trig;
 
   void SetFriction(FrictionMode mode) {
@@ -79,6 +81,7 @@ struct Model {
     slip_coef = mode == FrictionMode::kSlipPositive   ? -mu
                 : mode == FrictionMode::kSlipNegative ? mu
                                                       : 0.0;
+    slip_slope = slip_coef != 0.0 ? mu_slope : 0.0;
   }
 
   /// Enters restitution at maximum compression (delta' = 0, so P = elastic force there).
@@ -135,8 +138,15 @@ struct Model {
            (inv_m + arm * arm * inv_I);
   }
 
+  /// Friction along x_S. Sliding: -sign(v_T) mu P, or with speed-dependent friction
+  /// -sign(v_T) mu (1 + s |v_T|) P = (slip_coef - mu s v_T) P. The speed term is written with
+  /// the signed v_T, so the law stays smooth where a step overshoots the slip-to-stick event
+  /// (v_T = 0, where the term vanishes).
   double Friction(const State& x, double s, double c, double P) const {
-    if (!stick) return slip_coef * P;
+    if (!stick) {
+      if (speed_friction) return (slip_coef - slip_slope * SlidingVelocity(x)) * P;
+      return slip_coef * P;
+    }
     if constexpr (kCompliant) return -k_t * x[6];
     return StickFriction(s, c, x[5], P);
   }

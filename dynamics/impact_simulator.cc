@@ -214,6 +214,8 @@ Model<N> MakeModel(const SpecimenParameters& specimen, const ContactParameters& 
   model.r_unload = ext.unloading_stiffness_ratio;
   model.rho = ext.rolling_resistance_m;
   model.rolling = ext.rolling_resistance_m != 0.0;
+  model.mu_slope = contact.mu * ext.friction_speed_slope_s_m;
+  model.speed_friction = model.mu_slope != 0.0;
   if (ext.tangential_compliance_ratio > 0.0) model.k_t = contact.k_N_m / ext.tangential_compliance_ratio;
   return model;
 }

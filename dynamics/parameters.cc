@@ -39,7 +39,8 @@ void SpecimenParameters::Validate() const {
 bool ContactExtensions::Any() const {
   return hunt_crossley_N_s_m2 != 0 || stiffness_exponent_extra != 0 ||
          unloading_stiffness_ratio != 0 || static_friction_excess != 0 ||
-         tangential_compliance_ratio != 0 || rolling_resistance_m != 0;
+         tangential_compliance_ratio != 0 || rolling_resistance_m != 0 ||
+         friction_speed_slope_s_m != 0;
 }
 
 void ContactExtensions::Validate() const {
@@ -51,6 +52,7 @@ void ContactExtensions::Validate() const {
   RequireFinite(kOwner, "static_friction_excess", static_friction_excess);
   RequireFinite(kOwner, "tangential_compliance_ratio", tangential_compliance_ratio);
   RequireFinite(kOwner, "rolling_resistance_m", rolling_resistance_m);
+  RequireFinite(kOwner, "friction_speed_slope_s_m", friction_speed_slope_s_m);
   if (hunt_crossley_N_s_m2 < 0)
     ThrowField(kOwner, "hunt_crossley_N_s_m2", hunt_crossley_N_s_m2, "must be >= 0");
   if (stiffness_exponent_extra < 0 || stiffness_exponent_extra > 1)
@@ -65,6 +67,13 @@ void ContactExtensions::Validate() const {
     ThrowField(kOwner, "tangential_compliance_ratio", tangential_compliance_ratio, "must be >= 0");
   if (rolling_resistance_m < 0)
     ThrowField(kOwner, "rolling_resistance_m", rolling_resistance_m, "must be >= 0");
+  if (friction_speed_slope_s_m < 0)
+    ThrowField(kOwner, "friction_speed_slope_s_m", friction_speed_slope_s_m, "must be >= 0");
+  // With a tangential spring the slider, not the body point T, slides, and its speed would
+  // need a state of its own; the speed-dependent law is defined for rigid stick only.
+  if (friction_speed_slope_s_m > 0 && tangential_compliance_ratio > 0)
+    ThrowField(kOwner, "friction_speed_slope_s_m", friction_speed_slope_s_m,
+               "must be 0 when tangential_compliance_ratio > 0 (needs rigid stick)");
 }
 
 void ContactParameters::Validate() const {

@@ -57,6 +57,14 @@ struct ContactExtensions {
   /// Rolling resistance: a contact torque -rho P w / (|w| + 1 rad/s) about T (rho in m; >= 0).
   /// Less spin after impact, v_C nearly unchanged.
   double rolling_resistance_m = 0.0;
+  /// Speed-dependent (velocity-strengthening) kinetic friction: while T slides, the friction
+  /// magnitude is mu (1 + s |v_T.x_S|) P (s in s/m; >= 0). Stick and the static cone are
+  /// unchanged: at zero slip speed the limit is mu P (plus static_friction_excess), so the
+  /// slip-to-stick switch at v_T.x_S = 0 is the baseline's. mu_eff rises with the sliding
+  /// speed. Needs rigid stick: not combinable with tangential_compliance_ratio > 0.
+  /// Deliberately NOT in the discovery library: it stands for an effect nobody listed, so
+  /// discovery must report it as unexplained disagreement rather than name it.
+  double friction_speed_slope_s_m = 0.0;
 
   /// True when any effect is switched on.
   bool Any() const;

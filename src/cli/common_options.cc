@@ -38,6 +38,9 @@ void AddExtensionOptions(CLI::App* app, dynamics::ContactExtensions& ext) {
   app->add_option("--rolling-resistance-m", ext.rolling_resistance_m,
                   "rho: rolling-resistance torque -rho P w / (|w| + 1 rad/s) (m)")
       ->group(group);
+  app->add_option("--friction-speed-slope-s-m", ext.friction_speed_slope_s_m,
+                  "s: sliding friction mu (1 + s |v_T|) P (s/m); not in the discovery library")
+      ->group(group);
 }
 
 nlohmann::json ExtensionsJson(const dynamics::ContactExtensions& ext) {
@@ -47,7 +50,8 @@ nlohmann::json ExtensionsJson(const dynamics::ContactExtensions& ext) {
           {"unloading_stiffness_ratio", ext.unloading_stiffness_ratio},
           {"static_friction_excess", ext.static_friction_excess},
           {"tangential_compliance_ratio", ext.tangential_compliance_ratio},
-          {"rolling_resistance_m", ext.rolling_resistance_m}};
+          {"rolling_resistance_m", ext.rolling_resistance_m},
+          {"friction_speed_slope_s_m", ext.friction_speed_slope_s_m}};
 }
 
 }  // namespace hoof::cli

@@ -149,6 +149,8 @@ void ApplyStudyConfig(const std::string& path, SynthArgs& a) {
             x.tangential_compliance_ratio = val;
           else if (k == "rolling_resistance_m")
             x.rolling_resistance_m = val;
+          else if (k == "friction_speed_slope_s_m")
+            x.friction_speed_slope_s_m = val;
           else if (k == "tilt_deg")
             o.tilt_deg = val;
           else if (k == "roll_deg")
@@ -224,6 +226,9 @@ void AddHiddenOptions(CLI::App* cmd, SynthArgs& a) {
                   "Hidden: k / k_t of the tangential spring");
   cmd->add_option("--rolling-resistance-m", x.rolling_resistance_m,
                   "Hidden: rolling resistance arm rho (m)");
+  cmd->add_option("--friction-speed-slope-s-m", x.friction_speed_slope_s_m,
+                  "Hidden: speed-dependent sliding friction mu (1 + s |v_T|) P, s in s/m "
+                  "(outside the discovery library on purpose)");
   cmd->add_option("--tilt-deg", o.tilt_deg, "Hidden: out-of-plane tilt about y_B at touch (deg)");
   cmd->add_option("--roll-deg", o.roll_deg,
                   "Hidden: out-of-plane roll about the long axis at touch (deg)");
@@ -350,8 +355,8 @@ void Run(SynthArgs& a, RunState& state, CLI::App* cmd) {
     for (const char* name :
          {"--hunt-crossley-n-s-m2", "--stiffness-exponent-extra", "--stiffness-reference-depth-m",
           "--unloading-stiffness-ratio", "--static-friction-excess",
-          "--tangential-compliance-ratio", "--rolling-resistance-m", "--tilt-deg", "--roll-deg",
-          "--tilt-rate-deg-s", "--roll-rate-deg-s"})
+          "--tangential-compliance-ratio", "--rolling-resistance-m", "--friction-speed-slope-s-m",
+          "--tilt-deg", "--roll-deg", "--tilt-rate-deg-s", "--roll-rate-deg-s"})
       if (cmd->count(name) > 0) {
         a.design.hidden = a.hidden;
         break;

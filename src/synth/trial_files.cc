@@ -89,6 +89,7 @@ nlohmann::json HiddenEffectsJson(const HiddenEffects& h) {
           {"static_friction_excess", x.static_friction_excess},
           {"tangential_compliance_ratio", x.tangential_compliance_ratio},
           {"rolling_resistance_m", x.rolling_resistance_m},
+          {"friction_speed_slope_s_m", x.friction_speed_slope_s_m},
           {"out_of_plane",
            {{"tilt_deg", o.tilt_deg},
             {"roll_deg", o.roll_deg},

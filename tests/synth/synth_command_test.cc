@@ -1,6 +1,7 @@
 // End-to-end tests of `hoofimpact synth`: a small trial and study, and clear errors for bad
 // input naming the option.
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -50,6 +51,42 @@ TEST(SynthCommandTest, WritesASmallStudy) {
   EXPECT_EQ(j["trials"].size(), 2u);
   EXPECT_TRUE(fs::exists(out / "study.json"));
   EXPECT_TRUE(fs::exists(out / "asphalt_0deg_v3.00_r1" / "frames" / "000005.png"));
+}
+
+TEST(SynthCommandTest, SpeedDependentFrictionIsHiddenAndRecordedInTruth) {
+  // The effect outside the discovery library, from the flag and from a study config: truth.json
+  // records the slope, and the simulator used it (at 30 deg T slides the whole contact at
+  // about 1 m/s or more, so mu_eff ~ mu (1 + s |v_T|) lies well above the drawn mu).
+  const fs::path trial = Fresh("speed-friction-trial");
+  auto r = RunHoofimpact("synth -o " + trial.string() +
+                         " --surface steel --angle-deg 30 --speed-m-s 3 --seed 5 "
+                         "--frames-before 2 --frames-after 2 --clean "
+                         "--friction-speed-slope-s-m 0.5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(trial / "truth.json");
+  const auto truth = nlohmann::json::parse(in);
+  const auto& model = truth["model"];
+  EXPECT_EQ(model["hidden_effects"]["friction_speed_slope_s_m"].get<double>(), 0.5);
+  EXPECT_GT(truth["mu_eff"].get<double>(), 1.2 * model["mu"].get<double>());
+
+  const fs::path study = Fresh("speed-friction-study");
+  const fs::path config = study.string() + ".json";
+  {
+    std::ofstream out(config);
+    out << R"({"cells": [{"surface": "asphalt", "angle_deg": 20, "speed_m_s": 2.5}],
+               "trials_per_cell": 1, "hidden_effects": {"friction_speed_slope_s_m": 0.25}})";
+  }
+  r = RunHoofimpact("synth --study -o " + study.string() + " --study-config " + config.string() +
+                    " --frames-before 2 --frames-after 2 --clean");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in_study(study / "asphalt_20deg_v2.50_r1" / "truth.json");
+  const auto study_truth = nlohmann::json::parse(in_study);
+  EXPECT_EQ(study_truth["model"]["hidden_effects"]["friction_speed_slope_s_m"].get<double>(), 0.25);
+  // A negative slope names the field.
+  r = RunHoofimpact("synth -o " + Fresh("speed-friction-bad").string() +
+                    " --friction-speed-slope-s-m -1");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("friction_speed_slope_s_m"), std::string::npos) << r.err;
 }
 
 TEST(SynthCommandTest, BadInputNamesTheOptionAndFails) {
