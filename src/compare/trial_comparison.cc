@@ -319,4 +319,16 @@ SurfaceModel FitSurfaceModel(const std::string& surface, const std::vector<pipel
   return m;
 }
 
+dynamics::SpecimenParameters SpecimenOf(const pipeline::TrialAnalysis& trial) { return Specimen(trial); }
+
+double SimulatedTouchTime(const pipeline::TrialAnalysis& trial, const dynamics::ContactParameters& contact) {
+  return TouchTime(trial, Simulator(trial, contact));
+}
+
+std::pair<Eigen::Vector2d, double> SimulatedAfterAtImpactTime(const pipeline::TrialAnalysis& trial,
+                                                              const dynamics::ImpactResult& result,
+                                                              double t_touch_s) {
+  return AfterAtImpactTime(trial, result, t_touch_s);
+}
+
 }  // namespace hoof::compare

@@ -6,6 +6,7 @@
 /// the impact.
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -102,6 +103,20 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& trial,
 
 /// The uncertainty of a fitted surface model (NaN errors count as 0).
 ModelUncertainty Uncertainty(const SurfaceModel& model);
+
+/// The trial's specimen as the simulator wants it.
+dynamics::SpecimenParameters SpecimenOf(const pipeline::TrialAnalysis& trial);
+
+/// First-touch time (since frame 0) at which `contact` makes the simulated flights before and
+/// after the impact meet where the measured fits meet (CompareTrial's rule).
+double SimulatedTouchTime(const pipeline::TrialAnalysis& trial,
+                          const dynamics::ContactParameters& contact);
+
+/// Simulated velocity of C in S and spin after the impact, carried under gravity to the
+/// measured impact time, for a simulation `result` that started at `t_touch_s`.
+std::pair<Eigen::Vector2d, double> SimulatedAfterAtImpactTime(const pipeline::TrialAnalysis& trial,
+                                                              const dynamics::ImpactResult& result,
+                                                              double t_touch_s);
 
 /// Fits the contact law of `surface` to the successful trials among `trials` on it.
 SurfaceModel FitSurfaceModel(const std::string& surface,

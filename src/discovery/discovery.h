@@ -1,0 +1,205 @@
+#pragma once
+/// @file
+/// Discovery (docs/discovery.md): find where the baseline model and the measurements disagree,
+/// name the missing physical effect with evidence, add it to the model and show the gap shrink
+/// on trials the fit never saw.
+///
+/// The workflow, per round:
+///  1. Fit the current model (per surface zeta and mu, plus the effects added so far) to every
+///     measured trial and take the residuals after the impact: v_SC.x, v_SC.y (which carries e)
+///     and w, each as a fraction of the impact speed (w times d_EC), and per frame the marker
+///     distance ratio (image-level evidence of out-of-plane rotation).
+///  2. Test the residuals for structure: lack-of-fit F tests of the cell means (surface x angle
+///     x speed) against the scatter within cells, slope tests against speed, and the marker
+///     distance ratio against 1. Holm's step-down keeps the family-wise level.
+///  3. Fit every candidate effect of the library (candidates.h) jointly with the per-surface
+///     parameters; rank by leave-trials-out cross-validated error, with the likelihood-ratio
+///     test and AIC/BIC beside it. Probe each candidate's identifiability: fix its parameter at
+///     a realistic size, refit the rest, and see whether the data can tell the difference.
+///  4. Accept the best candidate when its likelihood ratio is significant (Bonferroni over the
+///     candidates) and it lowers the held-out error; re-simulate and measure the held-out gap
+///     before and after. Repeat until nothing significant remains or nothing helps.
+///  5. The verdict: an effect is *named* only when, with the accepted effects in the model, no
+///     significant disagreement remains; otherwise the disagreement is *unexplained* and the
+///     accepted effects are *tentative*. Candidates that fit as well as the winner are reported
+///     as indistinguishable, with the measurement that would separate them.
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "dynamics/impact_simulator.h"
+#include "pipeline/trial_analysis.h"
+
+namespace hoof::discovery {
+
+/// One effect of the candidate library (SCIENCE.md section 7): a nested extension whose
+/// parameter gives back the baseline at 0.
+struct LibraryEntry {
+  std::string key;        ///< "hunt_crossley", "hertz_stiffness", "plastic_unloading",
+                          ///< "static_friction", "tangential_compliance", "rolling_resistance",
+                          ///< "out_of_plane"
+  std::string name;       ///< in words
+  std::string parameter;  ///< symbol
+  std::string unit;       ///< of the parameter
+  double probe = 0.0;     ///< a realistic size, used to probe identifiability and to scale the fit
+  double upper = 0.0;     ///< largest value the fit may take
+  bool measurement_effect = false;  ///< changes what the camera sees, not the impact
+  std::string signature;            ///< what it changes, in words
+  std::string separating_measurement;  ///< what would tell it from its look-alikes
+};
+
+/// The library, in a fixed order.
+const std::vector<LibraryEntry>& Library();
+
+/// Settings of the workflow.
+struct DiscoveryOptions {
+  /// Family-wise significance level: of the structure tests (Holm) and of naming a candidate
+  /// (Bonferroni over the candidates); in (0, 0.5).
+  double alpha = 0.01;
+  int folds = 3;        ///< Leave-trials-out folds (each cell's trials dealt round-robin); >= 2.
+  int max_rounds = 3;   ///< Effects added at most; >= 1.
+  int jobs = 0;         ///< Threads (0 = all cores).
+  /// Library keys to try (candidates.h); empty = all.
+  std::vector<std::string> candidates;
+  double relative_tolerance = 1e-8;  ///< Of the simulator during fits; in (0, 1e-4].
+  /// Smallest departure of the projected / layout marker distance from the model's that
+  /// counts as a disagreement: the scale calibration and the centre finding hold the ratio to
+  /// about 1e-4 (docs/tracking.md), so 1e-3 (a tilt of 2.6 deg) is well clear of them. The
+  /// marker tests are tests of a departure larger than this; in [0, 0.1).
+  double marker_ratio_tolerance = 1e-3;
+  /// Smallest mean residual of a velocity after impact (as a fraction of the impact speed) that
+  /// counts as a disagreement. The measurement holds velocities to about 1e-4 of the impact
+  /// speed with systematic errors of that order that vary from cell to cell (docs/tracking.md);
+  /// without a margin the lack-of-fit tests would call those physics. The tests are of cell
+  /// means beyond +-this; in [0, 0.1).
+  double velocity_tolerance = 5e-4;
+
+  /// Throws std::invalid_argument naming the field.
+  void Validate() const;
+};
+
+/// One test of the residuals for structure.
+struct StructureTest {
+  std::string quantity;   ///< "v_x", "v_y", "w" (residuals after impact) or "marker_ratio"
+  std::string scope;      ///< surface name, or "all"
+  std::string covariate;  ///< "cells (angle x speed)", "speed", "angle", "level"
+  std::string test;       ///< "lack-of-fit F", "slope t", "mean t"
+  double statistic = 0.0;
+  double df1 = 0.0, df2 = 0.0;  ///< degrees of freedom (df1 only for t)
+  double p = 1.0;               ///< unadjusted
+  double p_holm = 1.0;          ///< Holm-adjusted over every test of the round
+  bool significant = false;     ///< p_holm < alpha
+  std::string description;      ///< in words, e.g. "v_y residual falls 0.4 % per m/s"
+};
+
+/// How a candidate did in one round.
+struct CandidateResult {
+  std::string key;        ///< library key, e.g. "hunt_crossley"
+  std::string name;       ///< e.g. "velocity-dependent (Hunt-Crossley) damping"
+  std::string parameter;  ///< e.g. "c"
+  std::string unit;       ///< e.g. "N s/m^2"
+  bool measurement_effect = false;  ///< out-of-plane rotation: changes the image, not the physics
+  bool fitted = false;    ///< the fit ran
+  std::string message;    ///< why not, or empty
+  double estimate = 0.0, se = 0.0;  ///< parameter and its standard error (NaN when undefined)
+  /// -2 log likelihood of the current model minus this one (>= 0); chi-square with 1 dof.
+  double lr_statistic = 0.0;
+  double p_value = 1.0;
+  double delta_aic = 0.0, delta_bic = 0.0;  ///< this model minus the current (< 0 is better)
+  /// Held-out error: mean over held-out trials of the squared residuals in units of the
+  /// training fit's noise, for this model and for the current model.
+  double cv_error = 0.0, cv_error_current = 0.0;
+  double cv_p = 1.0;  ///< paired one-sided t test that the held-out error fell
+  /// "identified", "not tested by these data" (no trial is sensitive to it) or
+  /// "indistinguishable from <what>" (the other parameters absorb it).
+  std::string identifiability;
+  /// Baseline parameters that moved to absorb it in the identifiability probe, e.g. "zeta".
+  std::string confounded_with;
+  bool significant = false;  ///< p_value < alpha / candidates and cv_error < cv_error_current
+  int rank = 0;              ///< 1 = lowest held-out error
+};
+
+/// One held-out trial's disagreement before and after an effect is added.
+struct GapTrial {
+  std::string id, surface;
+  double angle_deg = 0.0, speed_m_s = 0.0;
+  int fold = 0;
+  /// Residuals after impact (fractions of the impact speed): before (current model) and after
+  /// (with the effect), each fitted without this trial's fold.
+  Eigen::Vector3d residual_before{0, 0, 0}, residual_after{0, 0, 0};  ///< v_x, v_y, w d
+  double gap_before = 0.0, gap_after = 0.0;  ///< root mean square of the used components
+};
+
+/// One round of the workflow.
+struct Round {
+  int index = 1;
+  std::vector<StructureTest> tests;         ///< on the current model's residuals
+  std::vector<CandidateResult> candidates;  ///< in rank order
+  std::string accepted;  ///< key of the effect added in this round, empty when none
+  std::string decision;  ///< in words
+  std::vector<GapTrial> gap;  ///< held-out trials, when an effect was added
+  /// Aggregate held-out gap (root mean square over trials and components) and its shrink.
+  double gap_before = 0.0, gap_after = 0.0, gap_shrink = 0.0;
+};
+
+/// The model per surface (the fitted parameters; k is not identified and stays the paper's).
+struct SurfaceFit {
+  std::string surface;
+  double zeta = 0.0, zeta_se = 0.0;
+  double mu = 0.0, mu_se = 0.0;
+  double k_N_m = 0.0;
+  int trials = 0;
+};
+
+/// What the verdict says about one effect.
+struct Finding {
+  std::string key, name, parameter, unit;
+  /// "named" (accepted, and nothing significant remains), "tentative" (accepted, but
+  /// disagreement remains), "indistinguishable" (fits as well as a named effect, or cannot be
+  /// told from the baseline's own parameters with these data).
+  std::string status;
+  double estimate = 0.0, se = 0.0;
+  std::string partner;  ///< what it cannot be told apart from
+  std::string separating_measurement;  ///< what would separate them
+  double gap_shrink = 0.0;  ///< held-out, when it was added
+};
+
+/// One trial's residuals under the baseline and the final model (full-data fits).
+struct TrialResiduals {
+  std::string id, surface;
+  double angle_deg = 0.0, speed_m_s = 0.0;
+  Eigen::Vector3d baseline{0, 0, 0}, final_model{0, 0, 0};  ///< v_x, v_y, w d (fractions)
+  double marker_ratio = 0.0;  ///< mean projected / layout marker distance after impact
+};
+
+/// Everything the workflow found.
+struct DiscoveryResult {
+  bool success = false;
+  std::string message;  ///< why it could not run
+  int trials_used = 0;
+  int trials_skipped = 0;  ///< not measured, or on a surface without normal trials (no zeta)
+  std::vector<SurfaceFit> baseline, final_model;
+  std::map<std::string, double> effects;  ///< key -> value in the final model
+  std::vector<Round> rounds;
+  std::vector<Finding> findings;
+  /// A significant disagreement that the final model leaves.
+  bool unexplained = false;
+  std::vector<StructureTest> remaining;  ///< the significant tests the final model leaves
+  std::vector<TrialResiduals> residuals;
+  std::string verdict;  ///< plain language, several paragraphs
+  double seconds = 0.0;
+  long long simulations = 0;
+};
+
+/// Runs the workflow on the measured trials of a study (failed trials are skipped).
+/// `progress`, when set, gets lines of progress in words. Throws std::invalid_argument for bad
+/// options; a study that cannot be analysed (too few trials) comes back with success false.
+DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials,
+                         const DiscoveryOptions& options = {},
+                         const std::function<void(const std::string&)>& progress = {});
+
+}  // namespace hoof::discovery

@@ -1,0 +1,47 @@
+#pragma once
+/// @file
+/// The discovery result as study-file tables (group `/discovery`, docs/hdf5-schema.md) and back.
+///
+/// Tables (names below `/discovery`):
+///  - `summary`: one row: success, message, trials_used, trials_skipped, unexplained, seconds,
+///    simulations, rounds (how many `rounds/<n>` follow), verdict;
+///  - `surfaces`: the per-surface fits, baseline and final model (column `model`);
+///  - `effects`: the final model's effect values (key, parameter, unit, value);
+///  - `rounds/<n>/summary` (one row), `rounds/<n>/tests`, `rounds/<n>/candidates` (rank order),
+///    `rounds/<n>/gap` (one row per held-out trial; no rows when no effect was added), for
+///    n = 1, 2, ... in the order of DiscoveryResult::rounds;
+///  - `findings`, `remaining` (the significant tests the final model leaves), `residuals` (per
+///    trial, baseline and final model);
+///  - `options` (optional, DiscoveryOptionsTable): the settings it ran with.
+/// Residuals are fractions of the impact speed (units "1"); a parameter's estimate carries the
+/// unit named in the row's `unit` column.
+
+#include <filesystem>
+#include <vector>
+
+#include "discovery/discovery.h"
+#include "studyfile/study_file.h"
+
+namespace hoof::discovery {
+
+/// The study-file group the tables go into.
+inline constexpr const char* kDiscoveryGroup = "/discovery";
+
+/// The result as tables for studyfile::WriteTables(path, kDiscoveryGroup, ...).
+std::vector<studyfile::Table> DiscoveryTables(const DiscoveryResult& result);
+
+/// The settings the workflow ran with, as the one-row table `options` (alpha, folds,
+/// max_rounds, jobs, candidates joined with ',' (empty = all), relative_tolerance); callers that
+/// know the options append it to DiscoveryTables() (ReadDiscovery does not need it).
+studyfile::Table DiscoveryOptionsTable(const DiscoveryOptions& options);
+
+/// Reads the tables of `/discovery` back into a result (the inverse of DiscoveryTables: every
+/// field stored is restored; CandidateResult::name etc. as written). Throws std::runtime_error
+/// naming the file and the table (and the column) when one is missing or malformed.
+DiscoveryResult ReadDiscovery(const std::filesystem::path& h5);
+
+/// True when the study file `h5` has a `/discovery/summary` table (no exception for a file
+/// without one; a missing or unreadable file is false too).
+bool HasDiscovery(const std::filesystem::path& h5);
+
+}  // namespace hoof::discovery

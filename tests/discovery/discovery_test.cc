@@ -1,0 +1,233 @@
+// The discovery workflow on rendered studies with effects hidden on purpose (docs/discovery.md).
+#include "discovery/discovery.h"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "dynamics/parameters.h"
+#include "pipeline/study_analysis.h"
+#include "support/run_command.h"
+
+namespace fs = std::filesystem;
+using hoof::discovery::Discover;
+using hoof::discovery::DiscoveryResult;
+
+namespace {
+
+/// Renders a study with `hoofimpact synth --study` unless it is already there.
+fs::path RenderStudy(const std::string& name, const std::string& options) {
+  const fs::path dir = fs::path(HOOF_BINARY_DIR) / "test-output" / "discovery" / name;
+  if (fs::exists(dir / "study.json")) return dir;
+  const fs::path tmp = dir.string() + ".tmp-" + std::to_string(::getpid());
+  fs::remove_all(tmp);
+  fs::create_directories(tmp.parent_path());
+  const auto r = hoof::testing::RunHoofimpact("synth --study -o " + tmp.string() + " " + options);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  std::error_code ec;
+  fs::rename(tmp, dir, ec);
+  if (ec) fs::remove_all(tmp);
+  return dir;
+}
+
+/// One surface, normal and oblique impacts at three speeds, two repetitions, the paper's
+/// contact law in every trial (no per-trial scatter) and every camera effect on.
+const char* kDesign = "--surfaces steel --angles-deg 0,10,20,30 --speeds 1.5,2.75,4 --trials-per-cell 2 --no-scatter";
+
+DiscoveryResult DiscoverStudy(const std::string& name, const std::string& options) {
+  const fs::path dir = RenderStudy(name, options);
+  const auto study = hoof::pipeline::ReadStudy(dir);
+  const auto trials = hoof::pipeline::AnalyzeStudy(study, {}, 2);
+  return Discover(trials, {}, [](const std::string& s) { std::cerr << s << "\n"; });
+}
+
+void Print(const DiscoveryResult& r) {
+  std::cout << r.verdict << "\n";
+  for (const auto& rd : r.rounds) {
+    std::cout << "round " << rd.index << ": " << rd.decision << "\n";
+    for (const auto& c : rd.candidates)
+      std::cout << "   " << c.rank << " " << c.key << " " << c.estimate << " +- " << c.se << " LR " << c.lr_statistic
+                << " p " << c.p_value << " held-out " << c.cv_error_current << " -> " << c.cv_error << " ("
+                << c.identifiability << ")" << (c.significant ? " *" : "") << "\n";
+  }
+  std::cout << r.seconds << " s, " << r.simulations << " simulations\n";
+}
+
+const hoof::discovery::Finding* FindingOf(const DiscoveryResult& r, const std::string& key) {
+  for (const auto& f : r.findings)
+    if (f.key == key) return &f;
+  return nullptr;
+}
+
+int Confident(const DiscoveryResult& r) {
+  int n = 0;
+  for (const auto& f : r.findings) n += f.status == "named" || f.status == "tentative" ? 1 : 0;
+  return n;
+}
+
+/// Set HOOF_EXPLORE=<name> (and HOOF_EXPLORE_ARGS, HOOF_EXPLORE_DESIGN) to run the workflow on
+/// any rendered study and print everything; skipped otherwise.
+TEST(DiscoveryExplore, Run) {
+  const char* which = std::getenv("HOOF_EXPLORE");
+  if (!which) GTEST_SKIP();
+  const std::string w = which;
+  std::string extra = std::getenv("HOOF_EXPLORE_ARGS") ? std::getenv("HOOF_EXPLORE_ARGS") : "";
+  const char* design = std::getenv("HOOF_EXPLORE_DESIGN");
+  Print(DiscoverStudy(w, std::string(design ? design : kDesign) + " " + extra));
+}
+
+struct HiddenEffect {
+  std::string key;    // library key
+  std::string flag;   // synth flag
+  double truth;       // hidden value
+  int seed;
+};
+
+class HiddenEffectTest : public ::testing::TestWithParam<HiddenEffect> {};
+
+// The issue's first target: each effect hidden at a realistic size is named, its parameter
+// comes back within 20 % of the truth, and adding it shrinks the held-out gap by half or more.
+TEST_P(HiddenEffectTest, IsNamedWithItsParameterAndShrinksTheHeldOutGap) {
+  const HiddenEffect& h = GetParam();
+  std::ostringstream args;
+  args << kDesign << " --seed " << h.seed << " " << h.flag << " " << h.truth;
+  const DiscoveryResult r = DiscoverStudy(h.key, args.str());
+  Print(r);
+  ASSERT_TRUE(r.success) << r.message;
+  EXPECT_EQ(r.trials_used, 24);
+  const auto* f = FindingOf(r, h.key);
+  ASSERT_NE(f, nullptr) << r.verdict;
+  EXPECT_EQ(f->status, "named") << r.verdict;
+  EXPECT_NEAR(f->estimate, h.truth, 0.2 * h.truth);
+  EXPECT_GE(f->gap_shrink, 0.5);
+  EXPECT_FALSE(r.unexplained) << r.verdict;
+  EXPECT_EQ(Confident(r), 1) << r.verdict;  // nothing else is named
+  // The round that added it says so, and the gap it reports is on held-out trials only.
+  ASSERT_FALSE(r.rounds.empty());
+  EXPECT_EQ(r.rounds.front().accepted, h.key);
+  EXPECT_EQ(r.rounds.front().gap.size(), 24u);
+  EXPECT_NEAR(r.effects.at(h.key), f->estimate, 1e-12 * std::abs(f->estimate) + 1e-300);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Effects, HiddenEffectTest,
+    ::testing::Values(HiddenEffect{"hunt_crossley", "--hunt-crossley-n-s-m2", 2e7, 11},
+                      HiddenEffect{"hertz_stiffness", "--stiffness-exponent-extra", 0.3, 13},
+                      HiddenEffect{"tangential_compliance", "--tangential-compliance-ratio", 1.0, 14},
+                      HiddenEffect{"rolling_resistance", "--rolling-resistance-m", 5e-4, 12}),
+    [](const auto& p) { return p.param.key; });
+
+// The issue's second target: with nothing hidden, nothing is named in at least 19 of 20 seeds.
+TEST(DiscoveryTest, NamesNothingInStudiesWithoutAHiddenEffect) {
+  int clean = 0;
+  for (int seed = 1; seed <= 20; ++seed) {
+    const DiscoveryResult r = DiscoverStudy("null_" + std::to_string(seed), std::string(kDesign) + " --seed " +
+                                                                                std::to_string(1000 + seed));
+    ASSERT_TRUE(r.success) << r.message;
+    const bool quiet = Confident(r) == 0 && !r.unexplained;
+    clean += quiet ? 1 : 0;
+    if (!quiet) Print(r);
+  }
+  std::cout << clean << " of 20 null studies named nothing\n";
+  EXPECT_GE(clean, 19);
+}
+
+// Dissipative restitution against a changed zeta in normal impacts: the data cannot separate
+// them, and the workflow says so (and names nothing).
+TEST(DiscoveryTest, DissipativeRestitutionIsIndistinguishableFromZetaInNormalImpacts) {
+  const DiscoveryResult r = DiscoverStudy(
+      "unloading_normal",
+      "--surfaces steel --angles-deg 0 --speeds 1.5,2.75,4 --trials-per-cell 3 --no-scatter --seed 16 "
+      "--unloading-stiffness-ratio 0.5");
+  Print(r);
+  ASSERT_TRUE(r.success) << r.message;
+  const auto* f = FindingOf(r, "plastic_unloading");
+  ASSERT_NE(f, nullptr) << r.verdict;
+  EXPECT_EQ(f->status, "indistinguishable");
+  EXPECT_NE(f->partner.find("zeta"), std::string::npos) << f->partner;
+  EXPECT_FALSE(f->separating_measurement.empty());
+  EXPECT_EQ(Confident(r), 0) << r.verdict;
+  EXPECT_NE(r.verdict.find("Cannot be told apart"), std::string::npos) << r.verdict;
+  // The baseline absorbed it: its zeta is the one the unloading's e corresponds to, not the
+  // paper's 0.1105 (e 0.6942 instead of 0.8502).
+  ASSERT_EQ(r.baseline.size(), 1u);
+  EXPECT_NEAR(r.baseline[0].zeta, hoof::dynamics::DampingRatioFromRestitution(0.6942), 0.01);
+}
+
+// An effect outside the library (friction that grows with slip speed) gives "unexplained
+// disagreement", never a confident wrong name.
+TEST(DiscoveryTest, AnEffectOutsideTheLibraryIsUnexplained) {
+  const DiscoveryResult r = DiscoverStudy("friction_speed", std::string(kDesign) +
+                                                                " --seed 17 --friction-speed-slope-s-m 0.5");
+  Print(r);
+  ASSERT_TRUE(r.success) << r.message;
+  EXPECT_TRUE(r.unexplained) << r.verdict;
+  EXPECT_FALSE(r.remaining.empty());
+  for (const auto& f : r.findings) EXPECT_NE(f.status, "named") << f.key;
+  EXPECT_NE(r.verdict.find("Unexplained disagreement"), std::string::npos) << r.verdict;
+}
+
+// Out-of-plane rotation, the measurement effect: the tilt comes back from the marker distance.
+// It is not named with confidence here, because the tilt also biases the measured velocities
+// (by up to 1 % at 30 deg), which the workflow then reports as unexplained.
+TEST(DiscoveryTest, OutOfPlaneTiltIsEstimatedFromTheMarkerDistance) {
+  const DiscoveryResult r = DiscoverStudy("tilt", std::string(kDesign) + " --seed 15 --tilt-deg 10");
+  Print(r);
+  ASSERT_TRUE(r.success) << r.message;
+  const auto* f = FindingOf(r, "out_of_plane");
+  ASSERT_NE(f, nullptr) << r.verdict;
+  EXPECT_NEAR(f->estimate, 10.0, 0.5);
+  EXPECT_GE(f->gap_shrink, 0.9);
+  ASSERT_FALSE(r.rounds.empty());
+  bool marker_test = false;
+  for (const auto& t : r.rounds.front().tests) marker_test |= t.quantity == "marker_ratio" && t.significant;
+  EXPECT_TRUE(marker_test);
+}
+
+TEST(DiscoveryTest, BadOptionsNameTheField) {
+  hoof::discovery::DiscoveryOptions o;
+  o.folds = 1;
+  EXPECT_THROW(
+      {
+        try {
+          o.Validate();
+        } catch (const std::invalid_argument& e) {
+          EXPECT_NE(std::string(e.what()).find("folds"), std::string::npos);
+          throw;
+        }
+      },
+      std::invalid_argument);
+  o = {};
+  o.candidates = {"warp_drive"};
+  EXPECT_THROW(o.Validate(), std::invalid_argument);
+  o = {};
+  o.alpha = 0.7;
+  EXPECT_THROW(o.Validate(), std::invalid_argument);
+}
+
+TEST(DiscoveryTest, TooFewTrialsComeBackWithAReason) {
+  const DiscoveryResult r = Discover({}, {});
+  EXPECT_FALSE(r.success);
+  EXPECT_NE(r.message.find("too few"), std::string::npos) << r.message;
+}
+
+TEST(DiscoveryTest, TheLibraryHoldsTheSevenEffectsOfScienceSection7) {
+  std::vector<std::string> keys;
+  for (const auto& e : hoof::discovery::Library()) {
+    keys.push_back(e.key);
+    EXPECT_GT(e.probe, 0) << e.key;
+    EXPECT_GT(e.upper, e.probe) << e.key;
+    EXPECT_FALSE(e.separating_measurement.empty()) << e.key;
+  }
+  EXPECT_EQ(keys, (std::vector<std::string>{"hunt_crossley", "hertz_stiffness", "plastic_unloading", "static_friction",
+                                            "tangential_compliance", "rolling_resistance", "out_of_plane"}));
+}
+
+}  // namespace
