@@ -4,8 +4,13 @@
 /// Subcommands only parse arguments, call the libraries and print; they hold no algorithms.
 
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
+
+namespace hoof::pipeline {
+struct TrialAnalysis;
+}  // namespace hoof::pipeline
 
 namespace hoof::cli {
 
@@ -33,9 +38,35 @@ void RegisterScore(CLI::App& app, RunState& state);
 void RegisterFigures(CLI::App& app, RunState& state);
 void RegisterReport(CLI::App& app, RunState& state);
 void RegisterOverlay(CLI::App& app, RunState& state);
+void RegisterDiscover(CLI::App& app, RunState& state);
 
 /// The study statistics of `stats STUDY_H5` (stored under /stats, printed, and written to
 /// `out_csv` when not empty); `run` uses it too.
 void RunStudyStatistics(const std::string& study_h5, double alpha, const std::string& out_csv);
+
+/// Settings of the discovery step (`discover`, and `run --discover`).
+struct DiscoverSettings {
+  double alpha = 0.01;  ///< family-wise level (discovery::DiscoveryOptions::alpha)
+  int folds = 3;        ///< leave-trials-out folds
+  int rounds = 3;       ///< effects added at most
+  int jobs = 0;         ///< threads (0 = all cores)
+  std::vector<std::string> candidates;  ///< library keys to try; empty = all
+  std::string figures_dir;  ///< where the figures go; empty = figures/ beside the study file
+  bool json = false;        ///< print one JSON object instead of the text
+};
+
+/// Throws CLI::ValidationError naming the option (--alpha, --folds, --rounds, --jobs) when a
+/// setting is out of range; `run` calls it before it measures anything.
+void CheckDiscoverSettings(const DiscoverSettings& settings);
+
+/// The discovery step of `discover STUDY_H5` (and `run --discover`): runs the workflow on
+/// `trials` (those of `study_h5`) with progress lines on stderr, stores the result under
+/// /discovery in `study_h5`, draws its figures, and prints the verdict and a compact evidence
+/// table on stdout (or the whole result as one JSON object with `settings.json`). Returns
+/// true when the workflow ran; false, after saying why on stderr (naming the file), when it
+/// could not (the result is stored all the same, with its reason).
+bool RunStudyDiscovery(const std::string& study_h5,
+                       const std::vector<pipeline::TrialAnalysis>& trials,
+                       const DiscoverSettings& settings);
 
 }  // namespace hoof::cli

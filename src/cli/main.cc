@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   hoof::cli::RegisterFigures(app, state);
   hoof::cli::RegisterReport(app, state);
   hoof::cli::RegisterOverlay(app, state);
+  hoof::cli::RegisterDiscover(app, state);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

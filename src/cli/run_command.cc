@@ -1,6 +1,7 @@
 // hoofimpact run: the whole study. Every trial measured, the study file written, the contact
 // law fitted per surface and every trial simulated against its measurement, the paper's
-// statistics, and the figures. Prints where everything is.
+// statistics, optionally the discovery workflow (--discover), the figures and the report.
+// Prints where everything is.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -32,6 +33,7 @@ struct RunArgs {
   int jobs = 0;
   double alpha = 0.05;
   bool trial_figures = false;
+  bool discover = false;
   pipeline::TrialAnalysisOptions options;
   std::string method = "centroid";
 };
@@ -44,6 +46,11 @@ void Run(RunArgs& a, RunState& state) {
   ApplyMethod(a.method, a.options);
   const int jobs =
       a.jobs > 0 ? a.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  DiscoverSettings discover;
+  discover.jobs = jobs;
+  discover.figures_dir = (std::filesystem::path(a.output_dir) / "figures").string();
+  if (a.discover) CheckDiscoverSettings(discover);
+  int step = 3;  // the numbered steps after the comparison
   const auto t0 = std::chrono::steady_clock::now();
   const pipeline::StudySpec study = pipeline::ReadStudy(a.study_dir);
   if (study.trial_dirs.empty()) throw std::runtime_error(a.study_dir + ": the study has no trials");
@@ -118,10 +125,18 @@ void Run(RunArgs& a, RunState& state) {
             << "; largest marker residual over the 20 frames after impact: " << worst_px << " px\n";
 
   // 3. Statistics.
-  std::cout << "\n== 3. Statistics (as the paper ran them in SAS)\n";
+  std::cout << "\n== " << step++ << ". Statistics (as the paper ran them in SAS)\n";
   RunStudyStatistics(h5.string(), a.alpha, (out / "stats.csv").string());
 
-  // 4. Figures.
+  // Discovery: where model and measurement disagree, and which effect explains it.
+  bool discovered = true;
+  if (a.discover) {
+    std::cout << "\n== " << step++ << ". Discovery: where the model and the measurements disagree\n"
+              << std::flush;
+    discovered = RunStudyDiscovery(h5.string(), trials, discover);
+  }
+
+  // Figures.
   const auto results = studyfile::ReadStudyResults(h5);
   auto figures = report::WriteStudyFigures(results, out / "figures");
   for (const auto& f : report::WriteComparisonFigures(h5, out / "figures")) figures.push_back(f);
@@ -129,11 +144,11 @@ void Run(RunArgs& a, RunState& state) {
     for (const auto& f : WriteTrialFigures(t, a.options, (out / "figures").string(),
                                            /*always=*/false, a.trial_figures))
       figures.emplace_back(f);
-  std::cout << "\n== 4. " << figures.size() << " figure file(s) in " << (out / "figures").string() << "\n";
+  std::cout << "\n== " << step++ << ". " << figures.size() << " figure file(s) in " << (out / "figures").string() << "\n";
 
-  // 5. The report.
+  // The report.
   const auto page = report::WriteHtmlReport(h5, out / "report.html");
-  std::cout << "\n== 5. Report: " << page.output.string() << " (" << page.bytes / 1024
+  std::cout << "\n== " << step++ << ". Report: " << page.output.string() << " (" << page.bytes / 1024
             << " KiB, " << page.replays << " replay(s); open it in a browser, no network needed)\n";
 
   std::cout << "\nDone in " << std::fixed << std::setprecision(1) << Since(t0) << " s. Outputs in "
@@ -142,8 +157,11 @@ void Run(RunArgs& a, RunState& state) {
             << "  study.h5     everything (docs/hdf5-schema.md)\n"
             << "  results.csv  per-trial results\n"
             << "  stats.csv    the statistics tables\n"
-            << "  figures/     the paper's figures 4-8 (3 with --trial-figures), out-of-plane checks\n";
+            << "  figures/     the paper's figures 4-8 (3 with --trial-figures), out-of-plane checks"
+            << (a.discover ? ", discovery" : "") << "\n";
   state.exit_code = ok == trials.size() ? kExitOk : ok == 0 ? kExitFailure : kExitPartial;
+  // Asked for, the discovery must have run (why not is on stderr and in the report).
+  if (!discovered) state.exit_code = kExitFailure;
 }
 
 }  // namespace
@@ -162,6 +180,9 @@ void RegisterRun(CLI::App& app, RunState& state) {
       ->capture_default_str();
   cmd->add_flag("--trial-figures", args->trial_figures,
                 "Also draw every trial's displacement figure (paper Figure 3)");
+  cmd->add_flag("--discover", args->discover,
+                "Also run the discovery workflow (as `hoofimpact discover` with its defaults) "
+                "after the comparison: /discovery, its figures and the report's Discovery section");
   AddAnalysisOptions(cmd, args->options, args->method);
   cmd->callback([args, &state] { Run(*args, state); });
 }

@@ -12,6 +12,7 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include <unistd.h>
@@ -20,9 +21,11 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "discovery/discovery_tables.h"
 #include "io/atomic_file.h"
 #include "pipeline/study_format.h"
 #include "report/comparison_figures.h"
+#include "report/discovery_figures.h"
 #include "report/figures.h"
 #include "studyfile/study_file.h"
 #include "tracking/frame_source.h"
@@ -236,11 +239,23 @@ std::string StatsSection(const fs::path& h5) {
   return h.str();
 }
 
+/// A fresh folder name for figures drawn only to be embedded.
+fs::path TemporaryFigureDir() {
+  return fs::temp_directory_path() /
+         ("hoofimpact-report-" + std::to_string(::getpid()) + "-" +
+          std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
+}
+
+/// A PNG figure embedded as a data URI, captioned with its file stem.
+std::string FigureHtml(const fs::path& png) {
+  return "<figure><img alt=\"" + HtmlEscape(png.stem().string()) +
+         "\" src=\"data:image/png;base64," + Base64(ReadBinary(png)) + "\"><figcaption>" +
+         HtmlEscape(png.stem().string()) + "</figcaption></figure>";
+}
+
 std::string FiguresSection(const studyfile::StudyResults& study, const fs::path& study_h5,
                            int& count) {
-  const fs::path dir = fs::temp_directory_path() /
-                       ("hoofimpact-report-" + std::to_string(::getpid()) + "-" +
-                        std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
+  const fs::path dir = TemporaryFigureDir();
   std::ostringstream h;
   h << "<section id=\"figures\"><h2>Figures</h2><div class=\"figures\">";
   try {
@@ -250,9 +265,7 @@ std::string FiguresSection(const studyfile::StudyResults& study, const fs::path&
     for (const auto& p : WriteComparisonFigures(study_h5, dir)) paths.push_back(p);
     for (const auto& path : paths) {
       if (path.extension() != ".png") continue;
-      h << "<figure><img alt=\"" << HtmlEscape(path.stem().string())
-        << "\" src=\"data:image/png;base64," << Base64(ReadBinary(path)) << "\"><figcaption>"
-        << HtmlEscape(path.stem().string()) << "</figcaption></figure>";
+      h << FigureHtml(path);
       ++count;
     }
   } catch (...) {
@@ -303,6 +316,255 @@ std::string TrialsSection(const studyfile::StudyResults& study, const Table& cmp
     h << "<td>" << HtmlEscape(note) << "</td></tr>";
   }
   h << "</tbody></table></section>";
+  return h.str();
+}
+
+// ---- discovery ---------------------------------------------------------------------------
+
+/// "estimate +- se unit", or a dash when the estimate is undefined.
+std::string EstimateHtml(double estimate, double se, const std::string& unit) {
+  if (!std::isfinite(estimate)) return "&ndash;";
+  std::string out = Fmt(estimate, 3);
+  if (std::isfinite(se)) out += " &plusmn; " + Fmt(se, 2);
+  if (!unit.empty() && unit != "1") out += " " + HtmlEscape(unit);
+  return out;
+}
+
+/// A fraction as a percentage ("12.3 %"), or a dash.
+std::string PercentHtml(double fraction) {
+  return std::isfinite(fraction) ? Fmt(100.0 * fraction, 3) + " %" : "&ndash;";
+}
+
+/// A p-value cell, bold when `significant`.
+std::string PCell(double p, bool significant) {
+  return std::string("<td class=\"num") + (significant ? " sig" : "") + "\">" + Fmt(p, 3) + "</td>";
+}
+
+/// The verdict's paragraphs (separated by blank lines or line breaks), escaped.
+std::string VerdictHtml(const std::string& verdict) {
+  std::string out, paragraph;
+  std::istringstream in(verdict);
+  std::string line;
+  const auto flush = [&] {
+    if (!paragraph.empty()) out += "<p>" + HtmlEscape(paragraph) + "</p>";
+    paragraph.clear();
+  };
+  while (std::getline(in, line)) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos) {
+      flush();
+      continue;
+    }
+    paragraph += (paragraph.empty() ? "" : " ") + line;
+  }
+  flush();
+  return out;
+}
+
+/// One sentence that sums the verdict up.
+std::string Headline(const discovery::DiscoveryResult& r) {
+  std::vector<std::string> named, tentative;
+  for (const auto& f : r.findings) {
+    const std::string what = f.name.empty() ? f.key : f.name;
+    if (f.status == "named") named.push_back(what);
+    if (f.status == "tentative") tentative.push_back(what);
+  }
+  const auto join = [](const std::vector<std::string>& v) {
+    std::string out;
+    for (std::size_t i = 0; i < v.size(); ++i) out += (i ? "; " : "") + v[i];
+    return out;
+  };
+  if (!named.empty())
+    return "The missing effect is named: " + join(named) +
+           ". With it in the model no significant disagreement remains.";
+  if (r.unexplained && !tentative.empty())
+    return "A significant disagreement remains unexplained. Tentatively added: " + join(tentative) +
+           ".";
+  if (r.unexplained) return "A significant disagreement remains unexplained by every candidate.";
+  return "No significant disagreement between the model and the measurements.";
+}
+
+std::string TestsTableHtml(const std::vector<discovery::StructureTest>& tests,
+                           const std::string& caption) {
+  std::ostringstream h;
+  h << "<table class=\"data discovery-tests\"><caption>" << HtmlEscape(caption)
+    << "</caption><thead><tr><th>quantity</th><th>scope</th><th>covariate</th><th>test</th>"
+       "<th>statistic</th><th>p</th><th>Holm p</th><th>in words</th></tr></thead><tbody>";
+  for (const auto& t : tests) {
+    std::string stat = Fmt(t.statistic, 4);
+    if (t.test.find('F') != std::string::npos && std::isfinite(t.df2))
+      stat = "F(" + Fmt(t.df1, 3) + ", " + Fmt(t.df2, 3) + ") = " + stat;
+    else if (std::isfinite(t.df1) && t.df1 > 0)
+      stat = "t(" + Fmt(t.df1, 3) + ") = " + stat;
+    h << "<tr><td>" << HtmlEscape(t.quantity) << "</td><td>" << HtmlEscape(t.scope) << "</td><td>"
+      << HtmlEscape(t.covariate) << "</td><td>" << HtmlEscape(t.test) << "</td><td class=\"num\">"
+      << stat << "</td><td class=\"num\">" << Fmt(t.p, 3) << "</td><td class=\"num"
+      << (t.significant ? " sig" : "") << "\">" << Fmt(t.p_holm, 3) << "</td><td>"
+      << HtmlEscape(t.description) << "</td></tr>";
+  }
+  h << "</tbody></table>";
+  return h.str();
+}
+
+std::string CandidatesTableHtml(const discovery::Round& round) {
+  std::ostringstream h;
+  h << "<table class=\"data discovery-candidates\"><caption>Candidate effects, ranked by "
+       "held-out error</caption><thead><tr><th>rank</th><th>effect</th><th>estimate "
+       "&plusmn; s.e.</th><th>LR p</th><th>&Delta;AIC</th><th>&Delta;BIC</th><th>held-out "
+       "error vs current</th><th>identifiability</th></tr></thead><tbody>";
+  for (const auto& c : round.candidates) {
+    const bool accepted = !round.accepted.empty() && c.key == round.accepted;
+    h << "<tr class=\"candidate" << (accepted ? " accepted" : "") << "\" data-key=\""
+      << HtmlEscape(c.key) << "\"><td class=\"num\">" << c.rank << "</td><td>"
+      << HtmlEscape(c.name.empty() ? c.key : c.name) << " <code>" << HtmlEscape(c.key) << "</code>"
+      << (c.measurement_effect ? " <span class=\"flag\">measurement</span>" : "")
+      << (accepted ? " <span class=\"ok\">added</span>" : "") << "</td>";
+    if (!c.fitted) {
+      h << "<td colspan=\"5\" class=\"bad\">not fitted</td><td>" << HtmlEscape(c.message)
+        << "</td></tr>";
+      continue;
+    }
+    h << "<td class=\"num\">" << (c.parameter.empty() ? "" : HtmlEscape(c.parameter) + " = ")
+      << EstimateHtml(c.estimate, c.se, c.unit) << "</td>" << PCell(c.p_value, c.significant)
+      << "<td class=\"num\">" << Fmt(c.delta_aic, 3) << "</td><td class=\"num\">"
+      << Fmt(c.delta_bic, 3) << "</td><td class=\"num"
+      << (c.cv_error < c.cv_error_current ? " ok" : "") << "\">" << Fmt(c.cv_error, 3) << " vs "
+      << Fmt(c.cv_error_current, 3) << "</td><td>" << HtmlEscape(c.identifiability)
+      << (c.confounded_with.empty() ? "" : " (absorbed by " + HtmlEscape(c.confounded_with) + ")")
+      << "</td></tr>";
+  }
+  if (round.candidates.empty()) h << "<tr><td colspan=\"8\">(no candidate)</td></tr>";
+  h << "</tbody></table>";
+  return h.str();
+}
+
+std::string FindingsTableHtml(const std::vector<discovery::Finding>& findings) {
+  std::ostringstream h;
+  h << "<table class=\"data discovery-findings\"><caption>Findings</caption><thead><tr>"
+       "<th>effect</th><th>status</th><th>estimate &plusmn; s.e.</th><th>cannot be told from</th>"
+       "<th>what would separate them</th><th>held-out gap shrink</th></tr></thead><tbody>";
+  for (const auto& f : findings) {
+    const std::string cls = f.status == "named" ? "ok" : f.status == "tentative" ? "bad" : "";
+    h << "<tr><td>" << HtmlEscape(f.name.empty() ? f.key : f.name) << " <code>" << HtmlEscape(f.key)
+      << "</code></td><td class=\"" << cls << "\">" << HtmlEscape(f.status)
+      << "</td><td class=\"num\">" << (f.parameter.empty() ? "" : HtmlEscape(f.parameter) + " = ")
+      << EstimateHtml(f.estimate, f.se, f.unit) << "</td><td>" << HtmlEscape(f.partner)
+      << "</td><td>" << HtmlEscape(f.separating_measurement) << "</td><td class=\"num\">"
+      << PercentHtml(f.gap_shrink) << "</td></tr>";
+  }
+  if (findings.empty()) h << "<tr><td colspan=\"6\">(no effect found)</td></tr>";
+  h << "</tbody></table>";
+  return h.str();
+}
+
+std::string SurfacesTableHtml(const discovery::DiscoveryResult& r) {
+  std::ostringstream h;
+  h << "<table class=\"data\"><caption>Model per surface (fitted to every used trial)</caption>"
+       "<thead><tr><th>surface</th><th>zeta, baseline</th><th>zeta, final</th><th>mu, "
+       "baseline</th><th>mu, final</th><th>trials</th></tr></thead><tbody>";
+  for (const auto& b : r.baseline) {
+    const discovery::SurfaceFit* f = nullptr;
+    for (const auto& x : r.final_model)
+      if (x.surface == b.surface) f = &x;
+    const double nan = std::nan("");
+    h << "<tr><td>" << HtmlEscape(b.surface) << "</td><td class=\"num\">"
+      << EstimateHtml(b.zeta, b.zeta_se, "") << "</td><td class=\"num\">"
+      << (f ? EstimateHtml(f->zeta, f->zeta_se, "") : EstimateHtml(nan, nan, ""))
+      << "</td><td class=\"num\">" << EstimateHtml(b.mu, b.mu_se, "") << "</td><td class=\"num\">"
+      << (f ? EstimateHtml(f->mu, f->mu_se, "") : EstimateHtml(nan, nan, ""))
+      << "</td><td class=\"num\">" << b.trials << "</td></tr>";
+  }
+  h << "</tbody></table>";
+  return h.str();
+}
+
+/// The Discovery section, or "" when the study file has no /discovery.
+std::string DiscoverySection(const fs::path& h5, HtmlReportSummary& summary) {
+  if (!discovery::HasDiscovery(h5)) return "";
+  summary.discovery = true;
+  std::ostringstream h;
+  h << "<section id=\"discovery\"><h2>Discovery</h2>";
+  discovery::DiscoveryResult r;
+  try {
+    r = discovery::ReadDiscovery(h5);
+  } catch (const std::exception& e) {
+    h << "<p class=\"bad\">The discovery tables cannot be read: " << HtmlEscape(e.what())
+      << "</p></section>";
+    summary.notes += std::string("discovery: ") + e.what() + "\n";
+    return h.str();
+  }
+  if (!r.success) {
+    h << "<p class=\"bad\" id=\"discovery-verdict\">The discovery workflow could not run: "
+      << HtmlEscape(r.message) << "</p></section>";
+    return h.str();
+  }
+  h << "<p class=\"note\">Where the baseline model (the paper's) and the measurements "
+       "disagree, which candidate effect explains it, and how much it shrinks the gap on "
+       "trials the fit never saw (<code>/discovery</code>, written by <code>hoofimpact "
+       "discover</code>; residuals are measured &minus; simulated after impact, in % of the "
+       "impact speed).</p>"
+    << "<div class=\"verdict" << (r.unexplained ? " unexplained" : "")
+    << "\" id=\"discovery-verdict\"><p class=\"headline\">" << HtmlEscape(Headline(r)) << "</p>"
+    << VerdictHtml(r.verdict) << "</div>"
+    << "<dl class=\"facts\"><dt>Trials</dt><dd>" << r.trials_used << " used, " << r.trials_skipped
+    << " skipped (not measured)</dd><dt>Rounds</dt><dd>" << r.rounds.size()
+    << "</dd><dt>Effort</dt><dd>" << r.simulations << " simulations, " << Fmt(r.seconds, 3)
+    << " s</dd>";
+  if (const auto options = TryReadTable(h5, "/discovery/options"); options && Rows(*options) == 1)
+    h << "<dt>Settings</dt><dd>alpha " << Fmt(Num(*options, "alpha", 0)) << ", "
+      << Fmt(Num(*options, "folds", 0)) << " folds, at most " << Fmt(Num(*options, "max_rounds", 0))
+      << " rounds, candidates: "
+      << HtmlEscape(Text(*options, "candidates", 0).empty() ? "all"
+                                                            : Text(*options, "candidates", 0))
+      << "</dd>";
+  h << "</dl>";
+  h << "<div class=\"tables\">" << FindingsTableHtml(r.findings) << SurfacesTableHtml(r)
+    << "</div>";
+
+  const fs::path dir = TemporaryFigureDir();
+  std::vector<fs::path> figures;
+  try {
+    figures = WriteDiscoveryFigures(r, dir);
+    const auto figure_of = [&](const std::string& stem) -> std::string {
+      for (const auto& p : figures)
+        if (p.extension() == ".png" && p.stem() == stem) {
+          ++summary.figures;
+          return "<div class=\"figures\">" + FigureHtml(p) + "</div>";
+        }
+      return "";
+    };
+    for (std::size_t i = 0; i < r.rounds.size(); ++i) {
+      const auto& round = r.rounds[i];
+      h << "<h3>Round " << i + 1 << "</h3><p>" << HtmlEscape(round.decision) << "</p>";
+      if (!round.accepted.empty())
+        h << "<p>Held-out gap " << PercentHtml(round.gap_before) << " &rarr; "
+          << PercentHtml(round.gap_after) << " (shrinks " << PercentHtml(round.gap_shrink)
+          << ") with <code>" << HtmlEscape(round.accepted) << "</code>.</p>";
+      h << CandidatesTableHtml(round);
+      std::vector<discovery::StructureTest> significant;
+      for (const auto& t : round.tests)
+        if (t.significant) significant.push_back(t);
+      if (significant.empty())
+        h << "<p class=\"note\">No significant structure in the residuals (" << round.tests.size()
+          << (round.tests.size() == 1 ? " test" : " tests") << ", Holm-adjusted).</p>";
+      else
+        h << TestsTableHtml(significant, "Significant structure in the residuals (" +
+                                             std::to_string(significant.size()) + " of " +
+                                             std::to_string(round.tests.size()) +
+                                             " tests, Holm-adjusted)");
+      h << figure_of("discovery_gap_round" + std::to_string(i + 1));
+    }
+    h << "<h3>What the final model leaves</h3>";
+    if (r.remaining.empty())
+      h << "<p class=\"ok\">No significant disagreement remains.</p>";
+    else
+      h << TestsTableHtml(r.remaining, "Significant disagreements that remain");
+    h << figure_of("discovery_residuals");
+  } catch (...) {
+    fs::remove_all(dir);
+    throw;
+  }
+  fs::remove_all(dir);
+  h << "</section>";
   return h.str();
 }
 
@@ -493,6 +755,10 @@ figcaption{text-align:center;color:#55607a;font-size:12px}
 #replay-canvas{display:block;width:min(100%,720px);background:#000;border-radius:4px}
 .key{display:inline-block;font-weight:700;margin-right:10px}.key.meas{color:#00a152}.key.sim{color:#e0157f}
 tr.failed{background:#fdecea!important}
+.verdict{border-left:4px solid #1b7a3a;background:#f1f8f3;padding:6px 14px;margin:8px 0 12px}
+.verdict.unexplained{border-left-color:#b3261e;background:#fdf1f0}
+.verdict .headline{font-weight:700}
+tr.accepted td{font-weight:600}
 )css";
 
 /// Installed first: a script error or console.error marks the page (title and an attribute),
@@ -615,6 +881,9 @@ HtmlReportSummary WriteHtmlReport(const fs::path& study_h5, const fs::path& outp
   HtmlReportSummary summary;
   summary.output = output;
   summary.trials = static_cast<int>(study.trials.size());
+  const std::string discovery_section = DiscoverySection(study_h5, summary);
+  const bool has_discovery = summary.discovery;
+  const int discovery_figures = std::exchange(summary.figures, 0);  // FiguresSection counts its own
   std::ostringstream h;
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
     << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
@@ -623,12 +892,15 @@ HtmlReportSummary WriteHtmlReport(const fs::path& study_h5, const fs::path& outp
     << "<header><h1>hoofimpact report: " << HtmlEscape(study.name) << "</h1><p>"
     << study.trials.size() << " trials &middot; " << HtmlEscape(study.created_utc)
     << "</p></header><nav><a href=\"#summary\">Study</a><a href=\"#model\">Contact model</a>"
-    << "<a href=\"#replay\">Replay</a><a href=\"#figures\">Figures</a><a href=\"#trials\">Trials</a>"
-    << "<a href=\"#statistics\">Statistics</a></nav><main>"
+    << "<a href=\"#replay\">Replay</a><a href=\"#figures\">Figures</a>"
+    << (has_discovery ? "<a href=\"#discovery\">Discovery</a>" : "")
+    << "<a href=\"#trials\">Trials</a><a href=\"#statistics\">Statistics</a></nav><main>"
     << SummarySection(study, study_h5) << ModelSection(*surfaces)
     << ReplaySection(study, study_h5, options, summary)
-    << FiguresSection(study, study_h5, summary.figures) << TrialsSection(study, *cmp)
+    << FiguresSection(study, study_h5, summary.figures) << discovery_section
+    << TrialsSection(study, *cmp)
     << StatsSection(study_h5) << "</main><script>" << kReplayJs << "</script></body></html>\n";
+  summary.figures += discovery_figures;
   const std::string page = h.str();
   io::WriteTextAtomically(output, page);
   summary.bytes = page.size();

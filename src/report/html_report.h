@@ -6,7 +6,9 @@
 /// (/stats), the study figures (Figures 4 and 5), one row per trial (/results with the z-scores
 /// of /comparison/trials) and, for a few trials, a replay of the frames around the impact that
 /// can be scrubbed frame by frame with the simulated and measured markers drawn over it
-/// (/comparison/frames/<id>).
+/// (/comparison/frames/<id>). When the study file has `/discovery` (`hoofimpact discover`), a
+/// Discovery section follows the figures: the verdict, the findings, per round the candidate
+/// evidence and the significant structure tests, and the discovery figures.
 
 #include <filesystem>
 #include <string>
@@ -37,6 +39,7 @@ struct HtmlReportSummary {
   int trials = 0;                  ///< rows of the trial table
   int figures = 0;                 ///< figures embedded
   int replays = 0;                 ///< trials with a replay
+  bool discovery = false;          ///< the page has a Discovery section (/discovery exists)
   std::string notes;               ///< what was left out and why (e.g. frames not found), "" if none
 };
 

@@ -1,0 +1,386 @@
+// hoofimpact discover: where the model and the measurements of a study file disagree, which
+// missing effect explains it, and how much adding it shrinks the gap on held-out trials
+// (docs/discovery.md). Only arguments, reading, storing and printing live here; the workflow is
+// in hoof::discovery, its tables in discovery/discovery_tables.h, its figures in hoof::report.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
+#include "cli/common_options.h"
+#include "discovery/discovery.h"
+#include "discovery/discovery_tables.h"
+#include "report/discovery_figures.h"
+#include "report/html_report.h"
+#include "studyfile/study_file.h"
+
+namespace hoof::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// ---- JSON ---------------------------------------------------------------------------------
+
+json Vector3(const Eigen::Vector3d& v) {
+  return json::array({JsonNumber(v.x()), JsonNumber(v.y()), JsonNumber(v.z())});
+}
+
+json TestJson(const discovery::StructureTest& t) {
+  return {{"quantity", t.quantity},
+          {"scope", t.scope},
+          {"covariate", t.covariate},
+          {"test", t.test},
+          {"statistic", JsonNumber(t.statistic)},
+          {"df1", JsonNumber(t.df1)},
+          {"df2", JsonNumber(t.df2)},
+          {"p", JsonNumber(t.p)},
+          {"p_holm", JsonNumber(t.p_holm)},
+          {"significant", t.significant},
+          {"description", t.description}};
+}
+
+json TestsJson(const std::vector<discovery::StructureTest>& tests) {
+  json out = json::array();
+  for (const auto& t : tests) out.push_back(TestJson(t));
+  return out;
+}
+
+json CandidateJson(const discovery::CandidateResult& c) {
+  return {{"rank", c.rank},
+          {"key", c.key},
+          {"name", c.name},
+          {"parameter", c.parameter},
+          {"unit", c.unit},
+          {"measurement_effect", c.measurement_effect},
+          {"fitted", c.fitted},
+          {"message", c.message},
+          {"estimate", JsonNumber(c.estimate)},
+          {"se", JsonNumber(c.se)},
+          {"lr_statistic", JsonNumber(c.lr_statistic)},
+          {"p_value", JsonNumber(c.p_value)},
+          {"delta_aic", JsonNumber(c.delta_aic)},
+          {"delta_bic", JsonNumber(c.delta_bic)},
+          {"cv_error", JsonNumber(c.cv_error)},
+          {"cv_error_current", JsonNumber(c.cv_error_current)},
+          {"cv_p", JsonNumber(c.cv_p)},
+          {"identifiability", c.identifiability},
+          {"confounded_with", c.confounded_with},
+          {"significant", c.significant}};
+}
+
+json RoundJson(const discovery::Round& r) {
+  json candidates = json::array(), gap = json::array();
+  for (const auto& c : r.candidates) candidates.push_back(CandidateJson(c));
+  for (const auto& g : r.gap)
+    gap.push_back({{"id", g.id},
+                   {"surface", g.surface},
+                   {"angle_deg", JsonNumber(g.angle_deg)},
+                   {"speed_m_s", JsonNumber(g.speed_m_s)},
+                   {"fold", g.fold},
+                   {"residual_before", Vector3(g.residual_before)},
+                   {"residual_after", Vector3(g.residual_after)},
+                   {"gap_before", JsonNumber(g.gap_before)},
+                   {"gap_after", JsonNumber(g.gap_after)}});
+  return {{"index", r.index},
+          {"tests", TestsJson(r.tests)},
+          {"candidates", candidates},
+          {"accepted", r.accepted},
+          {"decision", r.decision},
+          {"gap", gap},
+          {"gap_before", JsonNumber(r.gap_before)},
+          {"gap_after", JsonNumber(r.gap_after)},
+          {"gap_shrink", JsonNumber(r.gap_shrink)}};
+}
+
+json SurfacesJson(const std::vector<discovery::SurfaceFit>& fits) {
+  json out = json::array();
+  for (const auto& f : fits)
+    out.push_back({{"surface", f.surface},
+                   {"zeta", JsonNumber(f.zeta)},
+                   {"zeta_se", JsonNumber(f.zeta_se)},
+                   {"mu", JsonNumber(f.mu)},
+                   {"mu_se", JsonNumber(f.mu_se)},
+                   {"k_N_m", JsonNumber(f.k_N_m)},
+                   {"trials", f.trials}});
+  return out;
+}
+
+json ResultJson(const discovery::DiscoveryResult& r, const std::string& study_h5,
+                const DiscoverSettings& s, const std::vector<std::string>& figures) {
+  json effects = json::object();
+  for (const auto& [key, value] : r.effects) effects[key] = JsonNumber(value);
+  json rounds = json::array(), findings = json::array(), residuals = json::array();
+  for (const auto& round : r.rounds) rounds.push_back(RoundJson(round));
+  for (const auto& f : r.findings)
+    findings.push_back({{"key", f.key},
+                        {"name", f.name},
+                        {"parameter", f.parameter},
+                        {"unit", f.unit},
+                        {"status", f.status},
+                        {"estimate", JsonNumber(f.estimate)},
+                        {"se", JsonNumber(f.se)},
+                        {"partner", f.partner},
+                        {"separating_measurement", f.separating_measurement},
+                        {"gap_shrink", JsonNumber(f.gap_shrink)}});
+  for (const auto& t : r.residuals)
+    residuals.push_back({{"id", t.id},
+                         {"surface", t.surface},
+                         {"angle_deg", JsonNumber(t.angle_deg)},
+                         {"speed_m_s", JsonNumber(t.speed_m_s)},
+                         {"baseline", Vector3(t.baseline)},
+                         {"final_model", Vector3(t.final_model)},
+                         {"marker_ratio", JsonNumber(t.marker_ratio)}});
+  return {{"study_h5", study_h5},
+          {"options",
+           {{"alpha", s.alpha},
+            {"folds", s.folds},
+            {"rounds", s.rounds},
+            {"jobs", s.jobs},
+            {"candidates", s.candidates}}},
+          {"success", r.success},
+          {"message", r.message},
+          {"trials_used", r.trials_used},
+          {"trials_skipped", r.trials_skipped},
+          {"baseline", SurfacesJson(r.baseline)},
+          {"final_model", SurfacesJson(r.final_model)},
+          {"effects", effects},
+          {"rounds", rounds},
+          {"findings", findings},
+          {"unexplained", r.unexplained},
+          {"remaining", TestsJson(r.remaining)},
+          {"residuals", residuals},
+          {"verdict", r.verdict},
+          {"seconds", JsonNumber(r.seconds)},
+          {"simulations", r.simulations},
+          {"figures", figures}};
+}
+
+// ---- text ---------------------------------------------------------------------------------
+
+std::string Num(double v, int precision = 4) {
+  if (!std::isfinite(v)) return "-";
+  std::ostringstream s;
+  s << std::setprecision(precision) << v;
+  return s.str();
+}
+
+std::string Estimate(double estimate, double se, const std::string& parameter,
+                     const std::string& unit) {
+  std::string out = parameter.empty() ? "" : parameter + " = ";
+  out += Num(estimate, 3);
+  if (std::isfinite(se)) out += " +- " + Num(se, 2);
+  if (!unit.empty() && unit != "1") out += " " + unit;
+  return out;
+}
+
+std::string Percent(double fraction) {
+  return std::isfinite(fraction) ? Num(100.0 * fraction, 3) + " %" : "-";
+}
+
+void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std::string& h5) {
+  if (!r.success) {
+    os << "Discovery on " << h5 << ": could not run (" << r.trials_used << " trial(s) used, "
+       << r.trials_skipped << " skipped): " << r.message << "\n";
+    return;
+  }
+  os << "Discovery on " << h5 << ": " << r.trials_used << " trial(s) used, " << r.trials_skipped
+     << " skipped; " << r.rounds.size() << " round(s), " << r.simulations << " simulations, "
+     << Num(r.seconds, 3) << " s\n\nVerdict:\n";
+  std::istringstream verdict(r.verdict);
+  for (std::string line; std::getline(verdict, line);)
+    os << (line.empty() ? "" : "  ") << line << "\n";
+  for (std::size_t i = 0; i < r.rounds.size(); ++i) {
+    const auto& round = r.rounds[i];
+    os << "\nRound " << i + 1 << ": " << round.decision << "\n";
+    if (round.candidates.empty())
+      os << "  (no candidate)\n";
+    else
+      os << "  " << std::left << std::setw(5) << "rank" << std::setw(24) << "effect"
+         << std::setw(30) << "estimate +- se" << std::right << std::setw(10) << "LR p"
+         << std::setw(9) << "dAIC" << std::setw(9) << "dBIC" << std::setw(20)
+         << "held-out (current)"
+         << "  identifiability\n";
+    for (const auto& c : round.candidates) {
+      os << "  " << std::left << std::setw(5)
+         << (std::to_string(c.rank) + (c.key == round.accepted ? "*" : "")) << std::setw(24)
+         << c.key;
+      if (!c.fitted) {
+        os << "not fitted: " << c.message << std::right << "\n";
+        continue;
+      }
+      os << std::setw(30) << Estimate(c.estimate, c.se, c.parameter, c.unit) << std::right
+         << std::setw(10) << Num(c.p_value, 3) << std::setw(9) << Num(c.delta_aic, 3)
+         << std::setw(9) << Num(c.delta_bic, 3) << std::setw(20)
+         << (Num(c.cv_error, 3) + " (" + Num(c.cv_error_current, 3) + ")") << "  "
+         << c.identifiability << "\n";
+    }
+    int significant = 0;
+    for (const auto& t : round.tests)
+      if (t.significant) {
+        if (significant++ == 0) os << "  significant structure (Holm):\n";
+        os << "    " << t.quantity << ", " << t.scope << ", " << t.covariate << ", " << t.test
+           << ": " << Num(t.statistic) << ", p " << Num(t.p, 3) << ", Holm p " << Num(t.p_holm, 3)
+           << (t.description.empty() ? "" : " (" + t.description + ")") << "\n";
+      }
+    if (significant == 0)
+      os << "  no significant structure in the residuals (" << round.tests.size()
+         << (round.tests.size() == 1 ? " test" : " tests") << ")\n";
+    if (!round.accepted.empty())
+      os << "  held-out gap " << Percent(round.gap_before) << " -> " << Percent(round.gap_after)
+         << " (shrinks " << Percent(round.gap_shrink) << ") with " << round.accepted << "\n";
+  }
+  os << "\nFindings:\n";
+  if (r.findings.empty()) os << "  none\n";
+  for (const auto& f : r.findings) {
+    os << "  " << std::left << std::setw(18) << f.status << std::right << f.key << ": "
+       << Estimate(f.estimate, f.se, f.parameter, f.unit);
+    if (std::isfinite(f.gap_shrink)) os << "; held-out gap shrinks " << Percent(f.gap_shrink);
+    if (!f.partner.empty()) os << "; cannot be told from " << f.partner;
+    if (!f.separating_measurement.empty()) os << "; to separate: " << f.separating_measurement;
+    os << "\n";
+  }
+  os << "\nRemaining significant disagreement: " << (r.remaining.empty() ? "none" : "") << "\n";
+  for (const auto& t : r.remaining)
+    os << "  " << t.quantity << ", " << t.scope << ", " << t.covariate << ", " << t.test
+       << ": Holm p " << Num(t.p_holm, 3)
+       << (t.description.empty() ? "" : " (" + t.description + ")") << "\n";
+}
+
+// ---- the command --------------------------------------------------------------------------
+
+struct DiscoverArgs {
+  std::string study_h5;
+  DiscoverSettings settings;
+  std::string report;
+};
+
+/// The study's trials; errors name the file.
+std::vector<pipeline::TrialAnalysis> ReadTrials(const std::string& h5) {
+  if (!fs::is_regular_file(h5)) throw std::runtime_error(h5 + ": no such study file");
+  try {
+    return studyfile::ReadTrialAnalyses(h5);
+  } catch (const std::exception& e) {
+    const std::string what = e.what();
+    if (what.find(h5) != std::string::npos) throw;
+    throw std::runtime_error(h5 + ": " + what);
+  }
+}
+
+void Discover(const DiscoverArgs& a, RunState& state) {
+  CheckDiscoverSettings(a.settings);
+  const auto trials = ReadTrials(a.study_h5);
+  const bool ok = RunStudyDiscovery(a.study_h5, trials, a.settings);
+  // The report, when asked for or when one already lies beside the study file.
+  fs::path report = a.report;
+  if (report.empty()) {
+    const fs::path beside = fs::path(a.study_h5).parent_path() / "report.html";
+    if (fs::is_regular_file(beside)) report = beside;
+  }
+  if (!report.empty()) {
+    const auto page = report::WriteHtmlReport(a.study_h5, report);
+    (a.settings.json ? std::cerr : std::cout)
+        << "report: " << page.output.string() << " (" << page.bytes / 1024 << " KiB, "
+        << page.figures << " figures)\n";
+    if (!page.notes.empty()) std::cerr << page.notes;
+  }
+  state.exit_code = ok ? kExitOk : kExitFailure;
+}
+
+}  // namespace
+
+void CheckDiscoverSettings(const DiscoverSettings& s) {
+  if (!(s.alpha > 0.0 && s.alpha < 0.5))
+    throw CLI::ValidationError("--alpha", "must be in (0, 0.5), got " + Num(s.alpha));
+  if (s.folds < 2)
+    throw CLI::ValidationError("--folds", "must be at least 2, got " + std::to_string(s.folds));
+  if (s.rounds < 1)
+    throw CLI::ValidationError("--rounds", "must be at least 1, got " + std::to_string(s.rounds));
+  if (s.jobs < 0)
+    throw CLI::ValidationError("--jobs",
+                               "must be 0 (all cores) or more, got " + std::to_string(s.jobs));
+}
+
+bool RunStudyDiscovery(const std::string& study_h5,
+                       const std::vector<pipeline::TrialAnalysis>& trials,
+                       const DiscoverSettings& s) {
+  discovery::DiscoveryOptions options;
+  options.alpha = s.alpha;
+  options.folds = s.folds;
+  options.max_rounds = s.rounds;
+  options.jobs = s.jobs;
+  options.candidates = s.candidates;
+  try {
+    options.Validate();
+  } catch (const std::invalid_argument& e) {
+    throw CLI::ValidationError("discover", e.what());
+  }
+  discovery::DiscoveryResult result;
+  try {
+    result = discovery::Discover(trials, options, [](const std::string& line) {
+      std::cerr << "  discover: " << line << std::endl;
+    });
+  } catch (const std::invalid_argument& e) {  // e.g. an unknown candidate key
+    throw CLI::ValidationError("discover", e.what());
+  }
+  std::vector<studyfile::Table> tables = discovery::DiscoveryTables(result);
+  tables.push_back(discovery::DiscoveryOptionsTable(options));
+  studyfile::WriteTables(study_h5, discovery::kDiscoveryGroup, "discovery (hoofimpact discover)",
+                         tables);
+  const fs::path dir = s.figures_dir.empty() ? fs::path(study_h5).parent_path() / "figures"
+                                             : fs::path(s.figures_dir);
+  std::vector<std::string> figures;
+  for (const auto& f : report::WriteDiscoveryFigures(result, dir)) figures.push_back(f.string());
+  if (s.json) {
+    std::cout << ResultJson(result, study_h5, s, figures).dump(2) << "\n";
+  } else {
+    PrintText(std::cout, result, study_h5);
+    std::cout << "\nStored in " << study_h5 << " under /discovery; " << figures.size()
+              << " figure file(s)" << (figures.empty() ? "" : " in " + dir.string()) << "\n";
+  }
+  if (!result.success)
+    std::cerr << "hoofimpact: error: " << study_h5
+              << ": the discovery workflow could not run: " << result.message << "\n";
+  return result.success;
+}
+
+void RegisterDiscover(CLI::App& app, RunState& state) {
+  auto args = std::make_shared<DiscoverArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "discover",
+      "Find where the model and the measurements of a study file disagree, name the missing "
+      "effect with evidence, add it and show the gap shrink on held-out trials "
+      "(docs/discovery.md); stored under /discovery, with figures");
+  cmd->add_option("study_h5", args->study_h5, "Study file written by `hoofimpact run` or `analyze`")
+      ->required();
+  DiscoverSettings& s = args->settings;
+  cmd->add_option("--alpha", s.alpha,
+                  "Family-wise level: of the structure tests (Holm) and of naming a candidate "
+                  "(Bonferroni); in (0, 0.5)")
+      ->capture_default_str();
+  cmd->add_option("--folds", s.folds, "Leave-trials-out cross-validation folds (>= 2)")
+      ->capture_default_str();
+  cmd->add_option("--rounds", s.rounds, "Effects added at most (>= 1)")->capture_default_str();
+  cmd->add_option("--jobs", s.jobs, "Threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--candidates", s.candidates,
+                  "Candidate effects to try, as library keys separated by commas (default: all)")
+      ->delimiter(',');
+  cmd->add_option("--figures", s.figures_dir,
+                  "Folder for the figures (default: figures/ beside the study file)");
+  cmd->add_option("--report", args->report,
+                  "Rewrite the HTML report to this file (default: report.html beside the study "
+                  "file, when it exists)");
+  cmd->add_flag("--json", s.json, "Print the whole result as one JSON object");
+  cmd->callback([args, &state] { Discover(*args, state); });
+}
+
+}  // namespace hoof::cli

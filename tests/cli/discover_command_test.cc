@@ -1,0 +1,69 @@
+// `hoofimpact discover` at its edges: help, bad settings and files that are not study files.
+// (The workflow on rendered studies is tested in tests/discovery.)
+#include <hdf5.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "support/run_command.h"
+#include "support/test_util.h"
+
+namespace hoof::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using hoof::testing::FreshDir;
+using hoof::testing::RunHoofimpact;
+
+TEST(DiscoverCommandTest, HelpListsTheOptions) {
+  const auto r = RunHoofimpact("discover --help");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  for (const char* option : {"--alpha", "--folds", "--rounds", "--jobs", "--candidates",
+                             "--figures", "--report", "--json"})
+    EXPECT_NE(r.out.find(option), std::string::npos) << option << "\n" << r.out;
+  // And `run` offers the step.
+  const auto run = RunHoofimpact("run --help");
+  EXPECT_NE(run.out.find("--discover"), std::string::npos) << run.out;
+}
+
+TEST(DiscoverCommandTest, AMissingFileIsNamed) {
+  const auto r = RunHoofimpact("discover /nonexistent-folder/study.h5");
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.err.find("/nonexistent-folder/study.h5"), std::string::npos) << r.err;
+}
+
+TEST(DiscoverCommandTest, AFileThatIsNotHdf5IsNamed) {
+  const fs::path dir = FreshDir("discover_command_test/text");
+  const fs::path bogus = dir / "notes.h5";
+  std::ofstream(bogus) << "this is not an HDF5 file\n";
+  const auto r = RunHoofimpact("discover " + bogus.string());
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.err.find(bogus.string()), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "figures"));
+}
+
+TEST(DiscoverCommandTest, AnHdf5FileThatIsNotAStudyFileIsNamed) {
+  const fs::path dir = FreshDir("discover_command_test/empty_h5");
+  const fs::path h5 = dir / "empty.h5";
+  const hid_t f = H5Fcreate(h5.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  H5Fclose(f);
+  const auto r = RunHoofimpact("discover " + h5.string());
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.err.find(h5.string()), std::string::npos) << r.err;
+}
+
+TEST(DiscoverCommandTest, BadSettingsAreACommandLineError) {
+  auto r = RunHoofimpact("discover /nonexistent-folder/study.h5 --folds 1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--folds"), std::string::npos) << r.err;
+  r = RunHoofimpact("discover /nonexistent-folder/study.h5 --alpha 0.7");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--alpha"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace hoof::cli
