@@ -942,8 +942,13 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
     auto gain = [](const CandidateResult& c) {
       return c.fitted && c.cv_error_current > 0 ? (c.cv_error_current - c.cv_error) / c.cv_error_current : -1e300;
     };
-    std::stable_sort(rd.candidates.begin(), rd.candidates.end(),
-                     [&](const auto& a, const auto& b) { return gain(a) > gain(b); });
+    // Significant candidates first; the measurement effect's held-out error is on other data (the
+    // marker distance), so among the rest it comes after the contact effects.
+    std::stable_sort(rd.candidates.begin(), rd.candidates.end(), [&](const auto& a, const auto& b) {
+      if (a.significant != b.significant) return a.significant;
+      if (a.measurement_effect != b.measurement_effect) return !a.measurement_effect;
+      return gain(a) > gain(b);
+    });
     for (std::size_t i = 0; i < rd.candidates.size(); ++i) rd.candidates[i].rank = static_cast<int>(i) + 1;
     const CandidateResult* best = nullptr;
     for (const auto& c : rd.candidates)
