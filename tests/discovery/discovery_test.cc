@@ -90,6 +90,9 @@ struct HiddenEffect {
   int seed;
 };
 
+// Readable test names in ctest's listing.
+void PrintTo(const HiddenEffect& h, std::ostream* os) { *os << h.key << " = " << h.truth; }
+
 class HiddenEffectTest : public ::testing::TestWithParam<HiddenEffect> {};
 
 // The first target: each effect hidden at a realistic size is named, its parameter
