@@ -55,6 +55,19 @@ std::string Fmt(double v, int precision = 3) {
   return s.str();
 }
 
+/// " unit", or nothing for a dimensionless "1".
+std::string UnitSuffix(const std::string& unit) { return unit == "1" || unit.empty() ? "" : " " + unit; }
+
+/// A fraction as a whole percentage ("95"), never in exponent form.
+std::string Percent(double fraction) {
+  if (!std::isfinite(fraction)) return "n/a";
+  std::ostringstream s;
+  s << std::fixed;
+  s.precision(0);
+  s << 100 * fraction;
+  return s.str();
+}
+
 std::string FmtP(double p) {
   if (p < 1e-300) return "< 1e-300";
   std::ostringstream s;
@@ -106,6 +119,9 @@ class Workspace {
   std::vector<double> k;           // per surface (the paper's; not identified)
   std::vector<bool> has_oblique;   // per surface
   std::vector<std::string> group_names;
+  /// The comparison's per-surface fit (zeta from normal trials, mu from oblique): the start of
+  /// the baseline fit.
+  std::vector<double> zeta_start, mu_start;
   /// Per group: the scatter of the measurements within cells (same surface, angle and speed),
   /// free of any model. The held-out error of every model is weighed by it.
   std::vector<double> pure_error;
@@ -238,7 +254,7 @@ struct TrialCost {
 /// Fits the per-surface zeta and mu and the `free_effects` (others fixed at their values in
 /// `start`) to the trials `which`: two passes of reweighting, each a Ceres solve.
 Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& start,
-             const std::vector<std::string>& free_effects, bool fix_base = false) {
+             const std::vector<std::string>& free_effects) {
   Fit fit;
   fit.model = start;
   const std::size_t S = ws.surfaces.size();
@@ -286,11 +302,9 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
       if (!surface_used[s]) continue;
       problem.SetParameterLowerBound(&zeta[s], 0, 1e-4);
       problem.SetParameterUpperBound(&zeta[s], 0, 5.0);
-      if (fix_base) problem.SetParameterBlockConstant(&zeta[s]);
       if (surface_oblique[s] && problem.HasParameterBlock(&mu[s])) {
         problem.SetParameterLowerBound(&mu[s], 0, 0.0);
         problem.SetParameterUpperBound(&mu[s], 0, 2.0);
-        if (fix_base) problem.SetParameterBlockConstant(&mu[s]);
       }
     }
     for (std::size_t j = 0; j < u.size(); ++j) {
@@ -377,10 +391,6 @@ TiltFit FitTilt(const Workspace& ws, const std::vector<int>& which, bool free) {
   if (free && f.tilt_rad > 0 && n > 1) f.tilt_se_rad = f.sigma / std::sqrt(n - 1) / std::sin(f.tilt_rad);
   return f;
 }
-
-struct Test {
-  StructureTest t;
-};
 
 /// Holm's step-down adjustment, in place.
 void Holm(std::vector<StructureTest>& tests, double alpha) {
@@ -596,7 +606,6 @@ void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOp
   ws.threads = options.jobs > 0 ? options.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::map<std::string, int> surface_index;
   std::map<std::string, int> cell_index, group_index;
-  std::map<int, int> cell_count;
   *skipped = 0;
   std::vector<const pipeline::TrialAnalysis*> used;
   for (const auto& t : trials) {
@@ -622,6 +631,8 @@ void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOp
     if (added) {
       ws.surfaces.push_back(t->spec.surface);
       ws.k.push_back(m.k_N_m);
+      ws.zeta_start.push_back(m.zeta_fit.zeta);
+      ws.mu_start.push_back(std::isfinite(m.mu) ? m.mu : 0.3);
       ws.has_oblique.push_back(false);
     }
     o.surface = it->second;
@@ -711,16 +722,12 @@ void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOp
   }
   for (std::size_t g = 0; g < ss.size(); ++g)
     if (df[g] >= 2) ws.pure_error[g] = std::max(std::sqrt(ss[g] / df[g]), Workspace::kSigmaFloor);
-  (void)cell_count;
 }
 
-Model BaselineStart(const Workspace& ws, const std::vector<pipeline::TrialAnalysis>& trials) {
+Model BaselineStart(const Workspace& ws) {
   Model m;
-  for (const auto& s : ws.surfaces) {
-    const auto sm = compare::FitSurfaceModel(s, trials);
-    m.zeta.push_back(sm.zeta_fit.zeta);
-    m.mu.push_back(std::isfinite(sm.mu) ? sm.mu : 0.3);
-  }
+  m.zeta = ws.zeta_start;
+  m.mu = ws.mu_start;
   return m;
 }
 
@@ -821,7 +828,7 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
   for (const Obs& o : ws.obs) n_ratio += std::isfinite(o.marker_ratio) ? 1 : 0;
 
   say("baseline: fitting zeta and mu per surface to " + std::to_string(ws.obs.size()) + " trials");
-  Fit current = FitModel(ws, all, BaselineStart(ws, trials), {});
+  Fit current = FitModel(ws, all, BaselineStart(ws), {});
   out.baseline = SurfaceFits(ws, current);
   bool tilt_on = false;
   TiltFit tilt = FitTilt(ws, all, false);
@@ -889,8 +896,7 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
       const Fit probe = FitModel(ws, all, probe_start, free_current);
       const double probe_lr = 2 * (probe.loglik - current.loglik);
       // Without refitting, how much does the probe change the fit?
-      const Fit probe_fixed = FitModel(ws, all, probe_start, {}, /*fix_base=*/true);
-      const double fixed_lr = 2 * (probe_fixed.loglik - current.loglik);
+      const double fixed_lr = 2 * (ws.Noise(ws.Residuals(probe_start, all), all).second - current.loglik);
       const double chi95 = stats::ChiSquaredQuantile(0.95, 1);
       if (std::abs(fixed_lr) < chi95) {
         c.identifiability = "not tested by these data";
@@ -1006,10 +1012,10 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
     rd.gap_shrink = rd.gap_before > 0 ? 1 - rd.gap_after / rd.gap_before : kNaN;
     std::ostringstream d;
     d << "Added " << best->name << " (" << best->parameter << " = " << Fmt(best->estimate) << " +- " << Fmt(best->se)
-      << " " << best->unit << "): likelihood ratio " << Fmt(best->lr_statistic) << ", p = " << FmtP(best->p_value)
+      << UnitSuffix(best->unit) << "): likelihood ratio " << Fmt(best->lr_statistic) << ", p = " << FmtP(best->p_value)
       << "; held-out error " << Fmt(best->cv_error_current) << " -> " << Fmt(best->cv_error)
       << "; held-out gap " << Fmt(100 * rd.gap_before) << " % -> " << Fmt(100 * rd.gap_after) << " % ("
-      << Fmt(100 * rd.gap_shrink, 2) << " % smaller).";
+      << Percent(rd.gap_shrink) << " % smaller).";
     if (!alike.empty()) {
       d << " It cannot be told apart from";
       for (std::size_t i = 0; i < alike.size(); ++i) d << (i ? ", " : " ") << Entry(alike[i]).name;
@@ -1131,12 +1137,12 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
   for (const auto& f : out.findings) {
     if (f.status == "named") {
       any_named = true;
-      v << "Named: " << f.name << ", " << f.parameter << " = " << Fmt(f.estimate) << " +- " << Fmt(f.se) << " "
-        << f.unit << ". Added to the model, it shrinks the disagreement on held-out trials by "
-        << Fmt(100 * f.gap_shrink, 2) << " %, and no significant disagreement remains.\n";
+      v << "Named: " << f.name << ", " << f.parameter << " = " << Fmt(f.estimate) << " +- " << Fmt(f.se)
+        << UnitSuffix(f.unit) << ". Added to the model, it shrinks the disagreement on held-out trials by "
+        << Percent(f.gap_shrink) << " %, and no significant disagreement remains.\n";
     } else if (f.status == "tentative") {
-      v << "Tentative: " << f.name << ", " << f.parameter << " = " << Fmt(f.estimate) << " +- " << Fmt(f.se) << " "
-        << f.unit << ", improves the fit significantly (held-out gap " << Fmt(100 * f.gap_shrink, 2)
+      v << "Tentative: " << f.name << ", " << f.parameter << " = " << Fmt(f.estimate) << " +- " << Fmt(f.se)
+        << UnitSuffix(f.unit) << ", improves the fit significantly (held-out gap " << Percent(f.gap_shrink)
         << " % smaller) but does not account for all the disagreement.\n";
     } else if (f.status == "indistinguishable") {
       v << "Cannot be told apart with these data: " << f.name << " and " << f.partner

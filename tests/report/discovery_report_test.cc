@@ -15,6 +15,7 @@
 #include "report/html_report.h"
 #include "studyfile/study_file.h"
 #include "support/test_util.h"
+#include "support/paper_specimen.h"
 
 namespace hoof::report {
 namespace {
@@ -24,16 +25,6 @@ using discovery::DiscoveryResult;
 using hoof::testing::FreshDir;
 using hoof::testing::ReadAll;
 
-pipeline::SpecimenSpec Specimen() {
-  pipeline::SpecimenSpec s;
-  s.mass_kg = 0.008;
-  s.inertia_kg_m2 = 1.5207e-6;
-  s.end_radius_m = 0.009;
-  s.d_EC_m = 0.0135;
-  s.markers_B_m = {{"M1", {0.006, 0.0}}, {"M2", {0.024, 0.0}}};
-  return s;
-}
-
 /// A measured trial with known results (2 frames, 2 markers); no frames on disk.
 pipeline::TrialAnalysis Trial(const std::string& id, const std::string& surface, double angle,
                               double speed, double e) {
@@ -41,7 +32,7 @@ pipeline::TrialAnalysis Trial(const std::string& id, const std::string& surface,
   r.spec.id = id;
   r.spec.dir = "/nonexistent/" + id;
   r.spec.specimen_id = "A";
-  r.spec.specimen = Specimen();
+  r.spec.specimen = hoof::testing::PaperSpecimenSpec();
   r.spec.surface = surface;
   r.spec.surface_angle_deg = angle;
   r.spec.fps = 8000.0;
@@ -206,7 +197,7 @@ fs::path StudyFile(const fs::path& dir) {
   info.name = "discovery-report-study";
   info.study_dir = dir;
   info.created_utc = "2024-05-01T12:00:00Z";
-  info.specimens["A"] = Specimen();
+  info.specimens["A"] = hoof::testing::PaperSpecimenSpec();
   const fs::path h5 = dir / "study.h5";
   studyfile::WriteStudyFile(h5, info, trials);
   compare::StudyComparison cmp;

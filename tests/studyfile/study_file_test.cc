@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include "io/csv.h"
+#include "support/paper_specimen.h"
 
 namespace hoof::studyfile {
 namespace {
@@ -44,16 +45,6 @@ std::vector<std::string> Others(const fs::path& dir, const fs::path& keep) {
   return out;
 }
 
-pipeline::SpecimenSpec Specimen() {
-  pipeline::SpecimenSpec s;
-  s.mass_kg = 0.008;
-  s.inertia_kg_m2 = 1.5207e-6;
-  s.end_radius_m = 0.009;
-  s.d_EC_m = 0.0135;
-  s.markers_B_m = {{"M1", {0.006, 0.0}}, {"M2", {0.024, 0.0}}};
-  return s;
-}
-
 /// A measured trial: 3 frames x 2 markers, marker 2 lost in frame 1, and known results.
 pipeline::TrialAnalysis GoodTrial(const std::string& id, const std::string& surface, double angle,
                                   double e) {
@@ -61,7 +52,7 @@ pipeline::TrialAnalysis GoodTrial(const std::string& id, const std::string& surf
   r.spec.id = id;
   r.spec.dir = "/data/" + id;
   r.spec.specimen_id = "A";
-  r.spec.specimen = Specimen();
+  r.spec.specimen = hoof::testing::PaperSpecimenSpec();
   r.spec.surface = surface;
   r.spec.surface_angle_deg = angle;
   r.spec.fps = 8000.0;
@@ -140,7 +131,7 @@ StudyInfo Info() {
   info.name = "unit-study";
   info.study_dir = "/data";
   info.created_utc = "2024-05-01T12:00:00Z";
-  info.specimens["A"] = Specimen();
+  info.specimens["A"] = hoof::testing::PaperSpecimenSpec();
   info.options.kinematics.fit_frames = 17;
   return info;
 }
