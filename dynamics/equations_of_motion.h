@@ -50,10 +50,15 @@ struct NearAngle {
 /// the end of a phase.
 inline double SignedPow(double x, double p) { return x * std::pow(std::abs(x), p); }
 
-/// Constants of one impact and the mode (phase, friction) the equations are in.
-template <int N>
+/// Constants of one impact and the mode (phase, friction) the equations are in. With
+/// kExtensions false the effects of ContactExtensions are compiled out: the paper's model, as
+/// ImpactSimulator uses it when ContactExtensions::Any() is false, evaluates about a third
+/// faster without their branches.
+template <int N, bool kExtensions>
 struct Model {
   static_assert(N == 6 || N == 7);
+  static_assert(N == 6 || kExtensions, "a tangential spring is an extension");
+  static constexpr int kStates = N;
   using State = std::array<double, N>;
   static constexpr bool kCompliant = N == 7;
   static constexpr double kRollingSpeed_rad_s = 1.0;  // w0 of the rolling-resistance law
@@ -94,7 +99,7 @@ struct Model {
 
   /// Elastic force k |delta| (|delta| / delta_ref)^p, as a signed power.
   double Elastic(double delta) const {
-    if (!nonlinear) return -k * delta;
+    if (!kExtensions || !nonlinear) return -k * delta;
     return -k * SignedPow(delta * inv_delta_ref, p_exp) / inv_delta_ref;
   }
 
@@ -104,6 +109,7 @@ struct Model {
   /// never acts before an event ends the phase: in compression delta < 0 and delta' < 0, so
   /// every term pushes; in restitution P >= 0 until separation, where P = 0.
   double NormalForce(const State& x) const {
+    if constexpr (!kExtensions) return compression ? -k * x[1] - b * x[4] : -k * x[1];
     if (compression) return Elastic(x[1]) - (b + c_hc * std::abs(x[1])) * x[4];
     if (r_unload == 0.0) return Elastic(x[1]);
     return P_m * SignedPow((delta_p - x[1]) / (delta_p - delta_m), p_exp);
@@ -112,9 +118,8 @@ struct Model {
   /// dP/dt from the state and its derivative.
   double NormalForceRate(const State& x, const State& dxdt) const {
     const double delta = x[1], rate = x[4], accel = dxdt[4];
-    const double slope = nonlinear ? -k * (1.0 + p_exp) * std::pow(std::abs(delta) * inv_delta_ref,
-                                                                   p_exp)
-                                   : -k;
+    const double slope =
+        nonlinear ? -k * (1.0 + p_exp) * std::pow(std::abs(delta) * inv_delta_ref, p_exp) : -k;
     if (compression) {
       const double sgn = delta < 0 ? -1.0 : 1.0;
       return slope * rate - c_hc * sgn * rate * rate - (b + c_hc * std::abs(delta)) * accel;
@@ -126,6 +131,7 @@ struct Model {
 
   /// Contact torque about T of the rolling resistance.
   double RollingTorque(double w, double P) const {
+    if constexpr (!kExtensions) return 0.0;
     return rolling ? -rho * P * w / (std::abs(w) + kRollingSpeed_rad_s) : 0.0;
   }
 
@@ -134,8 +140,7 @@ struct Model {
   double StickFriction(double s, double c, double w, double P) const {
     const double arm = R + d * s;
     const double M = RollingTorque(w, P);
-    return (arm * (d * c * P - M) * inv_I - g_S.x() - d * c * w * w) /
-           (inv_m + arm * arm * inv_I);
+    return (arm * (d * c * P - M) * inv_I - g_S.x() - d * c * w * w) / (inv_m + arm * arm * inv_I);
   }
 
   /// Friction along x_S. Sliding: -sign(v_T) mu P, or with speed-dependent friction
@@ -144,7 +149,7 @@ struct Model {
   /// (v_T = 0, where the term vanishes).
   double Friction(const State& x, double s, double c, double P) const {
     if (!stick) {
-      if (speed_friction) return (slip_coef - slip_slope * SlidingVelocity(x)) * P;
+      if (kExtensions && speed_friction) return (slip_coef - slip_slope * SlidingVelocity(x)) * P;
       return slip_coef * P;
     }
     if constexpr (kCompliant) return -k_t * x[6];
@@ -161,7 +166,7 @@ struct Model {
     const double ds = d * s;
     const double dc = d * c;
     double torque = -dc * P + (R + ds) * F;
-    if (rolling) torque += RollingTorque(w, P);
+    if (kExtensions && rolling) torque += RollingTorque(w, P);
     const double a3 = torque * inv_I;
     dxdt[0] = x[3];
     dxdt[1] = x[4];

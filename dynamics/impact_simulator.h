@@ -29,9 +29,9 @@ struct BodyState {
 /// The state of the body at first touch (t = 0), when the round end touches the surface at the
 /// origin of S.
 struct ImpactConditions {
-  double surface_angle_rad = 0.0;        ///< phi, the surface angle to the horizontal (rad).
-  Eigen::Vector2d v_SC_m_s{0.0, -3.0};   ///< Velocity of C in S at first touch (m/s).
-  double w_rad_s = 0.0;                  ///< Angular velocity at first touch (rad/s).
+  double surface_angle_rad = 0.0;           ///< phi, the surface angle to the horizontal (rad).
+  Eigen::Vector2d v_SC_m_s{0.0, -3.0};      ///< Velocity of C in S at first touch (m/s).
+  double w_rad_s = 0.0;                     ///< Angular velocity at first touch (rad/s).
   double theta_S_rad = 1.5707963267948966;  ///< q3 at first touch (rad).
 
   /// The paper's initial conditions (section 2.2.1): a vertical drop at `speed_m_s` onto a
@@ -46,10 +46,14 @@ struct ImpactConditions {
 
 /// Integration settings.
 struct SimulatorOptions {
-  double relative_tolerance = 1e-8;   ///< Odeint relative error per step; in (0, 1e-3].
-  double absolute_tolerance = 1e-15;  ///< Odeint absolute error per step (SI units); > 0.
+  /// Relative error per step; in (0, 1e-3]. Each state's error estimate is held below
+  /// absolute_tolerance + relative_tolerance max(|x_i|, s_i), where s_i is the state's scale in
+  /// this impact: the normal approach speed V for velocities, V / omega_n for positions, and
+  /// these over R + d for the angular velocity and the angle (docs/science.md).
+  double relative_tolerance = 1e-8;
+  double absolute_tolerance = 1e-15;            ///< Absolute error per step (SI units); > 0.
   double gravity_m_s2 = kStandardGravity_m_s2;  ///< g, in m/s^2; >= 0 (0 turns gravity off).
-  int max_steps = 20000;              ///< Bound on accepted steps during contact; > 0.
+  int max_steps = 20000;                        ///< Bound on accepted steps during contact; > 0.
 
   /// Throws std::invalid_argument naming the field.
   void Validate() const;
@@ -95,9 +99,9 @@ struct ImpactResult {
   bool success = false;  ///< False when the integration failed; see message.
   std::string message;   ///< Why it failed, or empty.
 
-  BodyState at_touch;            ///< At first touch, t = 0.
-  BodyState at_max_compression;  ///< Where delta' = 0.
-  BodyState at_separation;       ///< Where delta returns to 0.
+  BodyState at_touch;                     ///< At first touch, t = 0.
+  BodyState at_max_compression;           ///< Where delta' = 0.
+  BodyState at_separation;                ///< Where delta returns to 0.
   Eigen::Vector2d v_ST_before{0.0, 0.0};  ///< Velocity of the body point at T, at touch.
   Eigen::Vector2d v_ST_after{0.0, 0.0};   ///< Velocity of the body point at T, at separation.
 
@@ -115,8 +119,8 @@ struct ImpactResult {
   double kinetic_energy_after_J = 0.0;
   double energy_loss_J = 0.0;  ///< kinetic_energy_before_J - kinetic_energy_after_J.
 
-  std::vector<ContactEvent> events;  ///< Phase and friction changes, in time order.
-  int steps = 0;                     ///< Accepted integration steps during contact.
+  std::vector<ContactEvent> events;       ///< Phase and friction changes, in time order.
+  int steps = 0;                          ///< Accepted integration steps during contact.
   std::vector<TrajectorySample> samples;  ///< At the requested times, in their order.
 };
 

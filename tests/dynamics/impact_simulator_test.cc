@@ -80,7 +80,8 @@ TEST(ImpactSimulatorTest, OverdampedNormalImpactsMatchTheirClosedForm) {
   for (double zeta : {1.0, 1.5, 3.0, 10.0}) {
     const double k = 5.86e7;
     const ContactParameters contact{k, DampingForRatio(zeta, k, specimen.mass_kg), 0.0};
-    const ImpactResult r = ImpactSimulator(specimen, contact, options).Simulate(ImpactConditions::Paper(2.0, 0.0));
+    const ImpactResult r =
+        ImpactSimulator(specimen, contact, options).Simulate(ImpactConditions::Paper(2.0, 0.0));
     ASSERT_TRUE(r.success) << r.message;
     EXPECT_NEAR(r.e, RestitutionOfTwoPhaseLaw(zeta), 1e-6) << "zeta " << zeta;
   }
@@ -168,9 +169,9 @@ struct BalanceCase {
   double phi_deg, v, mu;
 };
 const BalanceCase kBalance[] = {
-    {Surface::kSteel, 20, 3.28, 0.12},  {Surface::kConcrete, 30, 2.5, 0.3},
-    {Surface::kAsphalt, 30, 4.0, 0.2},  {Surface::kSteel, 5, 3.0, 0.35},   // sticks
-    {Surface::kAsphalt, 10, 2.0, 0.8},  {Surface::kConcrete, 0, 3.0, 0.5},
+    {Surface::kSteel, 20, 3.28, 0.12}, {Surface::kConcrete, 30, 2.5, 0.3},
+    {Surface::kAsphalt, 30, 4.0, 0.2}, {Surface::kSteel, 5, 3.0, 0.35},  // sticks
+    {Surface::kAsphalt, 10, 2.0, 0.8}, {Surface::kConcrete, 0, 3.0, 0.5},
 };
 
 TEST(ImpactSimulatorTest, TotalEnergyNeverRises) {
@@ -186,8 +187,8 @@ TEST(ImpactSimulatorTest, TotalEnergyNeverRises) {
     for (const auto& s : r.samples) {
       const double total = s.kinetic_energy_J + s.potential_energy_J;
       // Round-off allowance only: 1e-9 of the energy.
-      ASSERT_LE(total, previous + 1e-9 * e0) << "t = " << s.t_s << " s, phase "
-                                             << ToString(s.phase);
+      ASSERT_LE(total, previous + 1e-9 * e0)
+          << "t = " << s.t_s << " s, phase " << ToString(s.phase);
       previous = total;
     }
     // And the kinetic energy lost is positive.
@@ -247,6 +248,27 @@ TEST(ImpactSimulatorTest, ResultsConvergeAsToleranceTightens) {
   }
 }
 
+// The accuracy the default tolerance buys (docs/science.md, "Integration"): post-impact
+// velocities within 1e-8 of the impact speed of the solution at rtol 1e-12, for sliding,
+// sticking and normal cases on every surface.
+TEST(ImpactSimulatorTest, DefaultToleranceGivesVelocitiesWithin1e8OfTheImpactSpeed) {
+  const SpecimenParameters specimen;
+  const double reach = specimen.end_radius_m + specimen.d_EC_m;
+  for (const auto& c : kBalance) {
+    const ImpactConditions ic = ImpactConditions::Paper(c.v, c.phi_deg);
+    const ImpactResult ref =
+        MakeSimulator(c.surface, c.mu, kStandardGravity_m_s2, 1e-12).Simulate(ic);
+    const ImpactResult r = MakeSimulator(c.surface, c.mu).Simulate(ic);  // rtol 1e-8
+    const std::string label = SurfaceName(c.surface) + " " + std::to_string(c.phi_deg);
+    const double dv = (r.at_separation.v_SC - ref.at_separation.v_SC).lpNorm<Eigen::Infinity>();
+    const double dw = std::abs(r.at_separation.w_rad_s - ref.at_separation.w_rad_s);
+    EXPECT_LT(dv, 1e-8 * c.v) << label;
+    EXPECT_LT(dw * reach, 1e-8 * c.v) << label;
+    EXPECT_LT(std::abs(r.e - ref.e), 1e-8) << label;
+    EXPECT_LT(std::abs(r.mu_eff - ref.mu_eff), 1e-8) << label;
+  }
+}
+
 // --- Identifiability (SCIENCE.md section 4) ---------------------------------------------
 
 TEST(ImpactSimulatorTest, AtFixedZetaStiffnessBarelyChangesVelocities) {
@@ -258,8 +280,8 @@ TEST(ImpactSimulatorTest, AtFixedZetaStiffnessBarelyChangesVelocities) {
         return ImpactSimulator(specimen, c).Simulate(ImpactConditions::Paper(3.0, phi));
       };
       const ImpactResult a = run(4e6), b = run(4e8);  // k changed by 100x
-      const double rel = (a.at_separation.v_SC - b.at_separation.v_SC).norm() /
-                         b.at_separation.v_SC.norm();
+      const double rel =
+          (a.at_separation.v_SC - b.at_separation.v_SC).norm() / b.at_separation.v_SC.norm();
       EXPECT_LT(rel, 1e-3) << "zeta " << zeta << " phi " << phi;
       // ... while the contact duration changes by 10x, which frames cannot see.
       EXPECT_NEAR(a.t_separation_s / b.t_separation_s, 10.0, 0.2);
