@@ -48,6 +48,28 @@ void BM_StickImpact(benchmark::State& state) {
 }
 BENCHMARK(BM_StickImpact);
 
+// The impact with an effect of ContactExtensions on, which runs the general equations
+// (Hunt-Crossley damping; 6 states) or the tangential spring (7 states). Discovery fits these.
+void BM_ObliqueImpactHuntCrossley(benchmark::State& state) {
+  ContactParameters c = PaperContact(Surface::kSteel);
+  c.mu = 0.12;
+  c.extensions.hunt_crossley_N_s_m2 = 2e7;
+  const ImpactSimulator sim(SpecimenParameters{}, c);
+  const ImpactConditions ic = ImpactConditions::Paper(3.28, 20.0);
+  for (auto _ : state) benchmark::DoNotOptimize(sim.Simulate(ic));
+}
+BENCHMARK(BM_ObliqueImpactHuntCrossley);
+
+void BM_ObliqueImpactTangentialCompliance(benchmark::State& state) {
+  ContactParameters c = PaperContact(Surface::kSteel);
+  c.mu = 0.12;
+  c.extensions.tangential_compliance_ratio = 1.0;
+  const ImpactSimulator sim(SpecimenParameters{}, c);
+  const ImpactConditions ic = ImpactConditions::Paper(3.28, 20.0);
+  for (auto _ : state) benchmark::DoNotOptimize(sim.Simulate(ic));
+}
+BENCHMARK(BM_ObliqueImpactTangentialCompliance);
+
 // A trial's worth of samples: 60 frame times around the impact.
 void BM_ObliqueImpactAtFrameTimes(benchmark::State& state) {
   const ImpactSimulator sim = Make(Surface::kSteel, 0.12);
@@ -65,8 +87,8 @@ void BM_FitZeta(benchmark::State& state) {
   std::vector<NormalImpact> impacts;
   for (int i = 0; i < 12; ++i) {
     const double v = 1.5 + 2.5 * i / 11.0;
-    impacts.push_back(
-        {v, sim.Simulate(ImpactConditions::Paper(v, 0.0)).at_separation.v_SC.y() * (1 + 0.01 * ((i % 3) - 1))});
+    impacts.push_back({v, sim.Simulate(ImpactConditions::Paper(v, 0.0)).at_separation.v_SC.y() *
+                              (1 + 0.01 * ((i % 3) - 1))});
   }
   ContactFitOptions options;
   options.map_points_k = options.map_points_b = 0;
