@@ -43,6 +43,11 @@ std::string Join(const std::vector<std::string>& parts, const std::string& separ
 
 /// Throws std::runtime_error naming `path` for an HDF5 exception (which is no std::exception).
 [[noreturn]] void RethrowHdf5(const H5::Exception& e, const std::filesystem::path& path) {
+  // The commonest cause first: a file that is not HDF5 at all (HDF5 only says "H5Fopen failed").
+  if (std::filesystem::is_regular_file(path) && H5Fis_hdf5(path.string().c_str()) == 0)
+    throw std::runtime_error(path.string() +
+                             " is not an HDF5 file (study files are written by hoofimpact "
+                             "analyze and hoofimpact run)");
   throw std::runtime_error(path.string() + ": HDF5 error in " + e.getFuncName() + ": " +
                            e.getDetailMsg());
 }

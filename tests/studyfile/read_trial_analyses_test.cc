@@ -479,7 +479,7 @@ TEST(ReadTrialAnalysesTest, AMissingFileIsAnError) {
 TEST(ReadTrialAnalysesTest, AFileThatIsNotAStudyFileIsAnError) {
   const fs::path text = Dir() / "text.h5";
   std::ofstream(text) << "id,e\nsteel,0.8\n";
-  ExpectFailureNaming(text, "HDF5 error");
+  ExpectFailureNaming(text, "is not an HDF5 file");
 
   const fs::path other = Dir() / "other.h5";
   {
