@@ -97,11 +97,12 @@ struct Integrator {
   using Dense = odeint::dense_output_runge_kutta<Controlled>;
 };
 
-/// State in generalized coordinates -> body pose and twist in S.
+/// State in generalized coordinates -> body pose and twist in S. (model.trig gives sin and
+/// cos: exact, and cheap near the touch angle; see NearAngle.)
 template <class M>
 BodyState ToBody(const M& model, const typename M::State& x) {
-  const double s = std::sin(x[2]);
-  const double c = std::cos(x[2]);
+  double s, c;
+  model.trig.Eval(x[2], s, c);
   BodyState body;
   body.p_SC = {x[0] + model.d * c, x[1] + model.R + model.d * s};
   body.v_SC = {x[3] - model.d * s * x[5], x[4] + model.d * c * x[5]};
@@ -114,8 +115,8 @@ BodyState ToBody(const M& model, const typename M::State& x) {
 /// the surface, directly below E). The tangential spring, if any, starts unstretched.
 template <class M>
 typename M::State FromBody(const M& model, const BodyState& body) {
-  const double s = std::sin(body.theta_S_rad);
-  const double c = std::cos(body.theta_S_rad);
+  double s, c;
+  model.trig.Eval(body.theta_S_rad, s, c);
   const double w = body.w_rad_s;
   typename M::State x{};
   x[0] = body.p_SC.x() - model.d * c;
@@ -189,9 +190,10 @@ TrajectorySample MakeSample(const M& model, const SpecimenParameters& specimen, 
   sample.kinetic_energy_J = KineticEnergy(specimen, sample.body);
   sample.potential_energy_J = -specimen.mass_kg * model.g_S.dot(sample.body.p_SC);
   if (in_contact) {
+    double s, c;
+    model.trig.Eval(x[2], s, c);
     sample.normal_force_N = std::max(0.0, model.NormalForce(x));
-    sample.friction_force_N =
-        model.Friction(x, std::sin(x[2]), std::cos(x[2]), sample.normal_force_N);
+    sample.friction_force_N = model.Friction(x, s, c, sample.normal_force_N);
     sample.friction = model.friction;
     sample.potential_energy_J += model.StoredEnergy(x);
   }
@@ -298,8 +300,8 @@ ImpactResult Run(const SpecimenParameters& specimen, const ContactParameters& co
   touch.v_SC = conditions.v_SC_m_s;
   touch.p_SC = {specimen.d_EC_m * std::cos(touch.theta_S_rad),
                 specimen.end_radius_m + specimen.d_EC_m * std::sin(touch.theta_S_rad)};
+  model.trig.Reset(touch.theta_S_rad);
   State x = FromBody(model, touch);
-  model.trig.Reset(x[2]);
   result.at_touch = touch;
   result.v_ST_before = {model.SlidingVelocity(x), x[4]};
 
