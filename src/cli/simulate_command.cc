@@ -167,7 +167,9 @@ void RegisterSimulate(CLI::App& app, RunState& state) {
   AddExtensionOptions(cmd, args->extensions);
   cmd->add_option("--gravity-m-s2", args->sim.gravity_m_s2, "Gravity g; 0 turns it off")
       ->capture_default_str();
-  cmd->add_option("--rtol", args->sim.relative_tolerance, "Integrator relative tolerance")
+  cmd->add_option("--rtol", args->sim.relative_tolerance,
+                  "Integrator relative tolerance, per state against max(|x|, its scale in the "
+                  "impact); in (0, 1e-3]")
       ->capture_default_str();
   cmd->add_flag("--json", args->json, "Print one JSON object");
   cmd->add_option("--trajectory", args->trajectory_path,
