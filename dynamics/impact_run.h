@@ -128,6 +128,14 @@ typename M::State FromBody(const M& model, const BodyState& body) {
   return x;
 }
 
+/// The friction force that would keep T from sliding in state x, under normal force P.
+template <class M>
+double StickFrictionAt(const M& model, const typename M::State& x, double P) {
+  double s, c;
+  model.trig.Eval(x[2], s, c);
+  return model.StickFriction(s, c, x[5], P);
+}
+
 /// Event function of the current phase: the phase ends when it becomes positive. Compression
 /// ends at delta' = 0; restitution where P returns to 0 (delta = delta_p, 0 unless unloading
 /// is plastic).
@@ -156,7 +164,7 @@ double FrictionEvent(const M& model, const typename M::State& x) {
     case FrictionMode::kStick: {
       const double P = model.NormalForce(x);
       if constexpr (M::kCompliant) return model.k_t * std::abs(x[6]) - model.mu_static * P;
-      const double F = model.StickFriction(std::sin(x[2]), std::cos(x[2]), x[5], P);
+      const double F = StickFrictionAt(model, x, P);
       return std::abs(F) - model.mu_static * P;
     }
     case FrictionMode::kNone:
@@ -170,7 +178,7 @@ double FrictionEvent(const M& model, const typename M::State& x) {
 template <class M>
 FrictionMode ModeAtRest(const M& model, const typename M::State& x) {
   const double P = model.NormalForce(x);
-  const double F = model.StickFriction(std::sin(x[2]), std::cos(x[2]), x[5], P);
+  const double F = StickFrictionAt(model, x, P);
   if (std::abs(F) <= model.mu_static * P) return FrictionMode::kStick;
   return F > 0.0 ? FrictionMode::kSlipNegative : FrictionMode::kSlipPositive;
 }
@@ -298,9 +306,9 @@ ImpactResult Run(const SpecimenParameters& specimen, const ContactParameters& co
   touch.theta_S_rad = conditions.theta_S_rad;
   touch.w_rad_s = conditions.w_rad_s;
   touch.v_SC = conditions.v_SC_m_s;
-  touch.p_SC = {specimen.d_EC_m * std::cos(touch.theta_S_rad),
-                specimen.end_radius_m + specimen.d_EC_m * std::sin(touch.theta_S_rad)};
   model.trig.Reset(touch.theta_S_rad);
+  touch.p_SC = {specimen.d_EC_m * model.trig.c_ref,
+                specimen.end_radius_m + specimen.d_EC_m * model.trig.s_ref};
   State x = FromBody(model, touch);
   result.at_touch = touch;
   result.v_ST_before = {model.SlidingVelocity(x), x[4]};
@@ -419,7 +427,7 @@ ImpactResult Run(const SpecimenParameters& specimen, const ContactParameters& co
         push = xe[6];
       } else {
         const double P = model.NormalForce(xe);
-        push = -model.StickFriction(std::sin(xe[2]), std::cos(xe[2]), xe[5], P);
+        push = -StickFrictionAt(model, xe, P);
       }
       model.SetFriction(push > 0.0 ? FrictionMode::kSlipPositive : FrictionMode::kSlipNegative);
       result.events.push_back({t_event, ToString(model.friction)});

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/contact_integral.h"
+
 namespace hoof::dynamics {
 namespace {
 
@@ -23,34 +25,8 @@ ImpactSimulator MakeSimulator(Surface surface, double mu, double gravity = kStan
   return ImpactSimulator(SpecimenParameters{}, contact, options);
 }
 
-/// Uniform times from t0 to t1 inclusive.
-std::vector<double> Linspace(double t0, double t1, int n) {
-  std::vector<double> t(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) t[static_cast<std::size_t>(i)] = t0 + (t1 - t0) * i / (n - 1);
-  return t;
-}
-
-/// Integral over the contact of f(sample), by the composite Simpson rule on each piece between
-/// located events, where the forces are smooth (friction jumps at a stick/slip switch).
-template <class Fn>
-double IntegrateOverContact(const ImpactSimulator& sim, const ImpactConditions& ic,
-                            const ImpactResult& r, Fn f) {
-  std::vector<double> cuts = {0.0};
-  for (const auto& e : r.events) cuts.push_back(e.t_s);
-  double total = 0.0;
-  for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
-    const double a = cuts[k], b = cuts[k + 1];
-    if (b - a < 1e-14) continue;
-    // Nudge the ends inside the piece so each sample sees this piece's mode.
-    const auto t = Linspace(a + 1e-16, b - 1e-16, 4001);
-    const auto s = sim.Simulate(ic, t).samples;
-    const double h = t[1] - t[0];
-    double sum = f(s.front()) + f(s.back());
-    for (std::size_t i = 1; i + 1 < s.size(); ++i) sum += (i % 2 ? 4.0 : 2.0) * f(s[i]);
-    total += sum * h / 3.0;
-  }
-  return total;
-}
+using testing::IntegrateOverContact;
+using testing::Linspace;
 
 // --- Closed forms -------------------------------------------------------------------------
 
@@ -206,10 +182,10 @@ TEST(ImpactSimulatorTest, LinearAndAngularImpulseBalanceAcrossContact) {
     const Eigen::Vector2d g_S = GravityInSurfaceFrame(ic.surface_angle_rad, kStandardGravity_m_s2);
     const double m = specimen.mass_kg;
     // Linear: m dv_C = integral of (F, P) dt + m g T.
-    const double J_F =
-        IntegrateOverContact(sim, ic, r, [](const auto& s) { return s.friction_force_N; });
-    const double J_P =
-        IntegrateOverContact(sim, ic, r, [](const auto& s) { return s.normal_force_N; });
+    const double J_F = IntegrateOverContact(sim, ic, r, r.t_separation_s,
+                                            [](const auto& s) { return s.friction_force_N; });
+    const double J_P = IntegrateOverContact(sim, ic, r, r.t_separation_s,
+                                            [](const auto& s) { return s.normal_force_N; });
     const Eigen::Vector2d dp = m * (r.at_separation.v_SC - r.at_touch.v_SC);
     const double scale = m * c.v;
     EXPECT_NEAR(dp.x(), J_F + m * g_S.x() * T, 1e-6 * scale) << SurfaceName(c.surface);
@@ -220,12 +196,13 @@ TEST(ImpactSimulatorTest, LinearAndAngularImpulseBalanceAcrossContact) {
       return specimen.inertia_kg_m2 * b.w_rad_s +
              m * (b.p_SC.x() * b.v_SC.y() - b.p_SC.y() * b.v_SC.x());
     };
-    const double moment = IntegrateOverContact(sim, ic, r, [&](const TrajectorySample& s) {
-      const Eigen::Vector2d p_ST{s.p_SE.x(), s.p_SE.y() - specimen.end_radius_m};
-      const Eigen::Vector2d& p_SC = s.body.p_SC;
-      return p_ST.x() * s.normal_force_N - p_ST.y() * s.friction_force_N +
-             m * (p_SC.x() * g_S.y() - p_SC.y() * g_S.x());
-    });
+    const double moment =
+        IntegrateOverContact(sim, ic, r, r.t_separation_s, [&](const TrajectorySample& s) {
+          const Eigen::Vector2d p_ST{s.p_SE.x(), s.p_SE.y() - specimen.end_radius_m};
+          const Eigen::Vector2d& p_SC = s.body.p_SC;
+          return p_ST.x() * s.normal_force_N - p_ST.y() * s.friction_force_N +
+                 m * (p_SC.x() * g_S.y() - p_SC.y() * g_S.x());
+        });
     const double H_scale = scale * (specimen.end_radius_m + specimen.d_EC_m);
     EXPECT_NEAR(H(r.at_separation) - H(r.at_touch), moment, 1e-6 * H_scale)
         << SurfaceName(c.surface);

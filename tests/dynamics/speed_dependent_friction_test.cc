@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "dynamics/impact_simulator.h"
+#include "support/contact_integral.h"
 
 namespace hoof::dynamics {
 namespace {
@@ -25,35 +26,8 @@ ImpactSimulator Simulator(Surface surface, double mu, double slope_s_m, double r
   return ImpactSimulator(SpecimenParameters{}, contact, options);
 }
 
-/// Uniform times from t0 to t1 inclusive.
-std::vector<double> Linspace(double t0, double t1, int n) {
-  std::vector<double> t(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) t[static_cast<std::size_t>(i)] = t0 + (t1 - t0) * i / (n - 1);
-  return t;
-}
-
-/// Integral over [0, t_end] of f(sample) by the composite Simpson rule on each piece between
-/// located events (the friction force jumps at a stick/slip switch).
-template <class Fn>
-double Integrate(const ImpactSimulator& sim, const ImpactConditions& ic, const ImpactResult& r,
-                 double t_end, Fn f) {
-  std::vector<double> cuts = {0.0};
-  for (const auto& e : r.events)
-    if (e.t_s < t_end) cuts.push_back(e.t_s);
-  cuts.push_back(t_end);
-  double total = 0.0;
-  for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
-    const double a = cuts[k], b = cuts[k + 1];
-    if (b - a < 1e-14) continue;
-    const auto t = Linspace(a + 1e-16, b - 1e-16, 4001);  // inside the piece: its own mode
-    const auto s = sim.Simulate(ic, t).samples;
-    const double h = t[1] - t[0];
-    double sum = f(s.front()) + f(s.back());
-    for (std::size_t i = 1; i + 1 < s.size(); ++i) sum += (i % 2 ? 4.0 : 2.0) * f(s[i]);
-    total += sum * h / 3.0;
-  }
-  return total;
-}
+using testing::IntegrateOverContact;
+using testing::Linspace;
 
 void ExpectBitIdentical(const BodyState& a, const BodyState& b, const std::string& label) {
   EXPECT_EQ(a.p_SC.x(), b.p_SC.x()) << label;
@@ -181,10 +155,11 @@ TEST(SpeedDependentFrictionTest, SlidingImpulseRatioLiesBetweenMuAndItsFastestSl
     // mu_eff from the law integrated over the sampled v_T and P alone (not the simulator's
     // friction force), plus the gravity impulse over the contact.
     const double T = r.t_separation_s;
-    const double J_F = Integrate(sim, ic, r, T, [&](const TrajectorySample& p) {
+    const double J_F = IntegrateOverContact(sim, ic, r, T, [&](const TrajectorySample& p) {
       return -kSlideMu * (1 + s * p.v_ST.x()) * p.normal_force_N;
     });
-    const double J_P = Integrate(sim, ic, r, T, [](const auto& p) { return p.normal_force_N; });
+    const double J_P =
+        IntegrateOverContact(sim, ic, r, T, [](const auto& p) { return p.normal_force_N; });
     const double predicted = std::abs((J_F + m * g_S.x() * T) / (J_P + m * g_S.y() * T));
     EXPECT_NEAR(r.mu_eff, predicted, 1e-6) << s;
   }
@@ -287,8 +262,10 @@ TEST(SpeedDependentFrictionTest, EnergyNeverRisesAndImpulsesBalance) {
     // about the first-touch point O by the moments of the contact force at T and of gravity.
     const double T = r.t_separation_s;
     const Eigen::Vector2d g_S = GravityInSurfaceFrame(ic.surface_angle_rad, kStandardGravity_m_s2);
-    const double J_F = Integrate(sim, ic, r, T, [](const auto& p) { return p.friction_force_N; });
-    const double J_P = Integrate(sim, ic, r, T, [](const auto& p) { return p.normal_force_N; });
+    const double J_F =
+        IntegrateOverContact(sim, ic, r, T, [](const auto& p) { return p.friction_force_N; });
+    const double J_P =
+        IntegrateOverContact(sim, ic, r, T, [](const auto& p) { return p.normal_force_N; });
     const Eigen::Vector2d dp = m * (r.at_separation.v_SC - r.at_touch.v_SC);
     const double scale = m * c.v;
     EXPECT_NEAR(dp.x(), J_F + m * g_S.x() * T, 1e-6 * scale) << label;
@@ -297,7 +274,7 @@ TEST(SpeedDependentFrictionTest, EnergyNeverRisesAndImpulsesBalance) {
       return specimen.inertia_kg_m2 * b.w_rad_s +
              m * (b.p_SC.x() * b.v_SC.y() - b.p_SC.y() * b.v_SC.x());
     };
-    const double moment = Integrate(sim, ic, r, T, [&](const TrajectorySample& p) {
+    const double moment = IntegrateOverContact(sim, ic, r, T, [&](const TrajectorySample& p) {
       const Eigen::Vector2d p_ST{p.p_SE.x(), p.p_SE.y() - specimen.end_radius_m};
       return p_ST.x() * p.normal_force_N - p_ST.y() * p.friction_force_N +
              m * (p.body.p_SC.x() * g_S.y() - p.body.p_SC.y() * g_S.x());
