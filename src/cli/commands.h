@@ -51,12 +51,18 @@ struct DiscoverSettings {
   int rounds = 3;       ///< effects added at most
   int jobs = 0;         ///< threads (0 = all cores)
   std::vector<std::string> candidates;  ///< library keys to try; empty = all
+  /// Let a contact effect take its own value on each surface (`--shared-only` turns it off;
+  /// discovery::DiscoveryOptions::per_surface).
+  bool per_surface = true;
+  /// Lower bound of the measurement's systematic error per velocity component, fraction of the
+  /// impact speed (discovery::DiscoveryOptions::measurement_floor); in [0, 0.1).
+  double measurement_floor = 1e-4;
   std::string figures_dir;  ///< where the figures go; empty = figures/ beside the study file
   bool json = false;        ///< print one JSON object instead of the text
 };
 
-/// Throws CLI::ValidationError naming the option (--alpha, --folds, --rounds, --jobs) when a
-/// setting is out of range; `run` calls it before it measures anything.
+/// Throws CLI::ValidationError naming the option (--alpha, --folds, --rounds, --jobs,
+/// --measurement-floor) when a setting is out of range; `run` calls it before it measures anything.
 void CheckDiscoverSettings(const DiscoverSettings& settings);
 
 /// The discovery step of `discover STUDY_H5` (and `run --discover`): runs the workflow on

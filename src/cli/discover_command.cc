@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <initializer_list>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -55,6 +56,16 @@ json TestsJson(const std::vector<discovery::StructureTest>& tests) {
   return out;
 }
 
+json ValuesJson(const std::vector<discovery::EffectValue>& values) {
+  json out = json::array();
+  for (const auto& v : values)
+    out.push_back({{"key", v.key},
+                   {"surface", v.surface},
+                   {"value", JsonNumber(v.value)},
+                   {"se", JsonNumber(v.se)}});
+  return out;
+}
+
 json CandidateJson(const discovery::CandidateResult& c) {
   return {{"rank", c.rank},
           {"key", c.key},
@@ -64,18 +75,25 @@ json CandidateJson(const discovery::CandidateResult& c) {
           {"measurement_effect", c.measurement_effect},
           {"fitted", c.fitted},
           {"message", c.message},
+          {"form", discovery::ToString(c.form)},
           {"estimate", JsonNumber(c.estimate)},
           {"se", JsonNumber(c.se)},
+          {"values", ValuesJson(c.values)},
           {"lr_statistic", JsonNumber(c.lr_statistic)},
+          {"df", c.df},
           {"p_value", JsonNumber(c.p_value)},
+          {"p_per_surface", JsonNumber(c.p_per_surface)},
           {"delta_aic", JsonNumber(c.delta_aic)},
           {"delta_bic", JsonNumber(c.delta_bic)},
           {"cv_error", JsonNumber(c.cv_error)},
           {"cv_error_current", JsonNumber(c.cv_error_current)},
           {"cv_p", JsonNumber(c.cv_p)},
-          {"identifiability", c.identifiability},
+          {"identifiability", discovery::ToString(c.identifiability)},
           {"confounded_with", c.confounded_with},
-          {"significant", c.significant}};
+          {"significant", c.significant},
+          {"outcome", discovery::ToString(c.outcome)},
+          {"reason", c.reason},
+          {"detection_limit", JsonNumber(c.detection_limit)}};
 }
 
 json RoundJson(const discovery::Round& r) {
@@ -111,14 +129,14 @@ json SurfacesJson(const std::vector<discovery::SurfaceFit>& fits) {
                    {"mu", JsonNumber(f.mu)},
                    {"mu_se", JsonNumber(f.mu_se)},
                    {"k_N_m", JsonNumber(f.k_N_m)},
-                   {"trials", f.trials}});
+                   {"trials", f.trials},
+                   {"zeta_sd", JsonNumber(f.zeta_sd)},
+                   {"mu_sd", JsonNumber(f.mu_sd)}});
   return out;
 }
 
 json ResultJson(const discovery::DiscoveryResult& r, const std::string& study_h5,
                 const DiscoverSettings& s, const std::vector<std::string>& figures) {
-  json effects = json::object();
-  for (const auto& [key, value] : r.effects) effects[key] = JsonNumber(value);
   json rounds = json::array(), findings = json::array(), residuals = json::array();
   for (const auto& round : r.rounds) rounds.push_back(RoundJson(round));
   for (const auto& f : r.findings)
@@ -126,9 +144,12 @@ json ResultJson(const discovery::DiscoveryResult& r, const std::string& study_h5
                         {"name", f.name},
                         {"parameter", f.parameter},
                         {"unit", f.unit},
-                        {"status", f.status},
+                        {"status", discovery::ToString(f.status)},
+                        {"form", discovery::ToString(f.form)},
+                        {"surfaces", f.surfaces},
                         {"estimate", JsonNumber(f.estimate)},
                         {"se", JsonNumber(f.se)},
+                        {"values", ValuesJson(f.values)},
                         {"partner", f.partner},
                         {"separating_measurement", f.separating_measurement},
                         {"gap_shrink", JsonNumber(f.gap_shrink)}});
@@ -146,14 +167,18 @@ json ResultJson(const discovery::DiscoveryResult& r, const std::string& study_h5
             {"folds", s.folds},
             {"rounds", s.rounds},
             {"jobs", s.jobs},
-            {"candidates", s.candidates}}},
+            {"candidates", s.candidates},
+            {"per_surface", s.per_surface},
+            {"measurement_floor", s.measurement_floor}}},
           {"success", r.success},
           {"message", r.message},
           {"trials_used", r.trials_used},
           {"trials_skipped", r.trials_skipped},
           {"baseline", SurfacesJson(r.baseline)},
           {"final_model", SurfacesJson(r.final_model)},
-          {"effects", effects},
+          {"measurement_sd", Vector3(r.measurement_sd)},
+          {"effects", ValuesJson(r.effects)},
+          {"held_out_error_unit", discovery::kHeldOutErrorUnit},
           {"rounds", rounds},
           {"findings", findings},
           {"unexplained", r.unexplained},
@@ -187,6 +212,35 @@ std::string Percent(double fraction) {
   return std::isfinite(fraction) ? Num(100.0 * fraction, 3) + " %" : "-";
 }
 
+/// Every value ("steel: c = 0.7 +- 0.1 N s/m^2; concrete: ..."; "all surfaces" for a shared
+/// one).
+std::string ValuesText(const std::vector<discovery::EffectValue>& values,
+                       const std::string& parameter, const std::string& unit) {
+  std::string out;
+  for (const auto& v : values)
+    out += (out.empty() ? "" : "; ") + (v.surface.empty() ? "all surfaces" : v.surface) + ": " +
+           Estimate(v.value, v.se, parameter, unit);
+  return out;
+}
+
+/// Width of a column of enum texts: the longest text, and two spaces.
+template <typename Enum>
+int TextWidth(std::initializer_list<Enum> values) {
+  std::size_t width = 0;
+  for (Enum v : values) width = std::max(width, std::string(discovery::ToString(v)).size());
+  return static_cast<int>(width) + 2;
+}
+
+/// Whether a candidate gets a line saying why it was or was not added: it is significant, or
+/// its likelihood ratio was and something else decided.
+bool SaysWhy(const discovery::CandidateResult& c) {
+  using discovery::CandidateOutcome;
+  return c.significant || c.outcome == CandidateOutcome::kAdded ||
+         c.outcome == CandidateOutcome::kIndistinguishable ||
+         c.outcome == CandidateOutcome::kWeakerThanAdded ||
+         c.outcome == CandidateOutcome::kWorseHeldOut;
+}
+
 void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std::string& h5) {
   if (!r.success) {
     os << "Discovery on " << h5 << ": could not run (" << r.trials_used << " trial(s) used, "
@@ -199,6 +253,17 @@ void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std:
   std::istringstream verdict(r.verdict);
   for (std::string line; std::getline(verdict, line);)
     os << (line.empty() ? "" : "  ") << line << "\n";
+  using discovery::CandidateOutcome;
+  using discovery::Identifiability;
+  const int outcome_width =
+      TextWidth({CandidateOutcome::kAdded, CandidateOutcome::kIndistinguishable,
+                 CandidateOutcome::kWeakerThanAdded, CandidateOutcome::kNotSignificant,
+                 CandidateOutcome::kWorseHeldOut, CandidateOutcome::kNotTested,
+                 CandidateOutcome::kConfounded, CandidateOutcome::kNotFitted});
+  const int identifiability_width = TextWidth(
+      {Identifiability::kIdentified, Identifiability::kNotTested, Identifiability::kConfounded});
+  const int form_width =
+      TextWidth({discovery::EffectForm::kShared, discovery::EffectForm::kPerSurface});
   for (std::size_t i = 0; i < r.rounds.size(); ++i) {
     const auto& round = r.rounds[i];
     os << "\nRound " << i + 1 << ": " << round.decision << "\n";
@@ -206,10 +271,12 @@ void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std:
       os << "  (no candidate)\n";
     else
       os << "  " << std::left << std::setw(5) << "rank" << std::setw(24) << "effect"
-         << std::setw(30) << "estimate +- se" << std::right << std::setw(10) << "LR p"
-         << std::setw(9) << "dAIC" << std::setw(9) << "dBIC" << std::setw(20)
-         << "held-out (current)"
-         << "  identifiability\n";
+         << std::setw(form_width) << "form" << std::setw(30) << "estimate +- se" << std::right
+         << std::setw(10) << "LR p" << std::setw(9) << "dAIC" << std::setw(9) << "dBIC"
+         << "  " << std::left << std::setw(outcome_width) << "outcome"
+         << std::setw(identifiability_width) << "identifiability"
+         << "held-out error (current) [" << discovery::kHeldOutErrorUnit << "]\n"
+         << std::right;
     for (const auto& c : round.candidates) {
       os << "  " << std::left << std::setw(5)
          << (std::to_string(c.rank) + (c.key == round.accepted ? "*" : "")) << std::setw(24)
@@ -218,11 +285,26 @@ void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std:
         os << "not fitted: " << c.message << std::right << "\n";
         continue;
       }
-      os << std::setw(30) << Estimate(c.estimate, c.se, c.parameter, c.unit) << std::right
-         << std::setw(10) << Num(c.p_value, 3) << std::setw(9) << Num(c.delta_aic, 3)
-         << std::setw(9) << Num(c.delta_bic, 3) << std::setw(20)
-         << (Num(c.cv_error, 3) + " (" + Num(c.cv_error_current, 3) + ")") << "  "
-         << c.identifiability << "\n";
+      // A per-surface effect's estimate is the largest of its surface values.
+      const std::string parameter =
+          c.form == discovery::EffectForm::kPerSurface && !c.parameter.empty()
+              ? "max " + c.parameter
+              : c.parameter;
+      os << std::setw(form_width) << discovery::ToString(c.form) << std::setw(30)
+         << Estimate(c.estimate, c.se, parameter, c.unit) << std::right << std::setw(10)
+         << Num(c.p_value, 3) << std::setw(9) << Num(c.delta_aic, 3) << std::setw(9)
+         << Num(c.delta_bic, 3) << "  " << std::left << std::setw(outcome_width)
+         << discovery::ToString(c.outcome) << std::setw(identifiability_width)
+         << discovery::ToString(c.identifiability) << std::right
+         << (Num(c.cv_error, 3) + " (" + Num(c.cv_error_current, 3) + ")") << "\n";
+    }
+    for (const auto& c : round.candidates) {
+      if (!SaysWhy(c)) continue;
+      os << "  " << c.key << " (" << discovery::ToString(c.outcome)
+         << "): " << (c.reason.empty() ? "-" : c.reason);
+      if (c.form == discovery::EffectForm::kPerSurface && !c.values.empty())
+        os << " [per surface: " << ValuesText(c.values, c.parameter, c.unit) << "]";
+      os << "\n";
     }
     int significant = 0;
     for (const auto& t : round.tests)
@@ -242,8 +324,20 @@ void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std:
   os << "\nFindings:\n";
   if (r.findings.empty()) os << "  none\n";
   for (const auto& f : r.findings) {
-    os << "  " << std::left << std::setw(18) << f.status << std::right << f.key << ": "
-       << Estimate(f.estimate, f.se, f.parameter, f.unit);
+    os << "  " << std::left
+       << std::setw(
+              TextWidth({discovery::FindingStatus::kNamed, discovery::FindingStatus::kTentative,
+                         discovery::FindingStatus::kIndistinguishable}))
+       << discovery::ToString(f.status) << std::right << f.key;
+    if (f.form == discovery::EffectForm::kPerSurface) {
+      std::string on;
+      for (const auto& surface : f.surfaces) on += (on.empty() ? "" : ", ") + surface;
+      os << " (" << discovery::ToString(f.form) << (on.empty() ? "" : ", found on " + on) << "): "
+         << (f.values.empty() ? Estimate(f.estimate, f.se, f.parameter, f.unit)
+                              : ValuesText(f.values, f.parameter, f.unit));
+    } else {
+      os << ": " << Estimate(f.estimate, f.se, f.parameter, f.unit);
+    }
     if (std::isfinite(f.gap_shrink)) os << "; held-out gap shrinks " << Percent(f.gap_shrink);
     if (!f.partner.empty()) os << "; cannot be told from " << f.partner;
     if (!f.separating_measurement.empty()) os << "; to separate: " << f.separating_measurement;
@@ -308,6 +402,9 @@ void CheckDiscoverSettings(const DiscoverSettings& s) {
   if (s.jobs < 0)
     throw CLI::ValidationError("--jobs",
                                "must be 0 (all cores) or more, got " + std::to_string(s.jobs));
+  if (!(s.measurement_floor >= 0.0 && s.measurement_floor < 0.1))
+    throw CLI::ValidationError("--measurement-floor",
+                               "must be in [0, 0.1), got " + Num(s.measurement_floor));
 }
 
 bool RunStudyDiscovery(const std::string& study_h5,
@@ -319,6 +416,8 @@ bool RunStudyDiscovery(const std::string& study_h5,
   options.max_rounds = s.rounds;
   options.jobs = s.jobs;
   options.candidates = s.candidates;
+  options.per_surface = s.per_surface;
+  options.measurement_floor = s.measurement_floor;
   try {
     options.Validate();
   } catch (const std::invalid_argument& e) {
@@ -374,6 +473,15 @@ void RegisterDiscover(CLI::App& app, RunState& state) {
   cmd->add_option("--candidates", s.candidates,
                   "Candidate effects to try, as library keys separated by commas (default: all)")
       ->delimiter(',');
+  cmd->add_option("--measurement-floor", s.measurement_floor,
+                  "Lower bound of the measurement's systematic error per velocity component, as "
+                  "a fraction of the impact speed (the noise model estimates it above this); in "
+                  "[0, 0.1)")
+      ->capture_default_str();
+  cmd->add_flag_callback(
+      "--shared-only", [args] { args->settings.per_surface = false; },
+      "Give every contact effect one value shared by all surfaces (default: a per-surface "
+      "form too, chosen by a likelihood-ratio test)");
   cmd->add_option("--figures", s.figures_dir,
                   "Folder for the figures (default: figures/ beside the study file)");
   cmd->add_option("--report", args->report,

@@ -1,9 +1,12 @@
 #include "discovery/discovery_tables.h"
 
 #include <cstdint>
+#include <exception>
+#include <initializer_list>
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace hoof::discovery {
 namespace {
@@ -14,6 +17,41 @@ using studyfile::Table;
 constexpr const char* kEstimateUnits = "see column unit";
 
 std::int64_t Flag(bool b) { return b ? 1 : 0; }
+
+/// Surface names joined with ',' (empty = none: a shared effect).
+std::string JoinSurfaces(const std::vector<std::string>& surfaces) {
+  std::string out;
+  for (std::size_t i = 0; i < surfaces.size(); ++i) out += (i ? "," : "") + surfaces[i];
+  return out;
+}
+
+/// The inverse of JoinSurfaces: "" is no surface.
+std::vector<std::string> SplitSurfaces(const std::string& text) {
+  std::vector<std::string> out;
+  if (text.empty()) return out;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = text.find(',', start);
+    out.push_back(
+        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) return out;
+    start = comma + 1;
+  }
+}
+
+/// "a, b or c" of the texts of every value of an enum, for column descriptions.
+template <typename Enum>
+std::string Choices(std::initializer_list<Enum> values) {
+  std::string out;
+  std::size_t i = 0;
+  for (Enum v : values) {
+    out += std::string(i == 0 ? "" : i + 1 == values.size() ? " or " : ", ") + ToString(v);
+    ++i;
+  }
+  return out;
+}
+
+std::string FormChoices() { return Choices({EffectForm::kShared, EffectForm::kPerSurface}); }
 
 // ---- writing ------------------------------------------------------------------------------
 
@@ -41,10 +79,10 @@ Table TestsTable(const std::string& name, const std::string& description,
       {Column::Texts("quantity", "v_x, v_y, w (residuals after impact) or marker_ratio", quantity),
        Column::Texts("scope", "surface name, or all", scope),
        Column::Texts("covariate", "what the residuals are tested against", covariate),
-       Column::Texts("test", "lack-of-fit F, slope t or mean t", test),
-       Column::Numbers("statistic", "1", "F or t statistic", statistic),
-       Column::Numbers("df1", "1", "degrees of freedom (numerator of F; the t test's)", df1),
-       Column::Numbers("df2", "1", "denominator degrees of freedom of F", df2),
+       Column::Texts("test", "the test against the noise model, e.g. slope z or mean t", test),
+       Column::Numbers("statistic", "1", "z or t statistic", statistic),
+       Column::Numbers("df1", "1", "degrees of freedom of a t test (NaN for z)", df1),
+       Column::Numbers("df2", "1", "second degrees of freedom, when the test has them (NaN)", df2),
        Column::Numbers("p", "1", "p-value, unadjusted", p),
        Column::Numbers("p_holm", "1", "p-value, Holm-adjusted over every test of the round",
                        p_holm),
@@ -53,9 +91,11 @@ Table TestsTable(const std::string& name, const std::string& description,
 }
 
 Table CandidatesTable(const std::string& name, const std::vector<CandidateResult>& candidates) {
-  std::vector<std::int64_t> rank, measurement, fitted, significant;
-  std::vector<std::string> key, label, parameter, unit, message, ident, confounded;
-  std::vector<double> estimate, se, lr, p, aic, bic, cv, cv_current, cv_p;
+  std::vector<std::int64_t> rank, measurement, fitted, significant, df;
+  std::vector<std::string> key, label, parameter, unit, message, form, ident, confounded, outcome,
+      reason;
+  std::vector<double> estimate, se, lr, p, p_per_surface, aic, bic, cv, cv_current, cv_p,
+      detection_limit;
   for (const auto& c : candidates) {
     rank.push_back(c.rank);
     key.push_back(c.key);
@@ -65,57 +105,116 @@ Table CandidatesTable(const std::string& name, const std::vector<CandidateResult
     measurement.push_back(Flag(c.measurement_effect));
     fitted.push_back(Flag(c.fitted));
     message.push_back(c.message);
+    form.push_back(ToString(c.form));
     estimate.push_back(c.estimate);
     se.push_back(c.se);
     lr.push_back(c.lr_statistic);
+    df.push_back(c.df);
     p.push_back(c.p_value);
+    p_per_surface.push_back(c.p_per_surface);
     aic.push_back(c.delta_aic);
     bic.push_back(c.delta_bic);
     cv.push_back(c.cv_error);
     cv_current.push_back(c.cv_error_current);
     cv_p.push_back(c.cv_p);
-    ident.push_back(c.identifiability);
+    ident.push_back(ToString(c.identifiability));
     confounded.push_back(c.confounded_with);
     significant.push_back(Flag(c.significant));
+    outcome.push_back(ToString(c.outcome));
+    reason.push_back(c.reason);
+    detection_limit.push_back(c.detection_limit);
   }
+  const std::string outcomes =
+      Choices({CandidateOutcome::kAdded, CandidateOutcome::kIndistinguishable,
+               CandidateOutcome::kWeakerThanAdded, CandidateOutcome::kNotSignificant,
+               CandidateOutcome::kWorseHeldOut, CandidateOutcome::kNotTested,
+               CandidateOutcome::kConfounded, CandidateOutcome::kNotFitted});
+  const std::string identifiabilities = Choices(
+      {Identifiability::kIdentified, Identifiability::kNotTested, Identifiability::kConfounded});
   return Table{
       name,
       "Every candidate effect of the round, fitted jointly with the per-surface parameters, in "
-      "rank order (1 = lowest held-out error)",
-      {Column::Integers("rank", "1", "1 = lowest held-out error", rank),
+      "rank order (1 = added or strongest evidence); the values of each are in candidate_values",
+      {Column::Integers("rank", "1", "1 = added or strongest evidence", rank),
        Column::Texts("key", "library key of the effect", key),
        Column::Texts("name", "the effect in words", label),
        Column::Texts("parameter", "its parameter", parameter),
-       Column::Texts("unit", "unit of the parameter (of estimate and se)", unit),
+       Column::Texts("unit", "unit of the parameter (of estimate, se and detection_limit)", unit),
        Column::Integers("measurement_effect", "",
                         "1 when it changes the image, not the physics (out-of-plane rotation)",
                         measurement),
        Column::Integers("fitted", "", "1 when the fit ran", fitted),
        Column::Texts("message", "why the fit did not run, or empty", message),
-       Column::Numbers("estimate", kEstimateUnits, "fitted parameter (NaN when undefined)",
+       Column::Texts("form", "the form the data chose: " + FormChoices(), form),
+       Column::Numbers("estimate", kEstimateUnits,
+                       "the shared value, or the largest surface value of a per-surface effect "
+                       "(NaN when undefined)",
                        estimate),
        Column::Numbers("se", kEstimateUnits, "its standard error (NaN when undefined)", se),
        Column::Numbers("lr_statistic", "1",
-                       "-2 log likelihood of the current model minus this one (chi-square, 1 dof)",
+                       "likelihood-ratio statistic against the current model under the noise "
+                       "model",
                        lr),
+       Column::Integers("df", "1",
+                        "parameters the effect adds (boundary-corrected chi-bar-square with df "
+                        "parameters at their lower bound 0)",
+                        df),
        Column::Numbers("p_value", "1", "likelihood-ratio p-value", p),
+       Column::Numbers("p_per_surface", "1",
+                       "per-surface against shared values (chi-square, surfaces - 1 dof)",
+                       p_per_surface),
        Column::Numbers("delta_aic", "1", "AIC of this model minus the current (< 0 is better)",
                        aic),
        Column::Numbers("delta_bic", "1", "BIC of this model minus the current (< 0 is better)",
                        bic),
-       Column::Numbers("cv_error", "1",
-                       "held-out error: mean squared held-out residual in units of the training "
-                       "fit's noise, with this effect",
-                       cv),
-       Column::Numbers("cv_error_current", "1", "the same for the current model", cv_current),
+       Column::Numbers("cv_error", kHeldOutErrorUnit,
+                       "held-out error with this effect, each trial fitted without its fold", cv),
+       Column::Numbers("cv_error_current", kHeldOutErrorUnit, "the same for the current model",
+                       cv_current),
        Column::Numbers("cv_p", "1", "paired one-sided t test that the held-out error fell", cv_p),
-       Column::Texts("identifiability",
-                     "identified, not tested by these data, or indistinguishable from ...", ident),
+       Column::Texts("identifiability", identifiabilities, ident),
        Column::Texts("confounded_with", "baseline parameters that absorb it in the probe",
                      confounded),
        Column::Integers("significant", "",
                         "1 when p_value < alpha / candidates and the held-out error fell",
-                        significant)}};
+                        significant),
+       Column::Texts("outcome", "why it was or was not added: " + outcomes, outcome),
+       Column::Texts("reason", "why it was or was not added, in words", reason),
+       Column::Numbers("detection_limit", kEstimateUnits,
+                       "smallest size these trials would detect at the naming level with 80 % "
+                       "power (shared form; NaN when not computed)",
+                       detection_limit)}};
+}
+
+/// The values of effects, one row per value: `owner` is the row of the candidate or finding
+/// (0-based) in the table they belong to.
+struct ValuesOf {
+  const std::vector<EffectValue>* values;
+  std::string unit;  ///< the owner's
+};
+Table ValuesTable(const std::string& name, const std::string& description, const std::string& owner,
+                  const std::string& owner_description, const std::vector<ValuesOf>& owners) {
+  std::vector<std::int64_t> row;
+  std::vector<std::string> key, surface, unit;
+  std::vector<double> value, se;
+  for (std::size_t i = 0; i < owners.size(); ++i)
+    for (const auto& v : *owners[i].values) {
+      row.push_back(static_cast<std::int64_t>(i));
+      key.push_back(v.key);
+      surface.push_back(v.surface);
+      unit.push_back(owners[i].unit);
+      value.push_back(v.value);
+      se.push_back(v.se);
+    }
+  return Table{
+      name,
+      description,
+      {Column::Integers(owner, "1", owner_description, row),
+       Column::Texts("key", "library key of the effect", key),
+       Column::Texts("surface", "surface the value holds on; empty = all surfaces", surface),
+       Column::Texts("unit", "unit of value and se (the owner's)", unit),
+       Column::Numbers("value", kEstimateUnits, "the value", value),
+       Column::Numbers("se", kEstimateUnits, "its standard error", se)}};
 }
 
 Table GapTable(const std::string& name, const std::vector<GapTrial>& gap) {
@@ -165,7 +264,7 @@ Table GapTable(const std::string& name, const std::vector<GapTrial>& gap) {
 
 Table SurfacesTable(const DiscoveryResult& r) {
   std::vector<std::string> model, surface;
-  std::vector<double> zeta, zeta_se, mu, mu_se, k;
+  std::vector<double> zeta, zeta_se, mu, mu_se, k, zeta_sd, mu_sd;
   std::vector<std::int64_t> trials;
   for (const auto* fits : {&r.baseline, &r.final_model})
     for (const auto& f : *fits) {
@@ -177,11 +276,14 @@ Table SurfacesTable(const DiscoveryResult& r) {
       mu_se.push_back(f.mu_se);
       k.push_back(f.k_N_m);
       trials.push_back(f.trials);
+      zeta_sd.push_back(f.zeta_sd);
+      mu_sd.push_back(f.mu_sd);
     }
   return Table{
       "surfaces",
       "The model per surface fitted to every used trial: the baseline (the paper's model) and "
-      "the final model (with the accepted effects); k is not identified and stays the paper's",
+      "the final model (with the accepted effects); k is not identified and stays the paper's. "
+      "zeta_sd and mu_sd are the noise model's trial-to-trial scatter of the coefficients",
       {Column::Texts("model", "baseline or final", model),
        Column::Texts("surface", "surface name", surface),
        Column::Numbers("zeta", "1", "damping ratio", zeta),
@@ -189,7 +291,10 @@ Table SurfacesTable(const DiscoveryResult& r) {
        Column::Numbers("mu", "1", "friction coefficient", mu),
        Column::Numbers("mu_se", "1", "its standard error", mu_se),
        Column::Numbers("k_N_m", "N/m", "stiffness used (not identified)", k),
-       Column::Integers("trials", "1", "trials fitted", trials)}};
+       Column::Integers("trials", "1", "trials fitted", trials),
+       Column::Numbers("zeta_sd", "1", "s.d. of zeta from trial to trial", zeta_sd),
+       Column::Numbers("mu_sd", "1", "s.d. of mu from trial to trial (NaN without oblique trials)",
+                       mu_sd)}};
 }
 
 /// Parameter name and unit of an effect key, from the candidates and findings that name it.
@@ -249,16 +354,31 @@ class Reader {
     if (const auto* s = std::get_if<std::vector<std::string>>(&c.values)) return *s;
     throw Error(name, "is not text");
   }
+  /// A text column of enum values, each read with `parse` (a FromString function).
+  template <typename Enum>
+  std::vector<Enum> Enums(const std::string& name, Enum (*parse)(const std::string&)) const {
+    std::vector<Enum> out;
+    const auto texts = Texts(name);
+    for (std::size_t i = 0; i < texts.size(); ++i) {
+      try {
+        out.push_back(parse(texts[i]));
+      } catch (const std::exception& e) {
+        throw Error(name, "row " + std::to_string(i) + ": " + e.what());
+      }
+    }
+    return out;
+  }
+  /// The error for a bad value of column `column`.
+  std::runtime_error Error(const std::string& column, const std::string& what) const {
+    return std::runtime_error(h5_.string() + ": table " + path_ + ": column \"" + column + "\" " +
+                              what);
+  }
 
  private:
   const Column& Find(const std::string& name) const {
     for (const auto& c : table_.columns)
       if (c.name == name) return c;
     throw Error(name, "is missing");
-  }
-  std::runtime_error Error(const std::string& column, const std::string& what) const {
-    return std::runtime_error(h5_.string() + ": table " + path_ + ": column \"" + column + "\" " +
-                              what);
   }
 
   std::filesystem::path h5_;
@@ -299,13 +419,18 @@ std::vector<CandidateResult> ReadCandidates(const std::filesystem::path& h5,
   const auto rank = t.Integers("rank");
   const auto key = t.Texts("key"), label = t.Texts("name"), parameter = t.Texts("parameter"),
              unit = t.Texts("unit"), message = t.Texts("message"),
-             ident = t.Texts("identifiability"), confounded = t.Texts("confounded_with");
+             confounded = t.Texts("confounded_with"), reason = t.Texts("reason");
+  const auto form = t.Enums("form", &EffectFormFromString);
+  const auto ident = t.Enums("identifiability", &IdentifiabilityFromString);
+  const auto outcome = t.Enums("outcome", &CandidateOutcomeFromString);
   const auto measurement = t.Flags("measurement_effect"), fitted = t.Flags("fitted"),
              significant = t.Flags("significant");
+  const auto df = t.Integers("df");
   const auto estimate = t.Numbers("estimate"), se = t.Numbers("se"), lr = t.Numbers("lr_statistic"),
-             p = t.Numbers("p_value"), aic = t.Numbers("delta_aic"), bic = t.Numbers("delta_bic"),
-             cv = t.Numbers("cv_error"), cv_current = t.Numbers("cv_error_current"),
-             cv_p = t.Numbers("cv_p");
+             p = t.Numbers("p_value"), p_per_surface = t.Numbers("p_per_surface"),
+             aic = t.Numbers("delta_aic"), bic = t.Numbers("delta_bic"), cv = t.Numbers("cv_error"),
+             cv_current = t.Numbers("cv_error_current"), cv_p = t.Numbers("cv_p"),
+             detection_limit = t.Numbers("detection_limit");
   std::vector<CandidateResult> out(t.rows());
   for (std::size_t i = 0; i < t.rows(); ++i) {
     auto& c = out[i];
@@ -317,10 +442,13 @@ std::vector<CandidateResult> ReadCandidates(const std::filesystem::path& h5,
     c.measurement_effect = measurement[i];
     c.fitted = fitted[i];
     c.message = message[i];
+    c.form = form[i];
     c.estimate = estimate[i];
     c.se = se[i];
     c.lr_statistic = lr[i];
+    c.df = static_cast<int>(df[i]);
     c.p_value = p[i];
+    c.p_per_surface = p_per_surface[i];
     c.delta_aic = aic[i];
     c.delta_bic = bic[i];
     c.cv_error = cv[i];
@@ -329,8 +457,30 @@ std::vector<CandidateResult> ReadCandidates(const std::filesystem::path& h5,
     c.identifiability = ident[i];
     c.confounded_with = confounded[i];
     c.significant = significant[i];
+    c.outcome = outcome[i];
+    c.reason = reason[i];
+    c.detection_limit = detection_limit[i];
   }
   return out;
+}
+
+/// Reads a ValuesTable and appends each row's value to the `values` of its owner (`owner`
+/// column: the row of `owners`).
+template <typename Owner>
+void ReadValues(const std::filesystem::path& h5, const std::string& table, const std::string& owner,
+                std::vector<Owner>& owners) {
+  const Reader t(h5, table);
+  const auto row = t.Integers(owner);
+  const auto key = t.Texts("key"), surface = t.Texts("surface");
+  const auto value = t.Numbers("value"), se = t.Numbers("se");
+  for (std::size_t i = 0; i < t.rows(); ++i) {
+    if (row[i] < 0 || static_cast<std::size_t>(row[i]) >= owners.size())
+      throw t.Error(owner, "row " + std::to_string(i) + ": " + std::to_string(row[i]) +
+                               " is not a row of the " + std::to_string(owners.size()) +
+                               " it refers to");
+    owners[static_cast<std::size_t>(row[i])].values.push_back(
+        EffectValue{key[i], surface[i], value[i], se[i]});
+  }
 }
 
 std::vector<GapTrial> ReadGap(const std::filesystem::path& h5, const std::string& table) {
@@ -381,25 +531,36 @@ std::vector<Table> DiscoveryTables(const DiscoveryResult& r) {
        Column::Integers("simulations", "1", "impacts simulated", {r.simulations}),
        Column::Integers("rounds", "1", "rounds run (tables rounds/1 ... rounds/<n>)",
                         {static_cast<std::int64_t>(r.rounds.size())}),
-       Column::Texts("verdict", "the verdict in plain language", {r.verdict})}});
+       Column::Texts("verdict", "the verdict in plain language", {r.verdict}),
+       Column::Numbers("measurement_sd_v_x", "1",
+                       "systematic measurement error (s.d.) of v_x after impact, fraction of the "
+                       "impact speed (final noise model)",
+                       {r.measurement_sd.x()}),
+       Column::Numbers("measurement_sd_v_y", "1", "the same of v_y", {r.measurement_sd.y()}),
+       Column::Numbers("measurement_sd_w", "1", "the same of w d_EC", {r.measurement_sd.z()})}});
   tables.push_back(SurfacesTable(r));
   {
-    std::vector<std::string> key, parameter, unit;
-    std::vector<double> value;
-    for (const auto& [k, v] : r.effects) {
-      const auto [p, u] = ParameterOf(r, k);
-      key.push_back(k);
+    std::vector<std::string> key, surface, parameter, unit;
+    std::vector<double> value, se;
+    for (const auto& e : r.effects) {
+      const auto [p, u] = ParameterOf(r, e.key);
+      key.push_back(e.key);
+      surface.push_back(e.surface);
       parameter.push_back(p);
       unit.push_back(u);
-      value.push_back(v);
+      value.push_back(e.value);
+      se.push_back(e.se);
     }
-    tables.push_back(
-        Table{"effects",
-              "The final model's effects beyond the paper's model, with their values",
-              {Column::Texts("key", "library key of the effect", key),
-               Column::Texts("parameter", "its parameter", parameter),
-               Column::Texts("unit", "unit of the value", unit),
-               Column::Numbers("value", kEstimateUnits, "value in the final model", value)}});
+    tables.push_back(Table{
+        "effects",
+        "The final model's effects beyond the paper's model, with their values: one row "
+        "per value (a per-surface effect has one per surface)",
+        {Column::Texts("key", "library key of the effect", key),
+         Column::Texts("surface", "surface the value holds on; empty = all surfaces", surface),
+         Column::Texts("parameter", "its parameter", parameter),
+         Column::Texts("unit", "unit of value and se", unit),
+         Column::Numbers("value", kEstimateUnits, "value in the final model", value),
+         Column::Numbers("se", kEstimateUnits, "its standard error", se)}});
   }
   for (std::size_t i = 0; i < r.rounds.size(); ++i) {
     const Round& round = r.rounds[i];
@@ -422,17 +583,29 @@ std::vector<Table> DiscoveryTables(const DiscoveryResult& r) {
                                 "the round's tests)",
                                 round.tests));
     tables.push_back(CandidatesTable(prefix + "candidates", round.candidates));
+    std::vector<ValuesOf> values;
+    for (const auto& c : round.candidates) values.push_back({&c.values, c.unit});
+    tables.push_back(ValuesTable(prefix + "candidate_values",
+                                 "Every value of each candidate's chosen form (one row for a "
+                                 "shared effect, one per surface for a per-surface effect)",
+                                 "candidate", "row of the candidate in candidates (0-based)",
+                                 values));
     tables.push_back(GapTable(prefix + "gap", round.gap));
   }
   {
-    std::vector<std::string> key, label, parameter, unit, status, partner, separating;
+    std::vector<std::string> key, label, parameter, unit, status, form, surfaces, partner,
+        separating;
     std::vector<double> estimate, se, shrink;
+    std::vector<ValuesOf> values;
     for (const auto& f : r.findings) {
       key.push_back(f.key);
       label.push_back(f.name);
       parameter.push_back(f.parameter);
       unit.push_back(f.unit);
-      status.push_back(f.status);
+      status.push_back(ToString(f.status));
+      form.push_back(ToString(f.form));
+      surfaces.push_back(JoinSurfaces(f.surfaces));
+      values.push_back({&f.values, f.unit});
       estimate.push_back(f.estimate);
       se.push_back(f.se);
       partner.push_back(f.partner);
@@ -446,12 +619,23 @@ std::vector<Table> DiscoveryTables(const DiscoveryResult& r) {
          Column::Texts("name", "the effect in words", label),
          Column::Texts("parameter", "its parameter", parameter),
          Column::Texts("unit", "unit of estimate and se", unit),
-         Column::Texts("status", "named, tentative or indistinguishable", status),
-         Column::Numbers("estimate", kEstimateUnits, "parameter value", estimate),
+         Column::Texts("status",
+                       Choices({FindingStatus::kNamed, FindingStatus::kTentative,
+                                FindingStatus::kIndistinguishable}),
+                       status),
+         Column::Texts("form", FormChoices(), form),
+         Column::Texts("surfaces",
+                       "surfaces it was found on, joined with ','; empty for a shared effect",
+                       surfaces),
+         Column::Numbers("estimate", kEstimateUnits,
+                         "shared value, or the largest surface value (all in finding_values)",
+                         estimate),
          Column::Numbers("se", kEstimateUnits, "its standard error", se),
          Column::Texts("partner", "what it cannot be told apart from", partner),
          Column::Texts("separating_measurement", "what would separate them", separating),
          Column::Numbers("gap_shrink", "1", "held-out gap shrink when it was added", shrink)}});
+    tables.push_back(ValuesTable("finding_values", "Every value of each finding's effect",
+                                 "finding", "row of the finding in findings (0-based)", values));
   }
   tables.push_back(TestsTable("remaining",
                               "The significant disagreements the final model leaves (no rows: "
@@ -509,8 +693,18 @@ Table DiscoveryOptionsTable(const DiscoveryOptions& o) {
        Column::Integers("max_rounds", "1", "effects added at most", {o.max_rounds}),
        Column::Integers("jobs", "1", "threads (0 = all cores)", {o.jobs}),
        Column::Texts("candidates", "library keys tried, joined with ','; empty = all", {keys}),
+       Column::Integers("per_surface", "",
+                        "1 when a contact effect could take its own value on each surface",
+                        {Flag(o.per_surface)}),
        Column::Numbers("relative_tolerance", "1", "of the simulator during fits",
-                       {o.relative_tolerance})}};
+                       {o.relative_tolerance}),
+       Column::Numbers("marker_ratio_tolerance", "1",
+                       "smallest departure of the marker distance ratio that counts",
+                       {o.marker_ratio_tolerance}),
+       Column::Numbers("measurement_floor", "1",
+                       "lower bound of the systematic measurement error per velocity component, "
+                       "fraction of the impact speed",
+                       {o.measurement_floor})}};
 }
 
 DiscoveryResult ReadDiscovery(const std::filesystem::path& h5) {
@@ -530,12 +724,15 @@ DiscoveryResult ReadDiscovery(const std::filesystem::path& h5) {
     r.simulations = static_cast<long long>(t.Integers("simulations")[0]);
     rounds = t.Integers("rounds")[0];
     r.verdict = t.Texts("verdict")[0];
+    r.measurement_sd = {t.Numbers("measurement_sd_v_x")[0], t.Numbers("measurement_sd_v_y")[0],
+                        t.Numbers("measurement_sd_w")[0]};
   }
   {
     const Reader t(h5, "surfaces");
     const auto model = t.Texts("model"), surface = t.Texts("surface");
     const auto zeta = t.Numbers("zeta"), zeta_se = t.Numbers("zeta_se"), mu = t.Numbers("mu"),
-               mu_se = t.Numbers("mu_se"), k = t.Numbers("k_N_m");
+               mu_se = t.Numbers("mu_se"), k = t.Numbers("k_N_m"), zeta_sd = t.Numbers("zeta_sd"),
+               mu_sd = t.Numbers("mu_sd");
     const auto trials = t.Integers("trials");
     for (std::size_t i = 0; i < t.rows(); ++i) {
       SurfaceFit f;
@@ -546,14 +743,17 @@ DiscoveryResult ReadDiscovery(const std::filesystem::path& h5) {
       f.mu_se = mu_se[i];
       f.k_N_m = k[i];
       f.trials = static_cast<int>(trials[i]);
+      f.zeta_sd = zeta_sd[i];
+      f.mu_sd = mu_sd[i];
       (model[i] == "baseline" ? r.baseline : r.final_model).push_back(f);
     }
   }
   {
     const Reader t(h5, "effects");
-    const auto key = t.Texts("key");
-    const auto value = t.Numbers("value");
-    for (std::size_t i = 0; i < t.rows(); ++i) r.effects[key[i]] = value[i];
+    const auto key = t.Texts("key"), surface = t.Texts("surface");
+    const auto value = t.Numbers("value"), se = t.Numbers("se");
+    for (std::size_t i = 0; i < t.rows(); ++i)
+      r.effects.push_back(EffectValue{key[i], surface[i], value[i], se[i]});
   }
   for (std::int64_t n = 1; n <= rounds; ++n) {
     const std::string prefix = "rounds/" + std::to_string(n) + "/";
@@ -572,14 +772,17 @@ DiscoveryResult ReadDiscovery(const std::filesystem::path& h5) {
     }
     round.tests = ReadTests(h5, prefix + "tests");
     round.candidates = ReadCandidates(h5, prefix + "candidates");
+    ReadValues(h5, prefix + "candidate_values", "candidate", round.candidates);
     round.gap = ReadGap(h5, prefix + "gap");
     r.rounds.push_back(std::move(round));
   }
   {
     const Reader t(h5, "findings");
     const auto key = t.Texts("key"), label = t.Texts("name"), parameter = t.Texts("parameter"),
-               unit = t.Texts("unit"), status = t.Texts("status"), partner = t.Texts("partner"),
+               unit = t.Texts("unit"), surfaces = t.Texts("surfaces"), partner = t.Texts("partner"),
                separating = t.Texts("separating_measurement");
+    const auto status = t.Enums("status", &FindingStatusFromString);
+    const auto form = t.Enums("form", &EffectFormFromString);
     const auto estimate = t.Numbers("estimate"), se = t.Numbers("se"),
                shrink = t.Numbers("gap_shrink");
     for (std::size_t i = 0; i < t.rows(); ++i) {
@@ -589,6 +792,8 @@ DiscoveryResult ReadDiscovery(const std::filesystem::path& h5) {
       f.parameter = parameter[i];
       f.unit = unit[i];
       f.status = status[i];
+      f.form = form[i];
+      f.surfaces = SplitSurfaces(surfaces[i]);
       f.estimate = estimate[i];
       f.se = se[i];
       f.partner = partner[i];
@@ -597,6 +802,7 @@ DiscoveryResult ReadDiscovery(const std::filesystem::path& h5) {
       r.findings.push_back(std::move(f));
     }
   }
+  ReadValues(h5, "finding_values", "finding", r.findings);
   r.remaining = ReadTests(h5, "remaining");
   {
     const Reader t(h5, "residuals");

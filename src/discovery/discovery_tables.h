@@ -4,17 +4,25 @@
 ///
 /// Tables (names below `/discovery`):
 ///  - `summary`: one row: success, message, trials_used, trials_skipped, unexplained, seconds,
-///    simulations, rounds (how many `rounds/<n>` follow), verdict;
-///  - `surfaces`: the per-surface fits, baseline and final model (column `model`);
-///  - `effects`: the final model's effect values (key, parameter, unit, value);
+///    simulations, rounds (how many `rounds/<n>` follow), verdict, measurement_sd_{v_x,v_y,w}
+///    (the final noise model's systematic measurement error);
+///  - `surfaces`: the per-surface fits, baseline and final model (column `model`), with the
+///    noise model's trial-to-trial scatter zeta_sd, mu_sd;
+///  - `effects`: the final model's effect values, one row per value (key, surface (empty = all
+///    surfaces), parameter, unit, value, se);
 ///  - `rounds/<n>/summary` (one row), `rounds/<n>/tests`, `rounds/<n>/candidates` (rank order),
-///    `rounds/<n>/gap` (one row per held-out trial; no rows when no effect was added), for
-///    n = 1, 2, ... in the order of DiscoveryResult::rounds;
-///  - `findings`, `remaining` (the significant tests the final model leaves), `residuals` (per
+///    `rounds/<n>/candidate_values` (every value of each candidate's chosen form: candidate (its
+///    0-based row in `candidates`), key, surface, unit, value, se), `rounds/<n>/gap` (one row per
+///    held-out trial; no rows when no effect was added), for n = 1, 2, ... in the order of
+///    DiscoveryResult::rounds;
+///  - `findings` (surfaces joined with ','), `finding_values` (as candidate_values, column
+///    `finding`), `remaining` (the significant tests the final model leaves), `residuals` (per
 ///    trial, baseline and final model);
 ///  - `options` (optional, DiscoveryOptionsTable): the settings it ran with.
+/// Enums (form, identifiability, outcome, status) are stored as their ToString() text and read
+/// back with the FromString functions.
 /// Residuals are fractions of the impact speed (units "1"); a parameter's estimate carries the
-/// unit named in the row's `unit` column.
+/// unit named in the row's `unit` column; the held-out errors carry kHeldOutErrorUnit.
 
 #include <filesystem>
 #include <vector>
@@ -31,8 +39,9 @@ inline constexpr const char* kDiscoveryGroup = "/discovery";
 std::vector<studyfile::Table> DiscoveryTables(const DiscoveryResult& result);
 
 /// The settings the workflow ran with, as the one-row table `options` (alpha, folds,
-/// max_rounds, jobs, candidates joined with ',' (empty = all), relative_tolerance); callers that
-/// know the options append it to DiscoveryTables() (ReadDiscovery does not need it).
+/// max_rounds, jobs, candidates joined with ',' (empty = all), per_surface, relative_tolerance,
+/// marker_ratio_tolerance, measurement_floor); callers that know the options append it to
+/// DiscoveryTables() (ReadDiscovery does not need it).
 studyfile::Table DiscoveryOptionsTable(const DiscoveryOptions& options);
 
 /// Reads the tables of `/discovery` back into a result (the inverse of DiscoveryTables: every

@@ -365,8 +365,8 @@ std::string Headline(const discovery::DiscoveryResult& r) {
   std::vector<std::string> named, tentative;
   for (const auto& f : r.findings) {
     const std::string what = f.name.empty() ? f.key : f.name;
-    if (f.status == "named") named.push_back(what);
-    if (f.status == "tentative") tentative.push_back(what);
+    if (f.status == discovery::FindingStatus::kNamed) named.push_back(what);
+    if (f.status == discovery::FindingStatus::kTentative) tentative.push_back(what);
   }
   const auto join = [](const std::vector<std::string>& v) {
     std::string out;
@@ -395,6 +395,8 @@ std::string TestsTableHtml(const std::vector<discovery::StructureTest>& tests,
       stat = "F(" + Fmt(t.df1, 3) + ", " + Fmt(t.df2, 3) + ") = " + stat;
     else if (std::isfinite(t.df1) && t.df1 > 0)
       stat = "t(" + Fmt(t.df1, 3) + ") = " + stat;
+    else if (t.test.find(" z") != std::string::npos)
+      stat = "z = " + stat;
     h << "<tr><td>" << HtmlEscape(t.quantity) << "</td><td>" << HtmlEscape(t.scope) << "</td><td>"
       << HtmlEscape(t.covariate) << "</td><td>" << HtmlEscape(t.test) << "</td><td class=\"num\">"
       << stat << "</td><td class=\"num\">" << Fmt(t.p, 3) << "</td><td class=\"num"
@@ -405,12 +407,38 @@ std::string TestsTableHtml(const std::vector<discovery::StructureTest>& tests,
   return h.str();
 }
 
+/// Every value of an effect, one per line ("steel: c = 0.7 &plusmn; 0.1 N s/m^2"; "all
+/// surfaces" for a shared value).
+std::string ValuesHtml(const std::vector<discovery::EffectValue>& values,
+                       const std::string& parameter, const std::string& unit) {
+  std::string out;
+  for (const auto& v : values)
+    out += (out.empty() ? "" : "<br>") +
+           HtmlEscape(v.surface.empty() ? std::string("all surfaces") : v.surface) + ": " +
+           (parameter.empty() ? "" : HtmlEscape(parameter) + " = ") +
+           EstimateHtml(v.value, v.se, unit);
+  return out;
+}
+
+/// The estimate cell: the shared value, or every surface value of a per-surface effect.
+std::string EstimateCellHtml(discovery::EffectForm form, double estimate, double se,
+                             const std::vector<discovery::EffectValue>& values,
+                             const std::string& parameter, const std::string& unit) {
+  if (form == discovery::EffectForm::kPerSurface && !values.empty())
+    return ValuesHtml(values, parameter, unit);
+  return (parameter.empty() ? "" : HtmlEscape(parameter) + " = ") +
+         EstimateHtml(estimate, se, unit);
+}
+
 std::string CandidatesTableHtml(const discovery::Round& round) {
   std::ostringstream h;
-  h << "<table class=\"data discovery-candidates\"><caption>Candidate effects, ranked by "
-       "held-out error</caption><thead><tr><th>rank</th><th>effect</th><th>estimate "
+  h << "<table class=\"data discovery-candidates\"><caption>Candidate effects in rank order "
+       "(1 = added or strongest evidence); held-out error in "
+    << HtmlEscape(discovery::kHeldOutErrorUnit)
+    << "</caption><thead><tr><th>rank</th><th>effect</th><th>form</th><th>estimate "
        "&plusmn; s.e.</th><th>LR p</th><th>&Delta;AIC</th><th>&Delta;BIC</th><th>held-out "
-       "error vs current</th><th>identifiability</th></tr></thead><tbody>";
+       "error vs current</th><th>identifiability</th><th>outcome</th><th>why</th></tr></thead>"
+       "<tbody>";
   for (const auto& c : round.candidates) {
     const bool accepted = !round.accepted.empty() && c.key == round.accepted;
     h << "<tr class=\"candidate" << (accepted ? " accepted" : "") << "\" data-key=\""
@@ -419,20 +447,24 @@ std::string CandidatesTableHtml(const discovery::Round& round) {
       << (c.measurement_effect ? " <span class=\"flag\">measurement</span>" : "")
       << (accepted ? " <span class=\"ok\">added</span>" : "") << "</td>";
     if (!c.fitted) {
-      h << "<td colspan=\"5\" class=\"bad\">not fitted</td><td>" << HtmlEscape(c.message)
-        << "</td></tr>";
+      h << "<td colspan=\"7\" class=\"bad\">not fitted</td><td>"
+        << HtmlEscape(discovery::ToString(c.outcome)) << "</td><td>"
+        << HtmlEscape(c.message.empty() ? c.reason : c.message) << "</td></tr>";
       continue;
     }
-    h << "<td class=\"num\">" << (c.parameter.empty() ? "" : HtmlEscape(c.parameter) + " = ")
-      << EstimateHtml(c.estimate, c.se, c.unit) << "</td>" << PCell(c.p_value, c.significant)
-      << "<td class=\"num\">" << Fmt(c.delta_aic, 3) << "</td><td class=\"num\">"
-      << Fmt(c.delta_bic, 3) << "</td><td class=\"num"
+    h << "<td>" << HtmlEscape(discovery::ToString(c.form)) << "</td><td class=\"num\">"
+      << EstimateCellHtml(c.form, c.estimate, c.se, c.values, c.parameter, c.unit) << "</td>"
+      << PCell(c.p_value, c.significant) << "<td class=\"num\">" << Fmt(c.delta_aic, 3)
+      << "</td><td class=\"num\">" << Fmt(c.delta_bic, 3) << "</td><td class=\"num"
       << (c.cv_error < c.cv_error_current ? " ok" : "") << "\">" << Fmt(c.cv_error, 3) << " vs "
-      << Fmt(c.cv_error_current, 3) << "</td><td>" << HtmlEscape(c.identifiability)
+      << Fmt(c.cv_error_current, 3) << "</td><td>"
+      << HtmlEscape(discovery::ToString(c.identifiability))
       << (c.confounded_with.empty() ? "" : " (absorbed by " + HtmlEscape(c.confounded_with) + ")")
+      << "</td><td" << (accepted ? " class=\"ok\"" : "") << ">"
+      << HtmlEscape(discovery::ToString(c.outcome)) << "</td><td>" << HtmlEscape(c.reason)
       << "</td></tr>";
   }
-  if (round.candidates.empty()) h << "<tr><td colspan=\"8\">(no candidate)</td></tr>";
+  if (round.candidates.empty()) h << "<tr><td colspan=\"11\">(no candidate)</td></tr>";
   h << "</tbody></table>";
   return h.str();
 }
@@ -440,18 +472,28 @@ std::string CandidatesTableHtml(const discovery::Round& round) {
 std::string FindingsTableHtml(const std::vector<discovery::Finding>& findings) {
   std::ostringstream h;
   h << "<table class=\"data discovery-findings\"><caption>Findings</caption><thead><tr>"
-       "<th>effect</th><th>status</th><th>estimate &plusmn; s.e.</th><th>cannot be told from</th>"
-       "<th>what would separate them</th><th>held-out gap shrink</th></tr></thead><tbody>";
+       "<th>effect</th><th>status</th><th>scope</th><th>estimate &plusmn; s.e.</th>"
+       "<th>cannot be told from</th><th>what would separate them</th><th>held-out gap "
+       "shrink</th></tr></thead><tbody>";
   for (const auto& f : findings) {
-    const std::string cls = f.status == "named" ? "ok" : f.status == "tentative" ? "bad" : "";
+    const std::string cls = f.status == discovery::FindingStatus::kNamed       ? "ok"
+                            : f.status == discovery::FindingStatus::kTentative ? "bad"
+                                                                               : "";
+    std::string scope = "all surfaces";
+    if (f.form == discovery::EffectForm::kPerSurface) {
+      scope = discovery::ToString(f.form);
+      std::string on;
+      for (const auto& surface : f.surfaces) on += (on.empty() ? "" : ", ") + surface;
+      if (!on.empty()) scope += ": found on " + on;
+    }
     h << "<tr><td>" << HtmlEscape(f.name.empty() ? f.key : f.name) << " <code>" << HtmlEscape(f.key)
-      << "</code></td><td class=\"" << cls << "\">" << HtmlEscape(f.status)
-      << "</td><td class=\"num\">" << (f.parameter.empty() ? "" : HtmlEscape(f.parameter) + " = ")
-      << EstimateHtml(f.estimate, f.se, f.unit) << "</td><td>" << HtmlEscape(f.partner)
-      << "</td><td>" << HtmlEscape(f.separating_measurement) << "</td><td class=\"num\">"
-      << PercentHtml(f.gap_shrink) << "</td></tr>";
+      << "</code></td><td class=\"" << cls << "\">" << HtmlEscape(discovery::ToString(f.status))
+      << "</td><td>" << HtmlEscape(scope) << "</td><td class=\"num\">"
+      << EstimateCellHtml(f.form, f.estimate, f.se, f.values, f.parameter, f.unit) << "</td><td>"
+      << HtmlEscape(f.partner) << "</td><td>" << HtmlEscape(f.separating_measurement)
+      << "</td><td class=\"num\">" << PercentHtml(f.gap_shrink) << "</td></tr>";
   }
-  if (findings.empty()) h << "<tr><td colspan=\"6\">(no effect found)</td></tr>";
+  if (findings.empty()) h << "<tr><td colspan=\"7\">(no effect found)</td></tr>";
   h << "</tbody></table>";
   return h.str();
 }
@@ -474,6 +516,26 @@ std::string SurfacesTableHtml(const discovery::DiscoveryResult& r) {
       << "</td><td class=\"num\">" << b.trials << "</td></tr>";
   }
   h << "</tbody></table>";
+  return h.str();
+}
+
+/// The final model's noise model: per surface the trial-to-trial scatter of zeta and mu, and
+/// the systematic measurement error per component.
+std::string NoiseTableHtml(const discovery::DiscoveryResult& r) {
+  std::ostringstream h;
+  h << "<table class=\"data discovery-noise\"><caption>Noise model of the final model: "
+       "trial-to-trial scatter (s.d.) of the contact coefficients, and the systematic "
+       "measurement error (s.d., % of the impact speed)</caption><thead><tr><th>surface</th>"
+       "<th>zeta s.d.</th><th>mu s.d.</th></tr></thead><tbody>";
+  for (const auto& f : r.final_model)
+    h << "<tr><td>" << HtmlEscape(f.surface) << "</td><td class=\"num\">" << Fmt(f.zeta_sd, 3)
+      << "</td><td class=\"num\">" << Fmt(f.mu_sd, 3) << "</td></tr>";
+  h << "</tbody></table><table class=\"data discovery-measurement\"><caption>Systematic "
+       "measurement error (s.d., % of the impact speed)</caption><thead><tr><th>v_x</th>"
+       "<th>v_y</th><th>w d_EC</th></tr></thead><tbody><tr>";
+  for (int k = 0; k < 3; ++k)
+    h << "<td class=\"num\">" << PercentHtml(r.measurement_sd[k]) << "</td>";
+  h << "</tr></tbody></table>";
   return h.str();
 }
 
@@ -515,10 +577,15 @@ std::string DiscoverySection(const fs::path& h5, HtmlReportSummary& summary) {
       << " rounds, candidates: "
       << HtmlEscape(Text(*options, "candidates", 0).empty() ? "all"
                                                             : Text(*options, "candidates", 0))
+      << (Num(*options, "per_surface", 0) == 0.0 ? ", shared values only" : "")
+      << (std::isfinite(Num(*options, "measurement_floor", 0))
+              ? ", measurement floor " + PercentHtml(Num(*options, "measurement_floor", 0)) +
+                    " of the impact speed"
+              : "")
       << "</dd>";
   h << "</dl>";
   h << "<div class=\"tables\">" << FindingsTableHtml(r.findings) << SurfacesTableHtml(r)
-    << "</div>";
+    << NoiseTableHtml(r) << "</div>";
 
   const fs::path dir = TemporaryFigureDir();
   std::vector<fs::path> figures;

@@ -21,8 +21,9 @@ using hoof::testing::RunHoofimpact;
 TEST(DiscoverCommandTest, HelpListsTheOptions) {
   const auto r = RunHoofimpact("discover --help");
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  for (const char* option : {"--alpha", "--folds", "--rounds", "--jobs", "--candidates",
-                             "--figures", "--report", "--json"})
+  for (const char* option :
+       {"--alpha", "--folds", "--rounds", "--jobs", "--candidates", "--measurement-floor",
+        "--shared-only", "--figures", "--report", "--json"})
     EXPECT_NE(r.out.find(option), std::string::npos) << option << "\n" << r.out;
   // And `run` offers the step.
   const auto run = RunHoofimpact("run --help");
@@ -63,6 +64,9 @@ TEST(DiscoverCommandTest, BadSettingsAreACommandLineError) {
   r = RunHoofimpact("discover /nonexistent-folder/study.h5 --alpha 0.7");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--alpha"), std::string::npos) << r.err;
+  r = RunHoofimpact("discover /nonexistent-folder/study.h5 --measurement-floor 0.2");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--measurement-floor"), std::string::npos) << r.err;
 }
 
 }  // namespace

@@ -2,9 +2,11 @@
 // hand-built DiscoveryResult stored as /discovery tables and read back field by field, its
 // figures, and the report's Discovery section on a small hand-built study file.
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <limits>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -21,7 +23,12 @@ namespace hoof::report {
 namespace {
 
 namespace fs = std::filesystem;
+using discovery::CandidateOutcome;
 using discovery::DiscoveryResult;
+using discovery::EffectForm;
+using discovery::EffectValue;
+using discovery::FindingStatus;
+using discovery::Identifiability;
 using hoof::testing::FreshDir;
 using hoof::testing::ReadAll;
 
@@ -75,7 +82,28 @@ pipeline::TrialAnalysis Trial(const std::string& id, const std::string& surface,
   return r;
 }
 
-/// A discovery that named Hunt-Crossley damping in round 1 and found nothing more in round 2.
+/// Doubles equal, NaN equal to NaN (undefined values must come back undefined).
+void ExpectSameNumber(double got, double want, const std::string& what) {
+  if (std::isnan(want))
+    EXPECT_TRUE(std::isnan(got)) << what << ": " << got;
+  else
+    EXPECT_DOUBLE_EQ(got, want) << what;
+}
+
+void ExpectSameValues(const std::vector<EffectValue>& got, const std::vector<EffectValue>& want,
+                      const std::string& what) {
+  ASSERT_EQ(got.size(), want.size()) << what;
+  for (std::size_t i = 0; i < want.size(); ++i) {
+    const std::string at = what + " value " + std::to_string(i);
+    EXPECT_EQ(got[i].key, want[i].key) << at;
+    EXPECT_EQ(got[i].surface, want[i].surface) << at;
+    ExpectSameNumber(got[i].value, want[i].value, at + " value");
+    ExpectSameNumber(got[i].se, want[i].se, at + " se");
+  }
+}
+
+/// A discovery that named Hunt-Crossley damping in round 1 (shared by the surfaces), found a
+/// per-surface static-friction excess that fits as well, and nothing more in round 2.
 DiscoveryResult Result() {
   DiscoveryResult r;
   r.success = true;
@@ -86,11 +114,12 @@ DiscoveryResult Result() {
   r.verdict =
       "The missing effect is velocity-dependent damping.\n\nWith it in the model no significant "
       "disagreement remains.";
-  r.baseline = {{"concrete", 0.21, 0.01, 0.5, 0.02, 4.75e7, 2},
-                {"steel", 0.18, 0.01, 0.12, 0.01, 2.8e8, 2}};
-  r.final_model = {{"concrete", 0.11, 0.02, 0.5, 0.02, 4.75e7, 2},
-                   {"steel", 0.09, 0.02, 0.12, 0.01, 2.8e8, 2}};
-  r.effects = {{"hunt_crossley", 0.75}};
+  r.baseline = {{"concrete", 0.21, 0.01, 0.5, 0.02, 4.75e7, 2, 0.031, 0.012},
+                {"steel", 0.18, 0.01, 0.12, 0.01, 2.8e8, 2, 0.027, std::nan("")}};
+  r.final_model = {{"concrete", 0.11, 0.02, 0.5, 0.02, 4.75e7, 2, 0.0123, 0.0045},
+                   {"steel", 0.09, 0.02, 0.12, 0.01, 2.8e8, 2, 0.0111, std::nan("")}};
+  r.measurement_sd = {2.5e-4, 3.5e-4, 6.5e-4};
+  r.effects = {{"hunt_crossley", "", 0.75, 0.05}};
   discovery::Round round;
   round.index = 1;
   discovery::StructureTest t1{"v_y",
@@ -104,9 +133,9 @@ DiscoveryResult Result() {
                               4e-5,
                               true,
                               "v_y residual falls 0.4 % per m/s"};
-  discovery::StructureTest t2{
-      "w", "steel", "cells (angle x speed)", "lack-of-fit F", 1.1, 1.0, 2.0, 0.4,
-      0.8, false,   "no structure"};
+  discovery::StructureTest t2{"w", "steel",      "speed",       "slope z",
+                              1.1, std::nan(""), std::nan(""),  0.27,
+                              0.8, false,        "no structure"};
   round.tests = {t1, t2};
   discovery::CandidateResult hc;
   hc.key = "hunt_crossley";
@@ -114,18 +143,52 @@ DiscoveryResult Result() {
   hc.parameter = "c";
   hc.unit = "N s/m^2";
   hc.fitted = true;
+  hc.form = EffectForm::kShared;
   hc.estimate = 0.75;
   hc.se = 0.05;
+  hc.values = {{"hunt_crossley", "", 0.75, 0.05}};
   hc.lr_statistic = 40.0;
+  hc.df = 1;
   hc.p_value = 2e-10;
+  hc.p_per_surface = 0.42;
   hc.delta_aic = -38.0;
   hc.delta_bic = -36.5;
   hc.cv_error = 0.95;
   hc.cv_error_current = 3.1;
   hc.cv_p = 1e-4;
-  hc.identifiability = "identified";
+  hc.identifiability = Identifiability::kIdentified;
   hc.significant = true;
+  hc.outcome = CandidateOutcome::kAdded;
+  hc.reason = "the strongest significant candidate; lowers the held-out error from 3.1 to 0.95";
+  hc.detection_limit = 0.12;
   hc.rank = 1;
+  discovery::CandidateResult sf;
+  sf.key = "static_friction";
+  sf.name = "static friction above sliding friction";
+  sf.parameter = "ds";
+  sf.unit = "1";
+  sf.fitted = true;
+  sf.form = EffectForm::kPerSurface;
+  sf.estimate = 0.08;
+  sf.se = 0.02;
+  sf.values = {{"static_friction", "concrete", 0.03, 0.01},
+               {"static_friction", "steel", 0.08, 0.02}};
+  sf.lr_statistic = 39.0;
+  sf.df = 2;
+  sf.p_value = 5e-9;
+  sf.p_per_surface = 3e-3;
+  sf.delta_aic = -35.0;
+  sf.delta_bic = -32.0;
+  sf.cv_error = 0.97;
+  sf.cv_error_current = 3.1;
+  sf.cv_p = 2e-4;
+  sf.identifiability = Identifiability::kConfounded;
+  sf.confounded_with = "a changed mu";
+  sf.significant = true;
+  sf.outcome = CandidateOutcome::kIndistinguishable;
+  sf.reason = "fits as well as hunt_crossley (LR 39 against 40)";
+  sf.detection_limit = 0.02;
+  sf.rank = 2;
   discovery::CandidateResult oop;
   oop.key = "out_of_plane";
   oop.name = "out-of-plane rotation";
@@ -135,8 +198,14 @@ DiscoveryResult Result() {
   oop.fitted = false;
   oop.message = "no marker ratio";
   oop.estimate = oop.se = std::nan("");
-  oop.rank = 2;
-  round.candidates = {hc, oop};
+  oop.lr_statistic = oop.p_value = oop.p_per_surface = std::nan("");
+  oop.df = 0;
+  oop.identifiability = Identifiability::kNotTested;
+  oop.outcome = CandidateOutcome::kNotFitted;
+  oop.reason = "the fit did not run";
+  oop.detection_limit = std::nan("");
+  oop.rank = 3;
+  round.candidates = {hc, sf, oop};
   round.accepted = "hunt_crossley";
   round.decision = "Added hunt_crossley: significant and lowers the held-out error.";
   for (int i = 0; i < 4; ++i) {
@@ -165,13 +234,29 @@ DiscoveryResult Result() {
   f.name = hc.name;
   f.parameter = "c";
   f.unit = "N s/m^2";
-  f.status = "named";
+  f.status = FindingStatus::kNamed;
+  f.form = EffectForm::kShared;
   f.estimate = 0.75;
   f.se = 0.05;
+  f.values = hc.values;
   f.partner = "";
   f.separating_measurement = "impacts at more speeds";
   f.gap_shrink = 0.84;
-  r.findings = {f};
+  discovery::Finding g;
+  g.key = sf.key;
+  g.name = sf.name;
+  g.parameter = sf.parameter;
+  g.unit = sf.unit;
+  g.status = FindingStatus::kIndistinguishable;
+  g.form = EffectForm::kPerSurface;
+  g.surfaces = {"steel", "concrete"};
+  g.estimate = 0.08;
+  g.se = 0.02;
+  g.values = sf.values;
+  g.partner = "hunt_crossley";
+  g.separating_measurement = "oblique impacts at more angles";
+  g.gap_shrink = std::nan("");
+  r.findings = {f, g};
   for (int i = 0; i < 4; ++i) {
     discovery::TrialResiduals t;
     t.id = "trial" + std::to_string(i);
@@ -211,6 +296,8 @@ void AddDiscovery(const fs::path& h5, const DiscoveryResult& r) {
   auto tables = discovery::DiscoveryTables(r);
   discovery::DiscoveryOptions o;
   o.candidates = {"hunt_crossley", "out_of_plane"};
+  o.per_surface = false;
+  o.measurement_floor = 2e-4;
   tables.push_back(discovery::DiscoveryOptionsTable(o));
   studyfile::WriteTables(h5, discovery::kDiscoveryGroup, "discovery (test)", tables);
 }
@@ -219,7 +306,11 @@ TEST(DiscoveryTablesTest, TheResultReadsBackAsWritten) {
   const fs::path dir = FreshDir("discovery_report_test/tables");
   const fs::path h5 = StudyFile(dir);
   EXPECT_FALSE(discovery::HasDiscovery(h5));
-  const DiscoveryResult w = Result();
+  DiscoveryResult w = Result();
+  // Per-surface values in the final model too (one with an undefined se): the `surface`
+  // column must come back as written.
+  w.effects.push_back({"static_friction", "steel", 0.08, 0.02});
+  w.effects.push_back({"static_friction", "concrete", 0.03, std::nan("")});
   AddDiscovery(h5, w);
   ASSERT_TRUE(discovery::HasDiscovery(h5));
   const DiscoveryResult r = discovery::ReadDiscovery(h5);
@@ -236,8 +327,17 @@ TEST(DiscoveryTablesTest, TheResultReadsBackAsWritten) {
   EXPECT_DOUBLE_EQ(r.final_model[1].zeta, 0.09);
   EXPECT_DOUBLE_EQ(r.baseline[0].k_N_m, 4.75e7);
   EXPECT_EQ(r.baseline[0].trials, 2);
-  ASSERT_EQ(r.effects.count("hunt_crossley"), 1u);
-  EXPECT_DOUBLE_EQ(r.effects.at("hunt_crossley"), 0.75);
+  // The noise model.
+  EXPECT_EQ(r.measurement_sd, w.measurement_sd);
+  for (std::size_t i = 0; i < 2; ++i) {
+    ExpectSameNumber(r.baseline[i].zeta_sd, w.baseline[i].zeta_sd, "baseline zeta_sd");
+    ExpectSameNumber(r.baseline[i].mu_sd, w.baseline[i].mu_sd, "baseline mu_sd");
+    ExpectSameNumber(r.final_model[i].zeta_sd, w.final_model[i].zeta_sd, "final zeta_sd");
+    ExpectSameNumber(r.final_model[i].mu_sd, w.final_model[i].mu_sd, "final mu_sd");
+  }
+  EXPECT_TRUE(std::isnan(r.final_model[1].mu_sd));
+  // The effects, one row per value, with their surfaces.
+  ExpectSameValues(r.effects, w.effects, "effects");
   ASSERT_EQ(r.rounds.size(), 2u);
   const auto& round = r.rounds[0];
   EXPECT_EQ(round.index, 1);
@@ -249,14 +349,53 @@ TEST(DiscoveryTablesTest, TheResultReadsBackAsWritten) {
   EXPECT_TRUE(round.tests[0].significant);
   EXPECT_TRUE(std::isnan(round.tests[0].df2));
   EXPECT_DOUBLE_EQ(round.tests[0].p_holm, 4e-5);
-  ASSERT_EQ(round.candidates.size(), 2u);
+  ASSERT_EQ(round.candidates.size(), 3u);
   EXPECT_EQ(round.candidates[0].unit, "N s/m^2");
   EXPECT_DOUBLE_EQ(round.candidates[0].delta_bic, -36.5);
   EXPECT_TRUE(round.candidates[0].significant);
-  EXPECT_TRUE(round.candidates[1].measurement_effect);
-  EXPECT_FALSE(round.candidates[1].fitted);
-  EXPECT_EQ(round.candidates[1].message, "no marker ratio");
-  EXPECT_TRUE(std::isnan(round.candidates[1].estimate));
+  EXPECT_TRUE(round.candidates[2].measurement_effect);
+  EXPECT_FALSE(round.candidates[2].fitted);
+  EXPECT_EQ(round.candidates[2].message, "no marker ratio");
+  EXPECT_TRUE(std::isnan(round.candidates[2].estimate));
+  // Every field of every candidate, the new ones included.
+  for (std::size_t i = 0; i < w.rounds[0].candidates.size(); ++i) {
+    const auto& want = w.rounds[0].candidates[i];
+    const auto& got = round.candidates[i];
+    const std::string what = "candidate " + want.key;
+    EXPECT_EQ(got.rank, want.rank) << what;
+    EXPECT_EQ(got.key, want.key) << what;
+    EXPECT_EQ(got.name, want.name) << what;
+    EXPECT_EQ(got.parameter, want.parameter) << what;
+    EXPECT_EQ(got.unit, want.unit) << what;
+    EXPECT_EQ(got.measurement_effect, want.measurement_effect) << what;
+    EXPECT_EQ(got.fitted, want.fitted) << what;
+    EXPECT_EQ(got.message, want.message) << what;
+    EXPECT_EQ(got.form, want.form) << what;
+    ExpectSameNumber(got.estimate, want.estimate, what + " estimate");
+    ExpectSameNumber(got.se, want.se, what + " se");
+    ExpectSameValues(got.values, want.values, what);
+    ExpectSameNumber(got.lr_statistic, want.lr_statistic, what + " lr_statistic");
+    EXPECT_EQ(got.df, want.df) << what;
+    ExpectSameNumber(got.p_value, want.p_value, what + " p_value");
+    ExpectSameNumber(got.p_per_surface, want.p_per_surface, what + " p_per_surface");
+    ExpectSameNumber(got.delta_aic, want.delta_aic, what + " delta_aic");
+    ExpectSameNumber(got.delta_bic, want.delta_bic, what + " delta_bic");
+    ExpectSameNumber(got.cv_error, want.cv_error, what + " cv_error");
+    ExpectSameNumber(got.cv_error_current, want.cv_error_current, what + " cv_error_current");
+    ExpectSameNumber(got.cv_p, want.cv_p, what + " cv_p");
+    EXPECT_EQ(got.identifiability, want.identifiability) << what;
+    EXPECT_EQ(got.confounded_with, want.confounded_with) << what;
+    EXPECT_EQ(got.significant, want.significant) << what;
+    EXPECT_EQ(got.outcome, want.outcome) << what;
+    EXPECT_EQ(got.reason, want.reason) << what;
+    ExpectSameNumber(got.detection_limit, want.detection_limit, what + " detection_limit");
+  }
+  EXPECT_EQ(round.candidates[1].form, EffectForm::kPerSurface);
+  EXPECT_EQ(round.candidates[1].values.size(), 2u);
+  EXPECT_EQ(round.candidates[1].identifiability, Identifiability::kConfounded);
+  EXPECT_EQ(round.candidates[2].outcome, CandidateOutcome::kNotFitted);
+  EXPECT_TRUE(round.candidates[2].values.empty());
+  EXPECT_TRUE(r.rounds[1].candidates.empty());
   ASSERT_EQ(round.gap.size(), 4u);
   EXPECT_EQ(round.gap[3].id, "trial3");
   EXPECT_EQ(round.gap[3].fold, 1);
@@ -265,9 +404,29 @@ TEST(DiscoveryTablesTest, TheResultReadsBackAsWritten) {
   EXPECT_TRUE(r.rounds[1].accepted.empty());
   EXPECT_TRUE(r.rounds[1].gap.empty());
   EXPECT_EQ(r.rounds[1].index, 2);
-  ASSERT_EQ(r.findings.size(), 1u);
-  EXPECT_EQ(r.findings[0].status, "named");
+  ASSERT_EQ(r.findings.size(), 2u);
+  EXPECT_EQ(r.findings[0].status, FindingStatus::kNamed);
   EXPECT_EQ(r.findings[0].separating_measurement, "impacts at more speeds");
+  for (std::size_t i = 0; i < w.findings.size(); ++i) {
+    const auto& want = w.findings[i];
+    const auto& got = r.findings[i];
+    const std::string what = "finding " + want.key;
+    EXPECT_EQ(got.key, want.key) << what;
+    EXPECT_EQ(got.name, want.name) << what;
+    EXPECT_EQ(got.parameter, want.parameter) << what;
+    EXPECT_EQ(got.unit, want.unit) << what;
+    EXPECT_EQ(got.status, want.status) << what;
+    EXPECT_EQ(got.form, want.form) << what;
+    EXPECT_EQ(got.surfaces, want.surfaces) << what;
+    ExpectSameNumber(got.estimate, want.estimate, what + " estimate");
+    ExpectSameNumber(got.se, want.se, what + " se");
+    ExpectSameValues(got.values, want.values, what);
+    EXPECT_EQ(got.partner, want.partner) << what;
+    EXPECT_EQ(got.separating_measurement, want.separating_measurement) << what;
+    ExpectSameNumber(got.gap_shrink, want.gap_shrink, what + " gap_shrink");
+  }
+  EXPECT_TRUE(r.findings[0].surfaces.empty());
+  EXPECT_EQ(r.findings[1].surfaces, (std::vector<std::string>{"steel", "concrete"}));
   EXPECT_TRUE(r.remaining.empty());
   ASSERT_EQ(r.residuals.size(), 4u);
   EXPECT_DOUBLE_EQ(r.residuals[2].baseline.y(), -0.01);
@@ -276,9 +435,22 @@ TEST(DiscoveryTablesTest, TheResultReadsBackAsWritten) {
   const auto gap = studyfile::ReadTable(h5, "/discovery/rounds/1/gap");
   EXPECT_EQ(gap.Get("speed_m_s").units, "m/s");
   EXPECT_EQ(gap.Get("residual_before_v_y").units, "1");
+  const auto candidates = studyfile::ReadTable(h5, "/discovery/rounds/1/candidates");
+  EXPECT_EQ(candidates.Get("cv_error").units, discovery::kHeldOutErrorUnit);
+  EXPECT_EQ(candidates.Get("cv_error_current").units, discovery::kHeldOutErrorUnit);
+  // Enums are stored as their text.
+  EXPECT_EQ(std::get<std::vector<std::string>>(candidates.Get("outcome").values)[0],
+            discovery::ToString(CandidateOutcome::kAdded));
+  EXPECT_EQ(std::get<std::vector<std::string>>(candidates.Get("form").values)[1],
+            discovery::ToString(EffectForm::kPerSurface));
+  const auto findings = studyfile::ReadTable(h5, "/discovery/findings");
+  EXPECT_EQ(std::get<std::vector<std::string>>(findings.Get("surfaces").values)[1],
+            "steel,concrete");
   const auto options = studyfile::ReadTable(h5, "/discovery/options");
   EXPECT_EQ(std::get<std::vector<std::string>>(options.Get("candidates").values)[0],
             "hunt_crossley,out_of_plane");
+  EXPECT_EQ(std::get<std::vector<std::int64_t>>(options.Get("per_surface").values)[0], 0);
+  EXPECT_DOUBLE_EQ(std::get<std::vector<double>>(options.Get("measurement_floor").values)[0], 2e-4);
 }
 
 TEST(DiscoveryTablesTest, AMissingTableIsNamedWithTheFile) {
@@ -292,6 +464,21 @@ TEST(DiscoveryTablesTest, AMissingTableIsNamedWithTheFile) {
   studyfile::WriteTables(h5, "/discovery", "discovery (test)", tables);
   hoof::testing::ExpectErrorContaining([&] { discovery::ReadDiscovery(h5); },
                                        "/discovery/rounds/2/candidates");
+  // Round 1's per-surface values gone.
+  tables = discovery::DiscoveryTables(Result());
+  std::erase_if(tables, [](const auto& t) { return t.name == "rounds/1/candidate_values"; });
+  studyfile::WriteTables(h5, "/discovery", "discovery (test)", tables);
+  hoof::testing::ExpectErrorContaining([&] { discovery::ReadDiscovery(h5); },
+                                       "/discovery/rounds/1/candidate_values");
+  // An outcome that is not one: the table and the column are named.
+  tables = discovery::DiscoveryTables(Result());
+  for (auto& t : tables)
+    if (t.name == "rounds/1/candidates")
+      for (auto& c : t.columns)
+        if (c.name == "outcome") std::get<std::vector<std::string>>(c.values)[0] = "bogus";
+  studyfile::WriteTables(h5, "/discovery", "discovery (test)", tables);
+  hoof::testing::ExpectErrorContaining([&] { discovery::ReadDiscovery(h5); },
+                                       "/discovery/rounds/1/candidates: column \"outcome\"");
 }
 
 TEST(DiscoveryFiguresTest, GapPerAcceptedRoundAndResiduals) {
@@ -345,14 +532,66 @@ TEST(HtmlReportDiscoveryTest, TheSectionShowsVerdictEvidenceAndFigures) {
   EXPECT_NE(tr.find("c = 0.75 &plusmn; 0.05 N s/m^2"), std::string::npos) << tr;
   EXPECT_NE(tr.find("0.95 vs 3.1"), std::string::npos) << tr;
   EXPECT_NE(tr.find("-38"), std::string::npos) << tr;
+  // Why it was added, in the "why" column, and the outcome as its text.
+  EXPECT_NE(tr.find("<td>the strongest significant candidate; lowers the held-out error from 3.1 "
+                    "to 0.95</td>"),
+            std::string::npos)
+      << tr;
+  EXPECT_NE(tr.find(std::string(">") + discovery::ToString(CandidateOutcome::kAdded) + "</td>"),
+            std::string::npos)
+      << tr;
+  // The held-out error's unit is in the caption of the candidate table.
+  const auto caption = html.find("<table class=\"data discovery-candidates\"><caption>");
+  ASSERT_NE(caption, std::string::npos);
+  EXPECT_NE(html.substr(caption, html.find("</caption>", caption) - caption)
+                .find(discovery::kHeldOutErrorUnit),
+            std::string::npos);
+  // A per-surface candidate shows each surface's value, and why it was not added.
+  const auto sf_row = html.find("data-key=\"static_friction\"");
+  ASSERT_NE(sf_row, std::string::npos);
+  const std::string sf_tr = html.substr(sf_row, html.find("</tr>", sf_row) - sf_row);
+  EXPECT_NE(sf_tr.find("concrete: ds = 0.03 &plusmn; 0.01<br>steel: ds = 0.08 &plusmn; 0.02"),
+            std::string::npos)
+      << sf_tr;
+  EXPECT_NE(
+      sf_tr.find(std::string("<td>") + discovery::ToString(EffectForm::kPerSurface) + "</td>"),
+      std::string::npos)
+      << sf_tr;
+  EXPECT_NE(sf_tr.find("fits as well as hunt_crossley (LR 39 against 40)"), std::string::npos)
+      << sf_tr;
+  EXPECT_NE(sf_tr.find("(absorbed by a changed mu)"), std::string::npos) << sf_tr;
   EXPECT_NE(html.find("data-key=\"out_of_plane\""), std::string::npos);
   EXPECT_NE(html.find("no marker ratio"), std::string::npos);
   // The significant structure test of round 1 is listed, the insignificant one is not.
   EXPECT_NE(html.find("v_y residual falls 0.4 % per m/s"), std::string::npos);
   EXPECT_EQ(html.find("<td>no structure</td>"), std::string::npos);
-  // The findings table and the settings.
+  // The findings table (status as its text, the per-surface finding's scope) and the settings.
   EXPECT_NE(html.find("impacts at more speeds"), std::string::npos);
-  EXPECT_NE(html.find("hunt_crossley,out_of_plane"), std::string::npos);
+  EXPECT_NE(html.find(std::string("<td class=\"ok\">") +
+                      discovery::ToString(FindingStatus::kNamed) + "</td><td>all surfaces</td>"),
+            std::string::npos);
+  EXPECT_NE(
+      html.find(std::string(discovery::ToString(FindingStatus::kIndistinguishable)) + "</td><td>" +
+                discovery::ToString(EffectForm::kPerSurface) + ": found on steel, concrete</td>"),
+      std::string::npos);
+  EXPECT_NE(html.find("hunt_crossley,out_of_plane, shared values only, measurement floor "
+                      "0.02 % of the impact speed"),
+            std::string::npos);
+  // The noise model: per surface the scatter of zeta and mu, and the measurement error.
+  const auto noise = html.find("<table class=\"data discovery-noise\">");
+  ASSERT_NE(noise, std::string::npos);
+  const std::string noise_table = html.substr(noise, html.find("</table>", noise) - noise);
+  EXPECT_NE(noise_table.find("<td>concrete</td><td class=\"num\">0.0123</td><td "
+                             "class=\"num\">0.0045</td>"),
+            std::string::npos)
+      << noise_table;
+  EXPECT_NE(noise_table.find("<td>steel</td><td class=\"num\">0.0111</td><td "
+                             "class=\"num\">&ndash;</td>"),
+            std::string::npos)
+      << noise_table;
+  EXPECT_NE(html.find("<td class=\"num\">0.025 %</td><td class=\"num\">0.035 %</td><td "
+                      "class=\"num\">0.065 %</td>"),
+            std::string::npos);
   // The figures are embedded as PNG data URIs.
   EXPECT_NE(html.find("<img alt=\"discovery_gap_round1\" src=\"data:image/png;base64,iVBOR"),
             std::string::npos);
