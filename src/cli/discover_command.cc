@@ -238,7 +238,7 @@ bool SaysWhy(const discovery::CandidateResult& c) {
   return c.significant || c.outcome == CandidateOutcome::kAdded ||
          c.outcome == CandidateOutcome::kIndistinguishable ||
          c.outcome == CandidateOutcome::kWeakerThanAdded ||
-         c.outcome == CandidateOutcome::kWorseHeldOut;
+         c.outcome == CandidateOutcome::kWorseHeldOut || c.outcome == CandidateOutcome::kBelowResolution;
 }
 
 void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std::string& h5) {
@@ -258,7 +258,7 @@ void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std:
   const int outcome_width =
       TextWidth({CandidateOutcome::kAdded, CandidateOutcome::kIndistinguishable,
                  CandidateOutcome::kWeakerThanAdded, CandidateOutcome::kNotSignificant,
-                 CandidateOutcome::kWorseHeldOut, CandidateOutcome::kNotTested,
+                 CandidateOutcome::kWorseHeldOut, CandidateOutcome::kBelowResolution, CandidateOutcome::kNotTested,
                  CandidateOutcome::kConfounded, CandidateOutcome::kNotFitted});
   const int identifiability_width = TextWidth(
       {Identifiability::kIdentified, Identifiability::kNotTested, Identifiability::kConfounded});

@@ -60,40 +60,96 @@ struct DiscoveryOptions {
   /// Family-wise significance level: of the structure tests (Holm) and of naming a candidate
   /// (Bonferroni over the candidates); in (0, 0.5).
   double alpha = 0.01;
-  int folds = 3;        ///< Leave-trials-out folds (each cell's trials dealt round-robin); >= 2.
+  int folds = 3;        ///< Leave-trials-out folds (trials dealt round-robin in design order); >= 2.
   int max_rounds = 3;   ///< Effects added at most; >= 1.
   int jobs = 0;         ///< Threads (0 = all cores).
-  /// Library keys to try (candidates.h); empty = all.
+  /// Library keys to try (Library()); empty = all.
   std::vector<std::string> candidates;
+  /// Let a contact effect take its own value on each surface, besides one value shared by all
+  /// surfaces; which of the two the data support is decided by a likelihood-ratio test.
+  bool per_surface = true;
   double relative_tolerance = 1e-8;  ///< Of the simulator during fits; in (0, 1e-4].
   /// Smallest departure of the projected / layout marker distance from the model's that
   /// counts as a disagreement: the scale calibration and the centre finding hold the ratio to
   /// about 1e-4 (docs/tracking.md), so 1e-3 (a tilt of 2.6 deg) is well clear of them. The
   /// marker tests are tests of a departure larger than this; in [0, 0.1).
   double marker_ratio_tolerance = 1e-3;
-  /// Smallest mean residual of a velocity after impact (as a fraction of the impact speed) that
-  /// counts as a disagreement. The measurement holds velocities to about 1e-4 of the impact
-  /// speed with systematic errors of that order that vary from cell to cell (docs/tracking.md);
-  /// without a margin the lack-of-fit tests would call those physics. The tests are of cell
-  /// means beyond +-this; in [0, 0.1).
-  double velocity_tolerance = 5e-4;
+  /// Lower bound of the measurement's systematic error per velocity component, as a fraction of
+  /// the impact speed (the noise model estimates it; this keeps it from collapsing to the
+  /// per-trial fits' random error alone). The tracker's systematic errors on rendered frames are
+  /// about 1e-4 of the impact speed (docs/tracking.md); in [0, 0.1).
+  double measurement_floor = 1e-4;
 
   /// Throws std::invalid_argument naming the field.
   void Validate() const;
 };
 
-/// One test of the residuals for structure.
+/// One test of the residuals for structure, against the noise model.
 struct StructureTest {
   std::string quantity;   ///< "v_x", "v_y", "w" (residuals after impact) or "marker_ratio"
   std::string scope;      ///< surface name, or "all"
-  std::string covariate;  ///< "cells (angle x speed)", "speed", "angle", "level"
-  std::string test;       ///< "lack-of-fit F", "slope t", "mean t"
+  std::string covariate;  ///< "speed", "angle", "level", "time in the trial"
+  std::string test;       ///< "slope z", "mean t"
   double statistic = 0.0;
-  double df1 = 0.0, df2 = 0.0;  ///< degrees of freedom (df1 only for t)
+  double df1 = 0.0, df2 = 0.0;  ///< degrees of freedom (df1 only for t; none for z)
   double p = 1.0;               ///< unadjusted
   double p_holm = 1.0;          ///< Holm-adjusted over every test of the round
   bool significant = false;     ///< p_holm < alpha
   std::string description;      ///< in words, e.g. "v_y residual falls 0.4 % per m/s"
+};
+
+/// Whether the data can tell a candidate from the baseline's own parameters.
+enum class Identifiability {
+  kIdentified,  ///< the data tell it apart: its size is estimated
+  kNotTested,   ///< no trial is sensitive to it at a realistic size
+  kConfounded,  ///< at a realistic size, refitting zeta or mu takes its change back
+};
+
+/// Why a candidate was or was not added in a round.
+enum class CandidateOutcome {
+  kAdded,               ///< the strongest significant candidate: added to the model
+  kIndistinguishable,   ///< significant, but fits as well as the one added
+  kWeakerThanAdded,     ///< significant, but the one added explains clearly more
+  kNotSignificant,      ///< its likelihood ratio is not significant at alpha / candidates
+  kWorseHeldOut,        ///< significant in the fit, but it does not predict held-out trials better
+  kBelowResolution,     ///< significant, but smaller than the measurement resolves (out-of-plane
+                        ///< tilt within DiscoveryOptions::marker_ratio_tolerance)
+  kNotTested,           ///< see Identifiability::kNotTested
+  kConfounded,          ///< see Identifiability::kConfounded
+  kNotFitted,           ///< the fit failed (message)
+};
+
+/// A contact effect's value: shared by all surfaces, or one per surface.
+enum class EffectForm { kShared, kPerSurface };
+
+/// Status of a finding in the verdict.
+enum class FindingStatus {
+  kNamed,              ///< added, its evidence holds, and no significant structure remains
+  kTentative,          ///< added, but a significant structure remains that no effect explains
+  kIndistinguishable,  ///< fits as well as an added effect, or cannot be told from zeta or mu
+};
+
+const char* ToString(Identifiability v);
+const char* ToString(CandidateOutcome v);
+const char* ToString(EffectForm v);
+const char* ToString(FindingStatus v);
+/// The inverses (for the study file); throw std::invalid_argument naming the text.
+Identifiability IdentifiabilityFromString(const std::string& s);
+CandidateOutcome CandidateOutcomeFromString(const std::string& s);
+EffectForm EffectFormFromString(const std::string& s);
+FindingStatus FindingStatusFromString(const std::string& s);
+
+/// The unit of the held-out error: the mean over held-out trials of the squared residuals,
+/// each divided by the variance the current model's noise model predicts for it (per-trial
+/// coefficient scatter plus measurement error), averaged over the trial's components. A model
+/// that predicts as well as its noise model says gives about 1.
+inline constexpr const char* kHeldOutErrorUnit = "mean squared residual / predicted variance";
+
+/// One value of an effect: for all surfaces (surface empty) or for one.
+struct EffectValue {
+  std::string key;
+  std::string surface;  ///< empty: shared by all surfaces
+  double value = 0.0, se = 0.0;  ///< in the library entry's unit
 };
 
 /// How a candidate did in one round.
@@ -105,22 +161,32 @@ struct CandidateResult {
   bool measurement_effect = false;  ///< out-of-plane rotation: changes the image, not the physics
   bool fitted = false;    ///< the fit ran
   std::string message;    ///< why not, or empty
-  double estimate = 0.0, se = 0.0;  ///< parameter and its standard error (NaN when undefined)
-  /// -2 log likelihood of the current model minus this one (>= 0); chi-square with 1 dof.
+  EffectForm form = EffectForm::kShared;  ///< the form the data chose
+  /// The shared value, or for a per-surface effect the largest of the surface values (its
+  /// values are in `values`); NaN when undefined.
+  double estimate = 0.0, se = 0.0;
+  std::vector<EffectValue> values;  ///< every value of the chosen form
+  /// Likelihood-ratio test against the current model under the noise model (boundary-corrected
+  /// chi-bar-square with df parameters at their lower bound 0).
   double lr_statistic = 0.0;
+  int df = 1;
   double p_value = 1.0;
+  double p_per_surface = 1.0;  ///< per-surface against shared (chi-square, surfaces - 1 dof)
   double delta_aic = 0.0, delta_bic = 0.0;  ///< this model minus the current (< 0 is better)
-  /// Held-out error: mean over held-out trials of the squared residuals in units of the
-  /// training fit's noise, for this model and for the current model.
+  /// Held-out error (kHeldOutErrorUnit) for this model and for the current model, each fitted
+  /// without the trial's fold.
   double cv_error = 0.0, cv_error_current = 0.0;
   double cv_p = 1.0;  ///< paired one-sided t test that the held-out error fell
-  /// "identified", "not tested by these data" (no trial is sensitive to it) or
-  /// "indistinguishable from <what>" (the other parameters absorb it).
-  std::string identifiability;
-  /// Baseline parameters that moved to absorb it in the identifiability probe, e.g. "zeta".
+  Identifiability identifiability = Identifiability::kIdentified;
+  /// Baseline parameters that absorbed it in the identifiability probe, e.g. "a changed zeta".
   std::string confounded_with;
   bool significant = false;  ///< p_value < alpha / candidates and cv_error < cv_error_current
-  int rank = 0;              ///< 1 = lowest held-out error
+  CandidateOutcome outcome = CandidateOutcome::kNotSignificant;
+  std::string reason;        ///< why it was or was not added, in words
+  /// Smallest size (the library entry's unit) that these trials, with this noise, would detect
+  /// at the naming level with 80 % power (shared form; NaN when not computed).
+  double detection_limit = 0.0;
+  int rank = 0;              ///< 1 = added or strongest evidence
 };
 
 /// One held-out trial's disagreement before and after an effect is added.
@@ -142,27 +208,32 @@ struct Round {
   std::string accepted;  ///< key of the effect added in this round, empty when none
   std::string decision;  ///< in words
   std::vector<GapTrial> gap;  ///< held-out trials, when an effect was added
-  /// Aggregate held-out gap (root mean square over trials and components) and its shrink.
+  /// Aggregate held-out gap (root mean square over trials and components, fractions of the
+  /// impact speed) and its shrink.
   double gap_before = 0.0, gap_after = 0.0, gap_shrink = 0.0;
 };
 
-/// The model per surface (the fitted parameters; k is not identified and stays the paper's).
+/// The model per surface (the fitted parameters; k is not identified and stays the paper's),
+/// and its noise: the trial-to-trial scatter of the contact coefficients.
 struct SurfaceFit {
   std::string surface;
   double zeta = 0.0, zeta_se = 0.0;
   double mu = 0.0, mu_se = 0.0;
   double k_N_m = 0.0;
   int trials = 0;
+  double zeta_sd = 0.0;  ///< s.d. of zeta from trial to trial
+  double mu_sd = 0.0;    ///< s.d. of mu from trial to trial (NaN without oblique trials)
 };
 
 /// What the verdict says about one effect.
 struct Finding {
   std::string key, name, parameter, unit;
-  /// "named" (accepted, and nothing significant remains), "tentative" (accepted, but
-  /// disagreement remains), "indistinguishable" (fits as well as a named effect, or cannot be
-  /// told from the baseline's own parameters with these data).
-  std::string status;
-  double estimate = 0.0, se = 0.0;
+  FindingStatus status = FindingStatus::kNamed;
+  EffectForm form = EffectForm::kShared;
+  /// Surfaces it was found on: empty for a shared effect.
+  std::vector<std::string> surfaces;
+  double estimate = 0.0, se = 0.0;  ///< shared value, or the largest surface value
+  std::vector<EffectValue> values;
   std::string partner;  ///< what it cannot be told apart from
   std::string separating_measurement;  ///< what would separate them
   double gap_shrink = 0.0;  ///< held-out, when it was added
@@ -183,7 +254,10 @@ struct DiscoveryResult {
   int trials_used = 0;
   int trials_skipped = 0;  ///< not measured, or on a surface without normal trials (no zeta)
   std::vector<SurfaceFit> baseline, final_model;
-  std::map<std::string, double> effects;  ///< key -> value in the final model
+  /// Systematic measurement error per component (v_x, v_y, w d; fractions of the impact speed)
+  /// of the final noise model.
+  Eigen::Vector3d measurement_sd{0, 0, 0};
+  std::vector<EffectValue> effects;  ///< the final model's effects
   std::vector<Round> rounds;
   std::vector<Finding> findings;
   /// A significant disagreement that the final model leaves.

@@ -127,7 +127,7 @@ Table CandidatesTable(const std::string& name, const std::vector<CandidateResult
   const std::string outcomes =
       Choices({CandidateOutcome::kAdded, CandidateOutcome::kIndistinguishable,
                CandidateOutcome::kWeakerThanAdded, CandidateOutcome::kNotSignificant,
-               CandidateOutcome::kWorseHeldOut, CandidateOutcome::kNotTested,
+               CandidateOutcome::kWorseHeldOut, CandidateOutcome::kBelowResolution, CandidateOutcome::kNotTested,
                CandidateOutcome::kConfounded, CandidateOutcome::kNotFitted});
   const std::string identifiabilities = Choices(
       {Identifiability::kIdentified, Identifiability::kNotTested, Identifiability::kConfounded});

@@ -1,0 +1,403 @@
+// One round of the discovery workflow (docs/discovery.md, "Candidates" and "Decision"): every
+// candidate of the library fitted against the current model, shared or per surface, tested by
+// its likelihood ratio under the noise model, cross-validated, probed for identifiability, and
+// judged; the strongest significant one is added.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include <Eigen/QR>
+#include <boost/math/distributions/normal.hpp>
+
+#include "discovery/internal.h"
+#include "stats/distributions.h"
+
+namespace hoof::discovery::internal {
+namespace {
+
+/// One candidate's evaluation: its result row and what adding it would take.
+struct Evaluation {
+  CandidateResult c;
+  Fit fit;
+  TiltFit tilt;
+  CrossValidation cv;
+  std::vector<std::string> free;
+};
+
+/// The smallest size of a shared effect that a test at one-sided level `level` detects with 80 %
+/// power, from the Fisher information of the effect with zeta and mu profiled out (the Wald
+/// approximation): `d_r` are the residual changes of one unit of the effect, `sens` the
+/// derivatives by zeta and mu, `ref` the current noise model's whitening.
+double DetectionLimit(const Workspace& ws, const std::vector<Eigen::Vector3d>& d_r,
+                      const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref, double level) {
+  const auto S = static_cast<Eigen::Index>(ws.surfaces.size());
+  Eigen::Index rows = 0;
+  for (const auto& t : ref) rows += static_cast<Eigen::Index>(t.components.size());
+  Eigen::MatrixXd X = Eigen::MatrixXd::Zero(rows, 2 * S);
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(rows);
+  Eigen::Index row = 0;
+  for (std::size_t i = 0; i < ws.obs.size(); ++i) {
+    const auto& t = ref[i];
+    const auto n = static_cast<Eigen::Index>(t.components.size());
+    Eigen::MatrixXd J(n, 2);
+    Eigen::VectorXd v(n);
+    for (Eigen::Index a = 0; a < n; ++a) {
+      const int c = t.components[static_cast<std::size_t>(a)];
+      J.row(a) = sens[i].row(c);
+      v[a] = std::isfinite(d_r[i][c]) ? d_r[i][c] : 0.0;
+    }
+    const Eigen::Index s = ws.obs[i].surface;
+    X.block(row, 2 * s, n, 2) = t.whiten * J;
+    d.segment(row, n) = t.whiten * v;
+    row += n;
+  }
+  const Eigen::MatrixXd XtX = X.transpose() * X;
+  const Eigen::VectorXd Xtd = X.transpose() * d;
+  const double info = d.squaredNorm() - Xtd.dot(XtX.completeOrthogonalDecomposition().solve(Xtd));
+  if (!(info > 0)) return kNaN;
+  const boost::math::normal z;
+  return (boost::math::quantile(boost::math::complement(z, level)) + boost::math::quantile(z, 0.8)) / std::sqrt(info);
+}
+
+std::string Moved(const Workspace& ws, const Fit& probe, const Fit& current) {
+  bool zeta = false, mu = false;
+  for (std::size_t s = 0; s < ws.surfaces.size(); ++s) {
+    zeta |= std::abs(probe.model.zeta[s] - current.model.zeta[s]) > 1e-3 * current.model.zeta[s];
+    mu |= ws.has_oblique[s] && std::abs(probe.model.mu[s] - current.model.mu[s]) > 1e-3;
+  }
+  if (zeta && mu) return "a changed zeta and a changed mu";
+  if (zeta) return "a changed zeta";
+  if (mu) return "a changed mu";
+  return "the baseline";
+}
+
+int UsedResiduals(const Workspace& ws) {
+  int n = 0;
+  for (const Obs& o : ws.obs) n += o.Dim();
+  return n;
+}
+
+double Aic(const CandidateResult& c) { return -c.lr_statistic + 2 * c.df; }
+
+}  // namespace
+
+std::vector<EffectValue> EffectValues(const Workspace& ws, const Fit& f, const std::string& key) {
+  std::vector<EffectValue> out;
+  const auto it = f.model.effects.find(key);
+  if (it == f.model.effects.end()) return out;
+  const auto se = f.effect_se.find(key);
+  for (std::size_t k = 0; k < it->second.value.size(); ++k) {
+    EffectValue v;
+    v.key = key;
+    if (it->second.form == EffectForm::kPerSurface) v.surface = ws.surfaces[k];
+    v.value = it->second.value[k];
+    v.se = se != f.effect_se.end() && k < se->second.size() ? se->second[k] : kNaN;
+    out.push_back(v);
+  }
+  return out;
+}
+
+RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const std::vector<std::string>& keys,
+                           const DiscoveryOptions& options, const std::function<void(const std::string&)>& say,
+                           Round& rd) {
+  const std::vector<int> all = ws.All();
+  const Fit& current = state.current;
+  std::vector<std::string> to_try;
+  for (const auto& key : keys)
+    if (std::find(state.accepted.begin(), state.accepted.end(), key) == state.accepted.end()) to_try.push_back(key);
+  const double level = options.alpha / static_cast<double>(std::max<std::size_t>(1, to_try.size()));
+  const double chi95 = stats::ChiSquaredQuantile(0.95, 1);
+  std::vector<std::string> free_current;
+  for (const auto& a : state.accepted)
+    if (!Entry(a).measurement_effect) free_current.push_back(a);
+  const auto sens = ws.Sensitivities(current.model, all);
+  std::vector<TrialCovariance> ref;
+  for (std::size_t i = 0; i < ws.obs.size(); ++i) ref.push_back(Covariance(ws, ws.obs[i], sens[i], current.noise));
+  const auto residual_current = ws.Residuals(current.model, all);
+  const CrossValidation cv_current = CrossValidate(ws, current, free_current, ref, options.folds);
+  const CrossValidation cv_tilt_current = CrossValidateTilt(ws, state.tilt_on, options.folds);
+  const double n_res = UsedResiduals(ws);
+  const std::size_t S = ws.surfaces.size();
+  int n_ratio = 0;
+  for (const Obs& o : ws.obs) n_ratio += std::isfinite(o.marker_ratio) ? 1 : 0;
+
+  std::vector<Evaluation> evals;
+  for (const auto& key : to_try) {
+    const LibraryEntry& e = Entry(key);
+    Evaluation ev;
+    CandidateResult& c = ev.c;
+    c.key = key;
+    c.name = e.name;
+    c.parameter = e.parameter;
+    c.unit = e.unit;
+    c.measurement_effect = e.measurement_effect;
+    c.detection_limit = kNaN;
+    say("  " + key);
+    if (e.measurement_effect) {
+      if (n_ratio < 3) {
+        c.message = "fewer than 3 trials with a marker distance";
+        c.identifiability = Identifiability::kNotTested;
+        c.outcome = CandidateOutcome::kNotTested;
+        c.reason = "not tested: " + c.message;
+        evals.push_back(ev);
+        continue;
+      }
+      const TiltFit tf = FitTilt(ws, all, true);
+      ev.tilt = tf;
+      c.fitted = true;
+      c.estimate = tf.tilt_rad * 180 / std::numbers::pi;
+      c.se = tf.tilt_se_rad * 180 / std::numbers::pi;
+      c.values = {EffectValue{key, "", c.estimate, c.se}};
+      c.lr_statistic = std::max(0.0, 2 * (tf.loglik - state.tilt.loglik));
+      c.p_value = ChiBarSquareUpperTail(c.lr_statistic, 1);
+      c.delta_aic = -c.lr_statistic + 2;
+      c.delta_bic = -c.lr_statistic + std::log(static_cast<double>(n_ratio));
+      ev.cv = CrossValidateTilt(ws, true, options.folds);
+      c.cv_error = ev.cv.mean_error;
+      c.cv_error_current = cv_tilt_current.mean_error;
+      c.cv_p = PairedImprovementP(cv_tilt_current.error, ev.cv.error);
+      c.identifiability = Identifiability::kIdentified;
+      // A tilt too small to tell from the calibration's own limits is not named.
+      const bool beyond = 1 - std::cos(tf.tilt_rad) > options.marker_ratio_tolerance;
+      c.significant = c.p_value < level && c.cv_error < c.cv_error_current && beyond;
+      if (!beyond && c.p_value < level) {
+        c.outcome = CandidateOutcome::kBelowResolution;
+        c.reason = "p = " + FmtP(c.p_value) + ", but the tilt of " + Fmt(c.estimate, 2) +
+                   " deg changes the marker distance by less than the calibration's tolerance (" +
+                   Fmt(options.marker_ratio_tolerance) + ")";
+      }
+      evals.push_back(ev);
+      continue;
+    }
+    // Identifiability probe: the effect fixed at a realistic size, first without refitting (is
+    // any trial sensitive to it?), then with zeta and mu refitted (do they absorb it?).
+    Model probe_start = current.model;
+    probe_start.effects[key] = {EffectForm::kShared, {e.probe}};
+    const auto residual_probe = ws.Residuals(probe_start, all);
+    const double fixed_lr = 2 * (LogLikelihood(ws, all, residual_probe, sens, current.noise) - current.loglik);
+    const Fit probe = FitModel(ws, all, probe_start, free_current, current.noise, true, 1);
+    const double probe_lr = 2 * (probe.loglik - current.loglik);
+    // The free fit, shared by all surfaces, from the better of the two starts.
+    std::vector<std::string> free = free_current;
+    free.push_back(key);
+    Model start = probe.loglik > current.loglik ? probe.model : current.model;
+    if (!start.effects.count(key)) start.effects[key] = {EffectForm::kShared, {0.1 * e.probe}};
+    Fit chosen = FitModel(ws, all, start, free, current.noise, true, 2);
+    if (probe.loglik > chosen.loglik) chosen = FitModel(ws, all, probe.model, free, probe.noise, true, 2);
+    // The current model is this one with the effect at 0: a fit that ends below it stopped in a
+    // worse local optimum, and the nested point is the better answer.
+    if (!(chosen.loglik >= current.loglik)) {
+      chosen = current;
+      chosen.model.effects[key] = {EffectForm::kShared, {0.0}};
+      chosen.effect_se[key] = {kNaN};
+    }
+    c.form = EffectForm::kShared;
+    c.df = 1;
+    // Per surface against shared: a likelihood ratio with S - 1 degrees of freedom.
+    if (options.per_surface && S > 1 && chosen.ok) {
+      Model ps = chosen.model;
+      ps.effects[key] = {EffectForm::kPerSurface, std::vector<double>(S, chosen.model.effects[key].value.at(0))};
+      const Fit per = FitModel(ws, all, ps, free, chosen.noise, true, 2);
+      const double lr_ps = std::max(0.0, 2 * (per.loglik - chosen.loglik));
+      c.p_per_surface = stats::ChiSquaredUpperTail(lr_ps, static_cast<double>(S - 1));
+      if (per.ok && per.loglik > chosen.loglik && c.p_per_surface < options.alpha) {
+        chosen = per;
+        c.form = EffectForm::kPerSurface;
+        c.df = static_cast<int>(S);
+      }
+    }
+    c.fitted = chosen.ok;
+    c.message = chosen.message;
+    c.values = EffectValues(ws, chosen, key);
+    c.estimate = kNaN;
+    c.se = kNaN;
+    for (const auto& v : c.values)
+      if (!std::isfinite(c.estimate) || v.value > c.estimate) c.estimate = v.value, c.se = v.se;
+    c.lr_statistic = std::max(0.0, 2 * (chosen.loglik - current.loglik));
+    c.p_value = ChiBarSquareUpperTail(c.lr_statistic, c.df);
+    c.delta_aic = -c.lr_statistic + 2 * c.df;
+    c.delta_bic = -c.lr_statistic + c.df * std::log(n_res);
+    ev.cv = CrossValidate(ws, chosen, free, ref, options.folds);
+    c.cv_error = ev.cv.mean_error;
+    c.cv_error_current = cv_current.mean_error;
+    c.cv_p = PairedImprovementP(cv_current.error, ev.cv.error);
+    // A significant likelihood ratio is itself the evidence that the data tell the effect from
+    // zeta and mu (they were refitted); only a candidate without it is probed further.
+    if (c.p_value < level) {
+      c.identifiability = Identifiability::kIdentified;
+    } else if (std::abs(fixed_lr) < chi95) {
+      c.identifiability = Identifiability::kNotTested;
+    } else if (std::abs(probe_lr) < chi95) {
+      c.identifiability = Identifiability::kConfounded;
+      c.confounded_with = Moved(ws, probe, current);
+    } else {
+      c.identifiability = Identifiability::kIdentified;
+    }
+    // Detection limit: residual change per unit of the effect (secant to the probe size).
+    std::vector<Eigen::Vector3d> d_r(ws.obs.size());
+    for (std::size_t i = 0; i < ws.obs.size(); ++i) d_r[i] = (residual_current[i] - residual_probe[i]) / e.probe;
+    c.detection_limit = DetectionLimit(ws, d_r, sens, ref, level);
+    c.significant = c.fitted && c.p_value < level && c.cv_error < c.cv_error_current;
+    ev.fit = chosen;
+    ev.free = free;
+    evals.push_back(ev);
+  }
+
+  // Outcomes of the candidates that are not significant.
+  for (auto& ev : evals) {
+    CandidateResult& c = ev.c;
+    if (c.significant || !c.reason.empty()) continue;
+    std::ostringstream why;
+    if (!c.fitted && c.outcome != CandidateOutcome::kNotTested) {
+      c.outcome = CandidateOutcome::kNotFitted;
+      why << "the fit failed: " << c.message;
+    } else if (c.identifiability == Identifiability::kNotTested) {
+      c.outcome = CandidateOutcome::kNotTested;
+      why << "no trial is sensitive to it at " << c.parameter << " = " << Fmt(Entry(c.key).probe)
+          << UnitSuffix(c.unit);
+    } else if (c.identifiability == Identifiability::kConfounded) {
+      c.outcome = CandidateOutcome::kConfounded;
+      why << "at " << c.parameter << " = " << Fmt(Entry(c.key).probe) << UnitSuffix(c.unit) << ", " << c.confounded_with
+          << " takes its change back";
+    } else if (c.p_value >= level) {
+      c.outcome = CandidateOutcome::kNotSignificant;
+      why << "likelihood-ratio p = " << FmtP(c.p_value) << " is not below the naming level " << FmtP(level)
+          << " (alpha / " << to_try.size() << " candidates)";
+    } else {
+      c.outcome = CandidateOutcome::kWorseHeldOut;
+      why << "p = " << FmtP(c.p_value) << " is significant, but the held-out error " << Fmt(c.cv_error)
+          << " is not below the current model's " << Fmt(c.cv_error_current)
+          << ": it fits these trials without predicting others better";
+    }
+    c.reason = why.str();
+  }
+
+  // The winner: the significant contact effect of lowest AIC; the measurement effect only when
+  // no contact effect is significant (it is judged on other data, and tried again next round).
+  Evaluation* best = nullptr;
+  for (auto& ev : evals)
+    if (ev.c.significant && !ev.c.measurement_effect && (!best || Aic(ev.c) < Aic(best->c))) best = &ev;
+  if (!best)
+    for (auto& ev : evals)
+      if (ev.c.significant) best = &ev;
+  RoundOutcome out;
+  if (best) {
+    best->c.outcome = CandidateOutcome::kAdded;
+    std::ostringstream why;
+    why << "likelihood-ratio p = " << FmtP(best->c.p_value) << " below the naming level " << FmtP(level)
+        << ", held-out error " << Fmt(best->c.cv_error_current) << " -> " << Fmt(best->c.cv_error);
+    best->c.reason = why.str();
+    for (auto& ev : evals) {
+      if (&ev == best || !ev.c.significant) continue;
+      const double d_aic = Aic(ev.c) - Aic(best->c);
+      std::ostringstream w;
+      if (ev.c.measurement_effect == best->c.measurement_effect && d_aic < chi95) {
+        ev.c.outcome = CandidateOutcome::kIndistinguishable;
+        w << "significant (p = " << FmtP(ev.c.p_value) << "), and fits as well as " << best->c.name
+          << " (AIC within " << Fmt(d_aic) << "): the two cannot be told apart with these data";
+        out.alike.push_back(ev.c.key);
+      } else {
+        ev.c.outcome = CandidateOutcome::kWeakerThanAdded;
+        w << "significant (p = " << FmtP(ev.c.p_value) << "), but " << best->c.name;
+        if (ev.c.measurement_effect != best->c.measurement_effect)
+          w << " was added first (a contact effect goes before the measurement effect)";
+        else
+          w << " explains the data better (AIC lower by " << Fmt(d_aic) << ")";
+        w << "; it is tried again against the model with it";
+      }
+      ev.c.reason = w.str();
+    }
+  }
+
+  // Rank: the added first, then by the strength of the evidence.
+  auto klass = [](const CandidateResult& c) {
+    switch (c.outcome) {
+      case CandidateOutcome::kAdded: return 0;
+      case CandidateOutcome::kIndistinguishable: return 1;
+      case CandidateOutcome::kWeakerThanAdded: return 2;
+      default: return 3;
+    }
+  };
+  std::stable_sort(evals.begin(), evals.end(), [&](const Evaluation& a, const Evaluation& b) {
+    if (klass(a.c) != klass(b.c)) return klass(a.c) < klass(b.c);
+    if (a.c.fitted != b.c.fitted) return a.c.fitted;
+    return a.c.p_value < b.c.p_value;
+  });
+  // `best` moved with the sort; find it again by its outcome.
+  const Evaluation* winner = nullptr;
+  for (std::size_t i = 0; i < evals.size(); ++i) {
+    evals[i].c.rank = static_cast<int>(i) + 1;
+    rd.candidates.push_back(evals[i].c);
+    if (evals[i].c.outcome == CandidateOutcome::kAdded) winner = &evals[i];
+  }
+  if (!winner) {
+    bool worse = false, small = false;
+    for (const auto& ev : evals) {
+      worse |= ev.c.outcome == CandidateOutcome::kWorseHeldOut;
+      small |= ev.c.outcome == CandidateOutcome::kBelowResolution;
+    }
+    rd.decision = "Nothing added: no candidate improves the fit significantly under the noise model (naming level " +
+                  FmtP(level) + ")";
+    if (worse) rd.decision += ", or one that does fails to predict held-out trials better";
+    if (small) rd.decision += "; a significant out-of-plane tilt is below the measurement's resolution";
+    rd.decision += ".";
+    return out;
+  }
+  const CandidateResult& w = winner->c;
+  out.added = true;
+  out.key = w.key;
+  out.fit = winner->fit;
+  out.tilt = winner->tilt;
+  rd.accepted = w.key;
+  // The gap on held-out trials before and after.
+  const CrossValidation& before = w.measurement_effect ? cv_tilt_current : cv_current;
+  const CrossValidation& after = winner->cv;
+  double sb = 0, sa = 0;
+  int n = 0;
+  for (std::size_t i = 0; i < ws.obs.size(); ++i) {
+    const Obs& o = ws.obs[i];
+    if (!std::isfinite(Rms(before.residual[i])) || !std::isfinite(Rms(after.residual[i]))) continue;
+    GapTrial g;
+    g.id = o.trial->spec.id;
+    g.surface = ws.surfaces[static_cast<std::size_t>(o.surface)];
+    g.angle_deg = o.angle_deg;
+    g.speed_m_s = o.speed_m_s;
+    g.fold = o.fold;
+    g.residual_before = before.residual[i];
+    g.residual_after = after.residual[i];
+    g.gap_before = Rms(g.residual_before);
+    g.gap_after = Rms(g.residual_after);
+    for (int c = 0; c < kComponents; ++c)
+      if (std::isfinite(g.residual_before[c]) && std::isfinite(g.residual_after[c]))
+        sb += g.residual_before[c] * g.residual_before[c], sa += g.residual_after[c] * g.residual_after[c], ++n;
+    rd.gap.push_back(g);
+  }
+  rd.gap_before = n ? std::sqrt(sb / n) : kNaN;
+  rd.gap_after = n ? std::sqrt(sa / n) : kNaN;
+  rd.gap_shrink = rd.gap_before > 0 ? 1 - rd.gap_after / rd.gap_before : kNaN;
+  std::ostringstream d;
+  d << "Added " << w.name;
+  if (w.form == EffectForm::kPerSurface) {
+    d << " per surface (";
+    for (std::size_t i = 0; i < w.values.size(); ++i)
+      d << (i ? ", " : "") << w.values[i].surface << " " << w.parameter << " = " << Fmt(w.values[i].value) << " +- "
+        << Fmt(w.values[i].se);
+    d << UnitSuffix(w.unit) << ")";
+  } else {
+    d << " (" << w.parameter << " = " << Fmt(w.estimate) << " +- " << Fmt(w.se) << UnitSuffix(w.unit) << ")";
+  }
+  d << ": likelihood ratio " << Fmt(w.lr_statistic) << ", p = " << FmtP(w.p_value) << "; held-out error "
+    << Fmt(w.cv_error_current) << " -> " << Fmt(w.cv_error) << " (" << kHeldOutErrorUnit << "); held-out gap "
+    << Fmt(100 * rd.gap_before) << " % -> " << Fmt(100 * rd.gap_after) << " % of the impact speed ("
+    << Percent(rd.gap_shrink) << " % smaller).";
+  if (!out.alike.empty()) {
+    d << " It cannot be told apart from";
+    for (std::size_t i = 0; i < out.alike.size(); ++i) d << (i ? ", " : " ") << Entry(out.alike[i]).name;
+    d << " with these data.";
+  }
+  rd.decision = d.str();
+  return out;
+}
+
+}  // namespace hoof::discovery::internal

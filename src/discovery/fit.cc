@@ -1,0 +1,224 @@
+// A model of the discovery workflow fitted to measured trials under the noise model
+// (docs/discovery.md, "Fits"): per-surface zeta and mu and the free effects, by Ceres
+// (Levenberg-Marquardt on whitened residuals, central numeric derivatives of the simulator, one
+// residual block per trial), alternating with the maximum-likelihood noise model.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include <boost/math/special_functions/binomial.hpp>
+#include <Eigen/QR>
+#include <ceres/ceres.h>
+
+#include "discovery/internal.h"
+#include "stats/distributions.h"
+
+namespace hoof::discovery::internal {
+namespace {
+
+/// Ceres cost of one trial: its used residual components, whitened by the noise model.
+struct TrialCost {
+  const Workspace* ws;
+  const Obs* o;
+  Eigen::MatrixXd whiten;
+  std::vector<int> components;
+  bool mu_free;
+  double mu_fixed;
+  std::vector<std::string> effect_keys;  // free effects, in block order
+  std::vector<double> effect_scale;      // value = u * scale
+  dynamics::ContactExtensions fixed;     // the effects held fixed
+
+  bool operator()(double const* const* p, double* residuals) const {
+    std::size_t b = 0;
+    const double zeta = p[b++][0];
+    const double mu = mu_free ? p[b++][0] : mu_fixed;
+    dynamics::ContactExtensions x = fixed;
+    for (std::size_t j = 0; j < effect_keys.size(); ++j) Apply(effect_keys[j], p[b++][0] * effect_scale[j], x);
+    bool ok = false;
+    const Eigen::Vector3d pred = ws->Predict(*o, zeta, mu, x, &ok);
+    Eigen::VectorXd r(static_cast<Eigen::Index>(components.size()));
+    for (std::size_t i = 0; i < components.size(); ++i) {
+      const int c = components[i];
+      r[static_cast<Eigen::Index>(i)] = ok ? (o->measured[c] - pred[c]) / o->scale : 1.0;
+    }
+    const Eigen::VectorXd w = whiten * r;
+    for (Eigen::Index i = 0; i < w.size(); ++i) residuals[i] = w[i];
+    return true;
+  }
+};
+
+}  // namespace
+
+Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& start,
+             const std::vector<std::string>& free_effects, const Noise& noise, bool estimate_noise, int passes) {
+  Fit fit;
+  fit.model = start;
+  fit.noise = noise;
+  const std::size_t S = ws.surfaces.size();
+  std::vector<bool> surface_used(S, false), surface_oblique(S, false);
+  for (int i : which) {
+    const Obs& o = ws.obs[static_cast<std::size_t>(i)];
+    surface_used[static_cast<std::size_t>(o.surface)] = true;
+    if (!o.normal) surface_oblique[static_cast<std::size_t>(o.surface)] = true;
+  }
+  std::vector<double> zeta = start.zeta, mu = start.mu;
+  // The free effects' values, scaled by their probe size so that the solver sees numbers of
+  // order one.
+  std::vector<std::vector<double>> u(free_effects.size());
+  std::vector<double> scale(free_effects.size());
+  std::vector<EffectForm> form(free_effects.size());
+  for (std::size_t j = 0; j < free_effects.size(); ++j) {
+    scale[j] = Entry(free_effects[j]).probe;
+    const auto it = start.effects.find(free_effects[j]);
+    if (it == start.effects.end()) {
+      u[j] = {0.0};
+    } else {
+      form[j] = it->second.form;
+      for (double v : it->second.value) u[j].push_back(v / scale[j]);
+    }
+  }
+  std::map<std::string, EffectParam> fixed;
+  for (const auto& [key, value] : start.effects)
+    if (std::find(free_effects.begin(), free_effects.end(), key) == free_effects.end()) fixed[key] = value;
+  auto store = [&] {
+    fit.model.zeta = zeta;
+    fit.model.mu = mu;
+    for (std::size_t j = 0; j < u.size(); ++j) {
+      EffectParam p;
+      p.form = form[j];
+      for (double v : u[j]) p.value.push_back(v * scale[j]);
+      fit.model.effects[free_effects[j]] = p;
+    }
+  };
+
+  std::unique_ptr<ceres::Problem> problem;
+  for (int pass = 0; pass < passes; ++pass) {
+    const auto sens = ws.Sensitivities(fit.model, which);
+    if (estimate_noise) fit.noise = EstimateNoise(ws, which, ws.Residuals(fit.model, which), sens, fit.noise);
+    problem = std::make_unique<ceres::Problem>();
+    int blocks = 0;
+    for (std::size_t i = 0; i < which.size(); ++i) {
+      const Obs& o = ws.obs[static_cast<std::size_t>(which[i])];
+      const auto s = static_cast<std::size_t>(o.surface);
+      const TrialCovariance cov = Covariance(ws, o, sens[i], fit.noise);
+      auto* f = new TrialCost{&ws, &o, cov.whiten, cov.components, !o.normal && surface_oblique[s], mu[s],
+                              free_effects, scale, {}};
+      for (const auto& [key, p] : fixed) Apply(key, p.At(o.surface), f->fixed);
+      ceres::NumericDiffOptions nd;
+      nd.relative_step_size = 1e-4;
+      auto* cost = new ceres::DynamicNumericDiffCostFunction<TrialCost, ceres::CENTRAL>(f, ceres::TAKE_OWNERSHIP, nd);
+      std::vector<double*> params{&zeta[s]};
+      if (f->mu_free) params.push_back(&mu[s]);
+      for (std::size_t j = 0; j < u.size(); ++j) params.push_back(&u[j][form[j] == EffectForm::kShared ? 0 : s]);
+      for (std::size_t b = 0; b < params.size(); ++b) cost->AddParameterBlock(1);
+      cost->SetNumResiduals(static_cast<int>(f->components.size()));
+      problem->AddResidualBlock(cost, nullptr, params);
+      ++blocks;
+    }
+    if (blocks == 0) break;
+    for (std::size_t s = 0; s < S; ++s) {
+      if (!surface_used[s]) continue;
+      problem->SetParameterLowerBound(&zeta[s], 0, 1e-4);
+      problem->SetParameterUpperBound(&zeta[s], 0, 5.0);
+      if (surface_oblique[s] && problem->HasParameterBlock(&mu[s])) {
+        problem->SetParameterLowerBound(&mu[s], 0, 0.0);
+        problem->SetParameterUpperBound(&mu[s], 0, 2.0);
+      }
+    }
+    for (std::size_t j = 0; j < u.size(); ++j)
+      for (double& v : u[j])
+        if (problem->HasParameterBlock(&v)) {
+          problem->SetParameterLowerBound(&v, 0, 0.0);
+          problem->SetParameterUpperBound(&v, 0, Entry(free_effects[j]).upper / scale[j]);
+        }
+    ceres::Solver::Options so;
+    so.linear_solver_type = ceres::DENSE_QR;
+    so.max_num_iterations = 40;
+    so.function_tolerance = 1e-9;
+    so.parameter_tolerance = 1e-8;
+    so.num_threads = ws.threads;
+    so.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(so, problem.get(), &summary);
+    if (!summary.IsSolutionUsable()) {
+      fit.ok = false;
+      fit.message = summary.message;
+    }
+    store();
+  }
+  store();
+  const auto r = ws.Residuals(fit.model, which);
+  const auto sens = ws.Sensitivities(fit.model, which);
+  if (estimate_noise) fit.noise = EstimateNoise(ws, which, r, sens, fit.noise);
+  fit.loglik = LogLikelihood(ws, which, r, sens, fit.noise);
+
+  // Standard errors from the Gauss-Newton normal matrix of the last solve (a pseudo-inverse, so
+  // that flat directions such as mu on surfaces whose contacts stick do not break it).
+  fit.zeta_se.assign(S, kNaN);
+  fit.mu_se.assign(S, kNaN);
+  if (!problem) return fit;
+  std::vector<double*> order;
+  for (std::size_t s = 0; s < S; ++s) {
+    if (problem->HasParameterBlock(&zeta[s])) order.push_back(&zeta[s]);
+    if (problem->HasParameterBlock(&mu[s])) order.push_back(&mu[s]);
+  }
+  for (auto& uj : u)
+    for (double& v : uj)
+      if (problem->HasParameterBlock(&v)) order.push_back(&v);
+  fit.parameters = static_cast<int>(order.size());
+  ceres::Problem::EvaluateOptions eo;
+  eo.parameter_blocks = order;
+  eo.num_threads = ws.threads;
+  ceres::CRSMatrix crs;
+  problem->Evaluate(eo, nullptr, nullptr, nullptr, &crs);
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+  for (int row = 0; row < crs.num_rows; ++row)
+    for (int q = crs.rows[static_cast<std::size_t>(row)]; q < crs.rows[static_cast<std::size_t>(row) + 1]; ++q)
+      J(row, crs.cols[static_cast<std::size_t>(q)]) = crs.values[static_cast<std::size_t>(q)];
+  const Eigen::MatrixXd cov = (J.transpose() * J).completeOrthogonalDecomposition().pseudoInverse();
+  auto se_of = [&](Eigen::Index col) { return std::sqrt(std::max(0.0, cov(col, col))); };
+  Eigen::Index col = 0;
+  for (std::size_t s = 0; s < S; ++s) {
+    if (problem->HasParameterBlock(&zeta[s])) fit.zeta_se[s] = se_of(col++);
+    if (problem->HasParameterBlock(&mu[s])) fit.mu_se[s] = se_of(col++);
+  }
+  for (std::size_t j = 0; j < u.size(); ++j) {
+    auto& se = fit.effect_se[free_effects[j]];
+    se.assign(u[j].size(), kNaN);
+    for (std::size_t k = 0; k < u[j].size(); ++k)
+      if (problem->HasParameterBlock(&u[j][k])) se[k] = scale[j] * se_of(col++);
+  }
+  return fit;
+}
+
+TiltFit FitTilt(const Workspace& ws, const std::vector<int>& which, bool free) {
+  TiltFit f;
+  std::vector<double> r;
+  for (int i : which) {
+    const double v = ws.obs[static_cast<std::size_t>(i)].marker_ratio;
+    if (std::isfinite(v)) r.push_back(v);
+  }
+  if (r.empty()) return f;
+  const double n = static_cast<double>(r.size());
+  const double mean = std::accumulate(r.begin(), r.end(), 0.0) / n;
+  const double c = free ? std::clamp(mean, -1.0, 1.0) : 1.0;
+  if (free) f.tilt_rad = std::acos(std::min(1.0, c));
+  double ss = 0;
+  for (double v : r) ss += (v - std::cos(f.tilt_rad)) * (v - std::cos(f.tilt_rad));
+  const double ms = std::max(ss / n, 1e-14);
+  f.sigma = std::sqrt(ms);
+  f.loglik = -0.5 * n * std::log(ms);
+  if (free && f.tilt_rad > 0 && n > 1) f.tilt_se_rad = f.sigma / std::sqrt(n - 1) / std::sin(f.tilt_rad);
+  return f;
+}
+
+double ChiBarSquareUpperTail(double x, int df) {
+  if (!(x > 0)) return 1.0;
+  double p = 0.0;
+  for (int k = 1; k <= df; ++k)
+    p += boost::math::binomial_coefficient<double>(static_cast<unsigned>(df), static_cast<unsigned>(k)) *
+         std::pow(0.5, df) * stats::ChiSquaredUpperTail(x, k);
+  return p;
+}
+
+}  // namespace hoof::discovery::internal

@@ -1,0 +1,224 @@
+#pragma once
+/// @file
+/// The parts of the discovery workflow (docs/discovery.md), shared by its translation units and
+/// not part of the public API:
+///  - library.cc: the candidate library, enum names, option checks;
+///  - workspace.cc: the measured trials as the workflow uses them, and the simulator calls;
+///  - noise.cc: the noise model (per-trial coefficient scatter plus measurement error) and its
+///    maximum-likelihood estimate;
+///  - fit.cc: a model fitted with Ceres under the noise model;
+///  - structure.cc: the residuals' trends against the noise model (descriptive tests);
+///  - cross_validation.cc: held-out errors;
+///  - candidates.cc: one round: each candidate fitted, tested and judged;
+///  - verdict.cc: findings and the verdict in words;
+///  - discovery.cc: the rounds.
+
+#include <array>
+#include <atomic>
+#include <functional>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "discovery/discovery.h"
+#include "dynamics/impact_simulator.h"
+#include "pipeline/trial_analysis.h"
+
+namespace hoof::discovery::internal {
+
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+inline constexpr int kComponents = 3;  // v_x, v_y, w d
+inline constexpr const char* kComponentName[kComponents] = {"v_x", "v_y", "w"};
+
+const LibraryEntry& Entry(const std::string& key);
+/// Sets the extension of `key` to `value` (its own units).
+void Apply(const std::string& key, double value, dynamics::ContactExtensions& x);
+
+std::string Fmt(double v, int precision = 3);
+std::string FmtP(double p);
+/// A fraction as a whole percentage ("95"), never in exponent form.
+std::string Percent(double fraction);
+/// " unit", or nothing for a dimensionless "1".
+std::string UnitSuffix(const std::string& unit);
+
+/// A measured trial as the workflow uses it.
+struct Obs {
+  const pipeline::TrialAnalysis* trial = nullptr;
+  int surface = 0;
+  double angle_deg = 0.0, speed_m_s = 0.0;
+  bool normal = false;
+  int cell = 0, fold = 0;
+  dynamics::SpecimenParameters specimen;
+  dynamics::ImpactConditions conditions;
+  double t_touch_s = 0.0, impact_time_s = 0.0, phi = 0.0;
+  Eigen::Vector3d measured{0, 0, 0};  // v_x, v_y, w d after impact, in S
+  /// Variance of the random measurement error of each component (the per-trial fits' s.e.,
+  /// after and before the impact), as fractions of the impact speed squared.
+  Eigen::Vector3d measurement_var{0, 0, 0};
+  double scale = 1.0;                 // impact speed |v_SC before|
+  std::array<bool, kComponents> used{false, false, false};
+  double marker_ratio = kNaN;        // mean over the flight windows
+  double marker_ratio_slope = kNaN;  // per second, over the flight windows
+  int Dim() const { return used[0] + used[1] + used[2]; }
+};
+
+/// A contact effect in a model: one value for all surfaces, or one per surface.
+struct EffectParam {
+  EffectForm form = EffectForm::kShared;
+  std::vector<double> value;  // size 1 (shared) or one per surface; own units
+  double At(int surface) const {
+    return form == EffectForm::kShared ? value.at(0) : value.at(static_cast<std::size_t>(surface));
+  }
+};
+
+/// Parameter values of a model.
+struct Model {
+  std::vector<double> zeta, mu;               // per surface
+  std::map<std::string, EffectParam> effects;  // contact effects
+};
+
+/// The noise model: per surface the trial-to-trial s.d. of zeta and mu, and per component the
+/// systematic measurement s.d. (fraction of the impact speed) beyond each trial's own s.e.
+struct Noise {
+  std::vector<double> zeta_sd, mu_sd;
+  Eigen::Vector3d systematic_sd{1e-4, 1e-4, 1e-4};
+};
+
+/// Per trial: the derivatives of the prediction (fractions of the impact speed) by zeta and mu.
+using Sensitivity = Eigen::Matrix<double, kComponents, 2>;
+
+class Workspace {
+ public:
+  std::vector<Obs> obs;
+  std::vector<std::string> surfaces;
+  std::vector<double> k;          // per surface (the paper's; not identified)
+  std::vector<bool> has_oblique;  // per surface
+  std::vector<double> zeta_start, mu_start;  // the comparison's per-surface fit
+  double rtol = 1e-8;
+  double measurement_floor = 1e-4;
+  int threads = 2;
+  mutable std::atomic<long long> simulations{0};
+
+  dynamics::ContactExtensions Extensions(const Model& m, int surface) const;
+  /// v_x, v_y and w d after the impact at the measured impact time, in S.
+  Eigen::Vector3d Predict(const Obs& o, double zeta, double mu, const dynamics::ContactExtensions& x,
+                          bool* ok) const;
+  /// Residuals (measured - model) / impact speed of the obs `which`; unused components are NaN,
+  /// a failed simulation gives 1 (a large misfit rather than a gap).
+  std::vector<Eigen::Vector3d> Residuals(const Model& m, const std::vector<int>& which) const;
+  /// d prediction / d (zeta, mu) of the obs `which` at `m` (central differences).
+  std::vector<Sensitivity> Sensitivities(const Model& m, const std::vector<int>& which) const;
+  void ParallelFor(std::size_t n, const std::function<void(std::size_t)>& f) const;
+  std::vector<int> All() const;
+};
+
+/// Builds the workspace from the measured trials.
+void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOptions& options, int* skipped,
+           Workspace& ws);
+
+// ---- noise (noise.cc) ---------------------------------------------------------------------
+
+/// The covariance of one trial's used residual components under `noise`, and the matrix W with
+/// W^T W = covariance^-1 (whitening), both of the trial's dimension.
+struct TrialCovariance {
+  Eigen::MatrixXd cov, whiten;
+  std::vector<int> components;
+  double log_det = 0.0;
+};
+TrialCovariance Covariance(const Workspace& ws, const Obs& o, const Sensitivity& s, const Noise& noise);
+/// -1/2 sum over trials of (log det V + r^T V^-1 r), constants dropped.
+double LogLikelihood(const Workspace& ws, const std::vector<int>& which, const std::vector<Eigen::Vector3d>& r,
+                     const std::vector<Sensitivity>& s, const Noise& noise);
+/// The noise model of largest likelihood for these residuals (coordinate-wise Brent searches
+/// on the log s.d.s), starting from `start`.
+Noise EstimateNoise(const Workspace& ws, const std::vector<int>& which, const std::vector<Eigen::Vector3d>& r,
+                    const std::vector<Sensitivity>& s, const Noise& start);
+Noise InitialNoise(const Workspace& ws);
+
+// ---- fits (fit.cc) ------------------------------------------------------------------------
+
+struct Fit {
+  Model model;
+  Noise noise;
+  double loglik = 0.0;
+  std::map<std::string, std::vector<double>> effect_se;  // like EffectParam::value
+  std::vector<double> zeta_se, mu_se;
+  int parameters = 0;  // fitted mean parameters (zeta, mu, effects)
+  bool ok = true;
+  std::string message;
+};
+
+/// Fits the per-surface zeta and mu and the `free_effects` (others fixed at their values in
+/// `start`; each free effect in the form `start` gives it) to the obs `which`. With
+/// `estimate_noise`, the noise model is re-estimated between `passes` Ceres solves and at the
+/// end (the likelihood is then the profile likelihood); otherwise it stays `noise`.
+Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& start,
+             const std::vector<std::string>& free_effects, const Noise& noise, bool estimate_noise, int passes = 2);
+
+/// The out-of-plane (measurement) model: the marker distance ratio is cos(tilt) in every trial.
+struct TiltFit {
+  double tilt_rad = 0.0, tilt_se_rad = kNaN;
+  double sigma = 1.0, loglik = 0.0;
+};
+TiltFit FitTilt(const Workspace& ws, const std::vector<int>& which, bool free);
+
+/// Upper tail of the chi-bar-square of `df` independent parameters at their lower bound:
+/// sum over k of C(df, k) 2^-df P(chi2_k > x).
+double ChiBarSquareUpperTail(double x, int df);
+
+// ---- structure (structure.cc) -------------------------------------------------------------
+
+std::vector<StructureTest> StructureTests(const Workspace& ws, const std::vector<Eigen::Vector3d>& r,
+                                          const std::vector<Sensitivity>& s, const Noise& noise, double tilt_rad,
+                                          const DiscoveryOptions& options);
+
+// ---- cross-validation (cross_validation.cc) ------------------------------------------------
+
+struct CrossValidation {
+  std::vector<double> error;              // per obs (held out), kHeldOutErrorUnit
+  std::vector<Eigen::Vector3d> residual;  // per obs (held out)
+  double mean_error = 0.0;
+};
+/// Each fold's trials predicted by `start` refitted (noise held at the full-data fit's) without
+/// them; errors in units of the variance `reference` predicts for each trial.
+CrossValidation CrossValidate(const Workspace& ws, const Fit& start, const std::vector<std::string>& free_effects,
+                              const std::vector<TrialCovariance>& reference, int folds);
+CrossValidation CrossValidateTilt(const Workspace& ws, bool free, int folds);
+/// One-sided paired t test that `b` has lower errors than `a`.
+double PairedImprovementP(const std::vector<double>& a, const std::vector<double>& b);
+double Rms(const Eigen::Vector3d& r);
+
+// ---- a round (candidates.cc) --------------------------------------------------------------
+
+/// What one round works from: the current model and what was added.
+struct RoundState {
+  Fit current;
+  std::vector<std::string> accepted;  // contact effects and "out_of_plane"
+  bool tilt_on = false;
+  TiltFit tilt;
+};
+
+/// Evaluates every candidate against `state`, ranks them and decides; fills `round` (tests
+/// excepted) and, when one was added, returns what the next state needs.
+struct RoundOutcome {
+  bool added = false;
+  std::string key;
+  std::vector<std::string> alike;  // look-alikes of the added effect
+  Fit fit;                         // the model with it (contact effect)
+  TiltFit tilt;                    // the tilt (measurement effect)
+};
+RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const std::vector<std::string>& keys,
+                           const DiscoveryOptions& options,
+                           const std::function<void(const std::string&)>& say, Round& round);
+
+// ---- verdict (verdict.cc) -----------------------------------------------------------------
+
+std::vector<SurfaceFit> SurfaceFits(const Workspace& ws, const Fit& f);
+std::vector<EffectValue> EffectValues(const Workspace& ws, const Fit& f, const std::string& key);
+/// The verdict in words, from the filled result.
+std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& options, int skipped);
+
+}  // namespace hoof::discovery::internal

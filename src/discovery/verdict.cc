@@ -1,0 +1,115 @@
+// The discovery workflow's per-surface fits and its verdict in words (docs/discovery.md,
+// "Reading the verdict").
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "discovery/internal.h"
+
+namespace hoof::discovery::internal {
+namespace {
+
+std::string Scope(const Finding& f) {
+  if (f.form == EffectForm::kShared) return "";
+  std::string s = " on ";
+  for (std::size_t i = 0; i < f.surfaces.size(); ++i)
+    s += (i == 0 ? "" : i + 1 == f.surfaces.size() ? " and " : ", ") + f.surfaces[i];
+  return s;
+}
+
+std::string Estimate(const Finding& f) {
+  std::ostringstream v;
+  if (f.form == EffectForm::kShared) {
+    v << f.parameter << " = " << Fmt(f.estimate) << " +- " << Fmt(f.se) << UnitSuffix(f.unit);
+  } else {
+    for (std::size_t i = 0; i < f.values.size(); ++i)
+      v << (i ? ", " : "") << f.values[i].surface << " " << f.parameter << " = " << Fmt(f.values[i].value) << " +- "
+        << Fmt(f.values[i].se);
+    v << UnitSuffix(f.unit);
+  }
+  return v.str();
+}
+
+}  // namespace
+
+std::vector<SurfaceFit> SurfaceFits(const Workspace& ws, const Fit& f) {
+  std::vector<SurfaceFit> out;
+  for (std::size_t s = 0; s < ws.surfaces.size(); ++s) {
+    SurfaceFit sf;
+    sf.surface = ws.surfaces[s];
+    sf.zeta = f.model.zeta[s];
+    sf.zeta_se = s < f.zeta_se.size() ? f.zeta_se[s] : kNaN;
+    sf.mu = ws.has_oblique[s] ? f.model.mu[s] : kNaN;
+    sf.mu_se = ws.has_oblique[s] && s < f.mu_se.size() ? f.mu_se[s] : kNaN;
+    sf.k_N_m = ws.k[s];
+    sf.zeta_sd = s < f.noise.zeta_sd.size() ? f.noise.zeta_sd[s] : kNaN;
+    sf.mu_sd = ws.has_oblique[s] && s < f.noise.mu_sd.size() ? f.noise.mu_sd[s] : kNaN;
+    for (const Obs& o : ws.obs) sf.trials += o.surface == static_cast<int>(s) ? 1 : 0;
+    out.push_back(sf);
+  }
+  return out;
+}
+
+std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& options, int skipped) {
+  std::ostringstream v;
+  v << "Data: " << out.trials_used << " measured trial(s) on " << out.baseline.size() << " surface(s)";
+  if (skipped) v << " (" << skipped << " skipped: not measured or no surface model)";
+  v << ". Baseline: the paper's two-phase model with zeta and mu fitted per surface (k is not identified by "
+       "velocities and stays the paper's). Noise model: zeta and mu scatter from trial to trial (s.d. of zeta";
+  for (const auto& s : out.final_model) v << " " << Fmt(s.zeta_sd, 2) << " on " << s.surface << ";";
+  v << " fitted), plus each velocity's own measurement error.\n\n";
+  bool any_named = false;
+  for (const auto& f : out.findings) {
+    if (f.status == FindingStatus::kNamed) {
+      any_named = true;
+      v << "Named: " << f.name << Scope(f) << ", " << Estimate(f)
+        << ". Added to the model, it shrinks the disagreement on held-out trials by " << Percent(f.gap_shrink)
+        << " %.\n";
+    } else if (f.status == FindingStatus::kTentative) {
+      v << "Tentative: " << f.name << Scope(f) << ", " << Estimate(f) << ", improves the fit significantly (held-out gap "
+        << Percent(f.gap_shrink) << " % smaller), but the residuals still show structure that no effect explains.\n";
+    } else {
+      v << "Cannot be told apart with these data: " << f.name << " and " << f.partner
+        << ". A measurement that would separate them: " << f.separating_measurement << ".\n";
+    }
+  }
+  // Every significant candidate, with why it was or was not added.
+  for (const auto& rd : out.rounds)
+    for (const auto& c : rd.candidates)
+      if (c.fitted && c.p_value < options.alpha && c.outcome != CandidateOutcome::kAdded)
+        v << "Round " << rd.index << ", " << c.name << " (p = " << FmtP(c.p_value) << "): not added, "
+          << c.reason << ".\n";
+  if (out.unexplained) {
+    v << "\nUnexplained disagreement: with " << (out.effects.empty() ? "the baseline" : "the effects above added")
+      << ", " << out.remaining.size() << " test(s) of the residuals remain significant:\n";
+    for (std::size_t i = 0; i < std::min<std::size_t>(3, out.remaining.size()); ++i)
+      v << "  - " << out.remaining[i].scope << ": " << out.remaining[i].description << " (p = "
+        << FmtP(out.remaining[i].p) << ")\n";
+    v << "The model lacks something that the library does not hold; no effect is named with confidence.\n";
+  } else if (!any_named) {
+    v << "Nothing is named: no candidate of the library improves the model significantly under the noise model.\n";
+  }
+  if (!out.rounds.empty()) {
+    const Round& last = out.rounds.back();
+    std::vector<std::string> limits, untested;
+    for (const auto& c : last.candidates) {
+      if (c.outcome == CandidateOutcome::kNotTested) untested.push_back(c.name);
+      if (!c.measurement_effect && std::isfinite(c.detection_limit) &&
+          (c.outcome == CandidateOutcome::kNotSignificant || c.outcome == CandidateOutcome::kWorseHeldOut))
+        limits.push_back(c.name + ": " + c.parameter + " = " + Fmt(c.detection_limit, 2) + UnitSuffix(c.unit));
+    }
+    if (!limits.empty()) {
+      v << "\nWhat these trials could have missed: the smallest size of each effect not added that this design and "
+           "noise detect with 80 % power at the naming level (shared by all surfaces; Wald approximation):\n";
+      for (const auto& l : limits) v << "  - " << l << "\n";
+    }
+    if (!untested.empty()) {
+      v << "\nNot tested by these data (no trial is sensitive to them): ";
+      for (std::size_t i = 0; i < untested.size(); ++i) v << (i ? "; " : "") << untested[i];
+      v << ".\n";
+    }
+  }
+  return v.str();
+}
+
+}  // namespace hoof::discovery::internal
