@@ -37,6 +37,7 @@ struct SynthArgs {
   std::string id;
   std::optional<double> e, mu;
   bool no_scatter = false;
+  double scatter_scale = 1.0;
   synth::RenderOptions render;
   synth::SpecimenGeometry geometry;
   std::string markers;
@@ -124,6 +125,8 @@ void ApplyStudyConfig(const std::string& path, SynthArgs& a) {
                c.at("angle_deg").get<double>(), c.at("speed_m_s").get<double>()});
       } else if (key == "scatter_parameters")
         d.scatter_parameters = value.get<bool>();
+      else if (key == "scatter_scale")
+        d.scatter_scale = value.get<double>();
       else if (key == "out_of_plane_random_deg")
         d.out_of_plane_random_deg = value.get<double>();
       else if (key == "markers_B_m") {
@@ -273,6 +276,8 @@ void CheckArgs(const SynthArgs& a) {
     Bad("--angle-deg", "must be in [0, 60], got " + std::to_string(a.angle_deg));
   if (a.e && !(*a.e > 0 && *a.e < 1)) Bad("--e", "must be in (0, 1)");
   if (a.mu && !(*a.mu >= 0)) Bad("--mu", "must be >= 0");
+  if (!(a.scatter_scale >= 0 && a.scatter_scale <= 4))
+    Bad("--scatter-scale", "must be in [0, 4], got " + std::to_string(a.scatter_scale));
   for (double s : a.design.speeds_m_s)
     if (!(s > 0 && s <= 20)) Bad("--speeds", "must each be in (0, 20], got " + std::to_string(s));
   for (double s : a.design.angles_deg)
@@ -340,6 +345,7 @@ void Run(SynthArgs& a, RunState& state, CLI::App* cmd) {
   if (cmd->count("--trials-per-cell") > 0) d.trials_per_cell = a.trials_per_cell;
   if (cmd->count("--out-of-plane-random-deg") > 0)
     d.out_of_plane_random_deg = a.out_of_plane_random_deg;
+  if (cmd->count("--scatter-scale") > 0) d.scatter_scale = a.scatter_scale;
   if (d.out_of_plane_random_deg < 0 || d.out_of_plane_random_deg >= 60)
     Bad("--out-of-plane-random-deg", "must be in [0, 60)");
   if (!a.markers.empty()) a.geometry.markers = ParseMarkers(a.markers);
@@ -380,6 +386,7 @@ void Run(SynthArgs& a, RunState& state, CLI::App* cmd) {
     spec.e = a.e;
     spec.mu = a.mu;
     spec.scatter_parameters = !a.no_scatter;
+    spec.scatter_scale = a.scatter_scale;
     spec.hidden = a.hidden;
     spec.id = a.id.empty() ? fs::path(a.output).filename().string() : a.id;
     const synth::SceneAssets assets =
@@ -433,6 +440,10 @@ void RegisterSynth(CLI::App& app, RunState& state) {
   cmd->add_option("--mu", a.mu, "Fix the friction coefficient (no draw)");
   cmd->add_flag("--no-scatter", a.no_scatter,
                 "Use the paper's coefficients without per-trial draws");
+  cmd->add_option("--scatter-scale", a.scatter_scale,
+                  "Multiply the spread of the per-trial e and mu draws, in [0, 4] "
+                  "(1 = the paper's, 0.5 = half, 0 = no scatter)")
+      ->capture_default_str();
   cmd->add_option("--width-px", a.render.width_px, "Frame width (px)")->capture_default_str();
   cmd->add_option("--height-px", a.render.height_px, "Frame height (px)")->capture_default_str();
   cmd->add_option("--bit-depth", a.render.bit_depth, "8 or 16 bits per pixel")

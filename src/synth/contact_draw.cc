@@ -25,21 +25,27 @@ ContactDraw DrawContact(const TrialSpec& spec, const dynamics::SpecimenParameter
                         std::mt19937_64& rng) {
   const dynamics::ContactParameters paper = dynamics::PaperContact(spec.surface);
   ContactDraw d;
+  // A scale of 0 is no scatter: the draws are then taken at the paper's spread, exactly as
+  // with scatter off, so that such a trial is the --no-scatter trial byte for byte.
+  const bool scatter = spec.scatter_parameters && spec.scatter_scale > 0;
+  const double scale = scatter ? spec.scatter_scale : 1.0;
   // Both draws are always taken so that a fixed e does not shift the mu draw and the rest.
-  const double e_random =
-      TruncatedNormal(rng, MeanRestitution(spec.surface, specimen), RestitutionSpread(spec.surface),
-                      kMinDrawnRestitution, kMaxDrawnRestitution);
-  const double mu_random = TruncatedNormal(rng, paper.mu, kFrictionSpread, 0.0, 5.0);
+  // (The bounds reject more draws at larger scales, and each rejection takes more numbers from
+  // `rng`: two trials of one seed at different scales differ in their later draws too.)
+  const double e_random = TruncatedNormal(rng, MeanRestitution(spec.surface, specimen),
+                                          scale * RestitutionSpread(spec.surface),
+                                          kMinDrawnRestitution, kMaxDrawnRestitution);
+  const double mu_random = TruncatedNormal(rng, paper.mu, scale * kFrictionSpread, 0.0, 5.0);
   d.contact = paper;
   if (spec.e) {
     d.e_drawn = *spec.e;
-  } else if (spec.scatter_parameters) {
+  } else if (scatter) {
     d.e_drawn = e_random;
   } else {
     d.e_drawn = MeanRestitution(spec.surface, specimen);
   }
-  d.contact.mu = spec.mu ? *spec.mu : (spec.scatter_parameters ? mu_random : paper.mu);
-  if (!spec.e && !spec.scatter_parameters) {
+  d.contact.mu = spec.mu ? *spec.mu : (scatter ? mu_random : paper.mu);
+  if (!spec.e && !scatter) {
     d.zeta = dynamics::DampingRatio(paper.k_N_m, paper.b_N_s_m, specimen.mass_kg);
   } else {
     d.zeta = dynamics::DampingRatioFromRestitution(d.e_drawn);

@@ -29,11 +29,14 @@ double MeanRestitution(dynamics::Surface surface, const dynamics::SpecimenParame
 inline constexpr double kMinDrawnRestitution = 0.05;
 inline constexpr double kMaxDrawnRestitution = 0.99;
 
-/// Draws e ~ N(MeanRestitution, RestitutionSpread) truncated to [kMinDrawnRestitution,
+/// Draws e ~ N(MeanRestitution, s RestitutionSpread) truncated to [kMinDrawnRestitution,
 /// kMaxDrawnRestitution] by rejection and
-/// mu ~ N(PaperContact(surface).mu, kFrictionSpread) truncated to >= 0, in that order from
-/// `rng`, unless `spec` fixes them or turns scatter off. k is the paper's, b = 2 zeta sqrt(k m)
-/// with zeta = DampingRatioFromRestitution(e). The hidden contact extensions are copied in.
+/// mu ~ N(PaperContact(surface).mu, s kFrictionSpread) truncated to >= 0, in that order from
+/// `rng`, with s = spec.scatter_scale, unless `spec` fixes them or turns scatter off (s = 0
+/// turns it off too). The bounds are the same at every scale, so above 1 they cut the draws
+/// more: steel's e (mean 0.85, at most 0.99) keeps 96 % of the scaled s.d. at s = 1.5, 91 % at
+/// 2 and 77 % at 4, and its mean falls (0.842 at 2). k is the paper's, b = 2 zeta sqrt(k m) with
+/// zeta = DampingRatioFromRestitution(e). The hidden contact extensions are copied in.
 ContactDraw DrawContact(const TrialSpec& spec, const dynamics::SpecimenParameters& specimen,
                         std::mt19937_64& rng);
 

@@ -126,6 +126,7 @@ void TrialSpec::Validate() const {
     Throw(kOwner, "speed_m_s", speed_m_s, "must be in (0, 20]");
   if (e && !(*e > 0 && *e < 1)) Throw(kOwner, "e", *e, "must be in (0, 1)");
   if (mu && !(*mu >= 0 && std::isfinite(*mu))) Throw(kOwner, "mu", *mu, "must be >= 0");
+  RequireRange(kOwner, "scatter_scale", scatter_scale, 0.0, 4.0);
   hidden.contact.Validate();
   hidden.out_of_plane.Validate();
 }

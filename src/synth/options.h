@@ -127,6 +127,9 @@ struct TrialSpec {
   /// Draw e and mu per trial with the paper's spread (SCIENCE.md section 4). When false, the
   /// paper's model coefficients are used as they are.
   bool scatter_parameters = true;
+  /// Multiplies both spreads of those draws (RestitutionSpread and kFrictionSpread): 1 is the
+  /// paper's, 0.5 half of it, 0 the same as no scatter. Dimensionless; in [0, 4].
+  double scatter_scale = 1.0;
   std::optional<double> e;   ///< Fixes the drawn normal restitution; in (0, 1).
   std::optional<double> mu;  ///< Fixes the friction coefficient; >= 0.
   HiddenEffects hidden;

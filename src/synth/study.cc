@@ -28,6 +28,9 @@ void StudyDesign::Validate() const {
   if (trials_per_cell < 1 || trials_per_cell > 1000)
     throw std::invalid_argument("study.trials_per_cell = " + std::to_string(trials_per_cell) +
                                 ": must be in [1, 1000]");
+  if (!(scatter_scale >= 0 && scatter_scale <= 4))
+    throw std::invalid_argument("study.scatter_scale = " + std::to_string(scatter_scale) +
+                                ": must be in [0, 4]");
   if (!(out_of_plane_random_deg >= 0 && out_of_plane_random_deg < 60))
     throw std::invalid_argument("study.out_of_plane_random_deg = " +
                                 std::to_string(out_of_plane_random_deg) + ": must be in [0, 60)");
@@ -55,6 +58,7 @@ std::vector<TrialSpec> StudyDesign::Trials() const {
       t.speed_m_s = cell.speed_m_s;
       t.seed = MixSeed(seed, index);
       t.scatter_parameters = scatter_parameters;
+      t.scatter_scale = scatter_scale;
       t.hidden = hidden;
       if (out_of_plane_random_deg > 0) {
         std::mt19937_64 rng(MixSeed(t.seed, 99));

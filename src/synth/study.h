@@ -35,6 +35,7 @@ struct StudyDesign {
   std::vector<StudyCell> cells;
   int trials_per_cell = 3;         ///< Repetitions of each cell; >= 1.
   bool scatter_parameters = true;  ///< Per-trial e and mu draws (TrialSpec).
+  double scatter_scale = 1.0;      ///< Multiplies the spreads of those draws; in [0, 4].
   HiddenEffects hidden;            ///< Applied to every trial.
   /// When > 0, each trial draws its own out-of-plane tilt and roll uniformly in +-this (deg)
   /// and rates in +-(this * 100) deg/s, replacing hidden.out_of_plane.

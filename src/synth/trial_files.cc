@@ -150,6 +150,8 @@ nlohmann::json TruthJson(const TrialTruth& t, const SpecimenGeometry& g, const R
         {"mu", c.mu},
         {"zeta", t.draw.zeta},
         {"e_drawn", t.draw.e_drawn},
+        {"scatter_parameters", t.spec.scatter_parameters},
+        {"scatter_scale", t.spec.scatter_scale},
         {"gravity_m_s2", dynamics::kStandardGravity_m_s2},
         {"hidden_effects", HiddenEffectsJson(t.spec.hidden)}}},
       {"specimen", SpecimenJson(g)},

@@ -23,7 +23,8 @@ nlohmann::json SpecimenJson(const SpecimenGeometry& geometry);
 nlohmann::json TrialJson(const TrialTruth& truth, const RenderOptions& options);
 
 /// truth.json: FORMAT.md's fields plus markers_px_undistorted, p_WC_m, out-of-plane angles,
-/// model (k, b, mu, zeta, the drawn e, hidden_effects), camera effects, frame defects.
+/// model (k, b, mu, zeta, the drawn e, the scatter switch and scale, hidden_effects), camera
+/// effects, frame defects.
 nlohmann::json TruthJson(const TrialTruth& truth, const SpecimenGeometry& geometry,
                          const RenderOptions& options);
 

@@ -4,11 +4,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <random>
+#include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "stats/distributions.h"
 
 namespace hoof::synth {
 namespace {
@@ -107,6 +112,116 @@ TEST(ContactDrawTest, FixedValuesAndNoScatterUseThePapersCoefficients) {
   EXPECT_NEAR(ClosedFormE(zeta), 0.6, 1e-9);
   EXPECT_EQ(d.contact.mu, 0.25);
   EXPECT_EQ(d.contact.extensions.rolling_resistance_m, 1e-4);
+}
+
+/// Sample s.d. (n - 1 in the denominator).
+double SampleSd(const std::vector<double>& x) {
+  double m = 0, v = 0;
+  for (double xi : x) m += xi;
+  m /= static_cast<double>(x.size());
+  for (double xi : x) v += (xi - m) * (xi - m);
+  return std::sqrt(v / static_cast<double>(x.size() - 1));
+}
+
+/// Two-sided p-value of the variance-ratio F test that two independent normal samples of
+/// sizes n1, n2 have the s.d. ratio `ratio`: (sd1 / (ratio sd2))^2 ~ F(n1 - 1, n2 - 1).
+double SdRatioP(double sd1, double sd2, double ratio, double n1, double n2) {
+  const double f = std::pow(sd1 / (ratio * sd2), 2);
+  const double upper = stats::FUpperTail(f, n1 - 1, n2 - 1);
+  const double lower = stats::FUpperTail(1 / f, n2 - 1, n1 - 1);  // P(F <= f), 1/F ~ F(n2, n1)
+  return std::min(1.0, 2 * std::min(upper, lower));
+}
+
+TEST(ContactDrawTest, HalfScatterScaleHalvesTheSpreadOfEAndMu) {
+  // Two independent sets of trials (different seeds) per surface, one at the paper's spread
+  // and one at scatter_scale 0.5. The ratio of their sample s.d.s is held to the expected one
+  // by its exact sampling distribution: for normal draws (sd_half / (r sd_one))^2 follows
+  // F(n - 1, n - 1). r is the ratio of the truncated-normal s.d.s (0.5 up to 1e-3: only
+  // steel's e at scale 1 is cut noticeably, by its bound 3.4 s.d. out; the truncation also
+  // makes the tails lighter, which narrows the true sampling distribution, so the test errs
+  // on the safe side). Each of the six comparisons must have p > 1e-3: with n = 10000 in each
+  // set that holds the s.d. ratio within about +-3.3 % of r (log F has s.d. sqrt(4 / n)).
+  // For another set of seeds the six would fail by chance with probability about 0.6 %; a
+  // scale that was ignored (ratio 1) gives p < 1e-100.
+  constexpr int kN = 10000;
+  constexpr double kAlpha = 1e-3;
+  const dynamics::SpecimenParameters specimen;
+  std::uint64_t first_seed = 20000;  // every set its own seeds, so the six are independent
+  for (const Case& c : {Case{dynamics::Surface::kSteel, 0.8502, 0.041, 0.19},
+                        Case{dynamics::Surface::kConcrete, 0.7089, 0.039, 0.30},
+                        Case{dynamics::Surface::kAsphalt, 0.4984, 0.071, 0.34}}) {
+    const auto draw = [&](double scale) {
+      first_seed += kN;
+      std::vector<double> e, mu;
+      for (int i = 0; i < kN; ++i) {
+        TrialSpec spec;
+        spec.surface = c.surface;
+        spec.scatter_scale = scale;
+        std::mt19937_64 rng(first_seed + static_cast<std::uint64_t>(i));
+        const ContactDraw d = DrawContact(spec, specimen, rng);
+        e.push_back(d.e_drawn);
+        mu.push_back(d.contact.mu);
+      }
+      return std::pair{SampleSd(e), SampleSd(mu)};
+    };
+    const auto [e_sd_one, mu_sd_one] = draw(1.0);
+    const auto [e_sd_half, mu_sd_half] = draw(0.5);
+    const double e_ratio = TruncatedMoments(c.e_mean, 0.5 * c.e_sd, 0.05, 0.99).second /
+                           TruncatedMoments(c.e_mean, c.e_sd, 0.05, 0.99).second;
+    const double mu_ratio = TruncatedMoments(c.mu_mean, 0.5 * kFrictionSpread, 0, 5).second /
+                            TruncatedMoments(c.mu_mean, kFrictionSpread, 0, 5).second;
+    EXPECT_NEAR(e_ratio, 0.5, 1.1e-3);
+    EXPECT_NEAR(mu_ratio, 0.5, 1e-5);
+    const std::string surface = dynamics::SurfaceName(c.surface);
+    EXPECT_GT(SdRatioP(e_sd_half, e_sd_one, e_ratio, kN, kN), kAlpha)
+        << surface << ": e s.d. " << e_sd_half << " at 0.5 against " << e_sd_one << " at 1";
+    EXPECT_GT(SdRatioP(mu_sd_half, mu_sd_one, mu_ratio, kN, kN), kAlpha)
+        << surface << ": mu s.d. " << mu_sd_half << " at 0.5 against " << mu_sd_one << " at 1";
+    // The test can fail: the same s.d.s are far from a ratio of 1.
+    EXPECT_LT(SdRatioP(e_sd_half, e_sd_one, 1.0, kN, kN), 1e-100) << surface;
+  }
+}
+
+TEST(ContactDrawTest, ScatterScaleZeroIsNoScatterAndOneIsTheDefault) {
+  const dynamics::SpecimenParameters specimen;
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    TrialSpec off, zero, one;
+    off.surface = zero.surface = one.surface = dynamics::Surface::kAsphalt;
+    off.scatter_parameters = false;
+    zero.scatter_scale = 0.0;
+    one.scatter_scale = 1.0;
+    std::mt19937_64 rng_off(seed), rng_zero(seed), rng_one(seed), rng_default(seed);
+    const ContactDraw d_off = DrawContact(off, specimen, rng_off);
+    const ContactDraw d_zero = DrawContact(zero, specimen, rng_zero);
+    EXPECT_EQ(d_zero.e_drawn, d_off.e_drawn);
+    EXPECT_EQ(d_zero.contact.b_N_s_m, d_off.contact.b_N_s_m);
+    EXPECT_EQ(d_zero.contact.mu, d_off.contact.mu);
+    EXPECT_EQ(rng_zero(), rng_off());  // the rest of the trial's draws are the same too
+    TrialSpec plain;
+    plain.surface = dynamics::Surface::kAsphalt;
+    const ContactDraw d_one = DrawContact(one, specimen, rng_one);
+    const ContactDraw d_default = DrawContact(plain, specimen, rng_default);
+    EXPECT_EQ(d_one.e_drawn, d_default.e_drawn);
+    EXPECT_EQ(d_one.contact.mu, d_default.contact.mu);
+  }
+}
+
+TEST(ContactDrawTest, ScatterScaleOutsideZeroToFourIsRejectedNamingTheField) {
+  for (double bad : {-0.1, 4.01, std::nan("")}) {
+    TrialSpec spec;
+    spec.scatter_scale = bad;
+    try {
+      spec.Validate();
+      ADD_FAILURE() << "scatter_scale " << bad << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("trial.scatter_scale"), std::string::npos) << e.what();
+    }
+  }
+  TrialSpec edge;
+  edge.scatter_scale = 4.0;
+  EXPECT_NO_THROW(edge.Validate());
+  edge.scatter_scale = 0.0;
+  EXPECT_NO_THROW(edge.Validate());
 }
 
 }  // namespace

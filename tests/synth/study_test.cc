@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iterator>
 #include <set>
+#include <stdexcept>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -164,6 +165,21 @@ TEST(StudyTest, PaperDesignHas144TrialsWithDistinctSeedsAndIds) {
   EXPECT_EQ(ids.size(), 144u);
   EXPECT_EQ(seeds.size(), 144u);
   EXPECT_EQ(trials.front().id, "steel_0deg_v1.50_r1");
+}
+
+TEST(StudyTest, ScatterScaleReachesEveryTrialAndABadOneNamesTheField) {
+  StudyDesign d = SmallDesign();
+  d.scatter_scale = 0.5;
+  for (const TrialSpec& t : d.Trials()) EXPECT_EQ(t.scatter_scale, 0.5) << t.id;
+  for (double bad : {-1.0, 4.5}) {
+    d.scatter_scale = bad;
+    try {
+      d.Validate();
+      ADD_FAILURE() << "scatter_scale " << bad << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("study.scatter_scale"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

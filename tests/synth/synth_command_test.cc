@@ -89,6 +89,44 @@ TEST(SynthCommandTest, SpeedDependentFrictionIsHiddenAndRecordedInTruth) {
   EXPECT_NE(r.err.find("friction_speed_slope_s_m"), std::string::npos) << r.err;
 }
 
+TEST(SynthCommandTest, ScatterScaleIsAFlagAndAStudyConfigKeyAndIsRecordedInTruth) {
+  const fs::path trial = Fresh("scatter-scale-trial");
+  auto r = RunHoofimpact("synth -o " + trial.string() +
+                         " --surface steel --seed 5 --frames-before 2 --frames-after 2 --clean "
+                         "--scatter-scale 0.5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(trial / "truth.json");
+  const auto truth = nlohmann::json::parse(in);
+  EXPECT_EQ(truth["model"]["scatter_scale"].get<double>(), 0.5);
+  EXPECT_TRUE(truth["model"]["scatter_parameters"].get<bool>());
+
+  const fs::path study = Fresh("scatter-scale-study");
+  const fs::path config = study.string() + ".json";
+  {
+    std::ofstream out(config);
+    out << R"({"cells": [{"surface": "concrete", "angle_deg": 10, "speed_m_s": 2.5}],
+               "trials_per_cell": 1, "scatter_scale": 0.25})";
+  }
+  r = RunHoofimpact("synth --study -o " + study.string() + " --study-config " + config.string() +
+                    " --frames-before 2 --frames-after 2 --clean");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in_study(study / "concrete_10deg_v2.50_r1" / "truth.json");
+  EXPECT_EQ(nlohmann::json::parse(in_study)["model"]["scatter_scale"].get<double>(), 0.25);
+
+  // Bad values name the option, or the field when they come from the config.
+  r = RunHoofimpact("synth -o " + Fresh("scatter-scale-bad").string() + " --scatter-scale 5");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--scatter-scale"), std::string::npos) << r.err;
+  {
+    std::ofstream out(config);
+    out << R"({"scatter_scale": -0.5})";
+  }
+  r = RunHoofimpact("synth --study -o " + Fresh("scatter-scale-bad-study").string() +
+                    " --study-config " + config.string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("scatter_scale"), std::string::npos) << r.err;
+}
+
 TEST(SynthCommandTest, BadInputNamesTheOptionAndFails) {
   const std::string out = Fresh("bad").string();
   auto r = RunHoofimpact("synth -o " + out + " --speed-m-s -3");
