@@ -74,7 +74,7 @@ Verdict ReadVerdict(const hoof::discovery::DiscoveryResult& r) {
   v.ran = r.success;
   v.error = r.message;
   for (const auto& f : r.findings)
-    if (f.status == "named") v.named.push_back(f.key);
+    if (f.status == hoof::discovery::FindingStatus::kNamed) v.named.push_back(f.key);
   return v;
 }
 

@@ -50,6 +50,10 @@ struct LibraryEntry {
   bool measurement_effect = false;  ///< changes what the camera sees, not the impact
   std::string signature;            ///< what it changes, in words
   std::string separating_measurement;  ///< what would tell it from its look-alikes
+  /// Smallest value the fit may take other than 0 (the baseline, which the current model is).
+  /// A tangential spring far stiffer than the normal one makes the contact's equations stiff
+  /// and the explicit integrator slow, while it changes nothing measurable.
+  double smallest = 0.0;
 };
 
 /// The library, in a fixed order.
@@ -79,6 +83,12 @@ struct DiscoveryOptions {
   /// per-trial fits' random error alone). The tracker's systematic errors on rendered frames are
   /// about 1e-4 of the impact speed (docs/tracking.md); in [0, 0.1).
   double measurement_floor = 1e-4;
+  /// Where conditions were repeated (replicate cells), the lack-of-fit test compares the cell
+  /// means of the residuals with the scatter within cells, free of the noise model. It counts
+  /// only the part of a cell mean beyond this (a fraction of the impact speed): the tracker's
+  /// systematic errors, of order 1e-4 and different from cell to cell (docs/tracking.md), are
+  /// not physics; in [0, 0.1).
+  double replicate_tolerance = 5e-4;
 
   /// Throws std::invalid_argument naming the field.
   void Validate() const;
@@ -88,8 +98,8 @@ struct DiscoveryOptions {
 struct StructureTest {
   std::string quantity;   ///< "v_x", "v_y", "w" (residuals after impact) or "marker_ratio"
   std::string scope;      ///< surface name, or "all"
-  std::string covariate;  ///< "speed", "angle", "level", "time in the trial"
-  std::string test;       ///< "slope z", "mean t"
+  std::string covariate;  ///< "speed", "angle", "level", "time in the trial", "cells (speed)"
+  std::string test;       ///< "slope z", "mean z", "mean t", "lack-of-fit F"
   double statistic = 0.0;
   double df1 = 0.0, df2 = 0.0;  ///< degrees of freedom (df1 only for t; none for z)
   double p = 1.0;               ///< unadjusted

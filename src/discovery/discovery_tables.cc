@@ -704,7 +704,11 @@ Table DiscoveryOptionsTable(const DiscoveryOptions& o) {
        Column::Numbers("measurement_floor", "1",
                        "lower bound of the systematic measurement error per velocity component, "
                        "fraction of the impact speed",
-                       {o.measurement_floor})}};
+                       {o.measurement_floor}),
+       Column::Numbers("replicate_tolerance", "1",
+                       "part of a replicate cell's mean residual the lack-of-fit test ignores, fraction of the "
+                       "impact speed",
+                       {o.replicate_tolerance})}};
 }
 
 DiscoveryResult ReadDiscovery(const std::filesystem::path& h5) {

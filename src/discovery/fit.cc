@@ -71,10 +71,10 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
     scale[j] = Entry(free_effects[j]).probe;
     const auto it = start.effects.find(free_effects[j]);
     if (it == start.effects.end()) {
-      u[j] = {0.0};
+      u[j] = {Entry(free_effects[j]).smallest / scale[j]};
     } else {
       form[j] = it->second.form;
-      for (double v : it->second.value) u[j].push_back(v / scale[j]);
+      for (double v : it->second.value) u[j].push_back(std::max(v, Entry(free_effects[j]).smallest) / scale[j]);
     }
   }
   std::map<std::string, EffectParam> fixed;
@@ -128,7 +128,7 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
     for (std::size_t j = 0; j < u.size(); ++j)
       for (double& v : u[j])
         if (problem->HasParameterBlock(&v)) {
-          problem->SetParameterLowerBound(&v, 0, 0.0);
+          problem->SetParameterLowerBound(&v, 0, Entry(free_effects[j]).smallest / scale[j]);
           problem->SetParameterUpperBound(&v, 0, Entry(free_effects[j]).upper / scale[j]);
         }
     ceres::Solver::Options so;

@@ -78,7 +78,7 @@ const std::vector<LibraryEntry>& Library() {
       {"tangential_compliance", "tangential contact compliance", "k/k_t", "1", 1.0, 10.0, false,
        "a tangential spring at the contact point: spin and v_C.x after small-angle impacts, T's "
        "tangential velocity can reverse",
-       "the tangential velocity of the contact point through the contact, filmed at a higher rate"},
+       "the tangential velocity of the contact point through the contact, filmed at a higher rate", 0.01},
       {"rolling_resistance", "rolling resistance (contact torque)", "rho", "m", 5e-4, 1e-2, false,
        "a contact torque: less spin after oblique impacts, v_C nearly unchanged",
        "spin after impacts with a known initial spin"},
@@ -165,6 +165,8 @@ void DiscoveryOptions::Validate() const {
     throw std::invalid_argument("relative_tolerance must be in (0, 1e-4], got " + Fmt(relative_tolerance));
   if (!(measurement_floor >= 0 && measurement_floor < 0.1))
     throw std::invalid_argument("measurement_floor must be in [0, 0.1), got " + Fmt(measurement_floor));
+  if (!(replicate_tolerance >= 0 && replicate_tolerance < 0.1))
+    throw std::invalid_argument("replicate_tolerance must be in [0, 0.1), got " + Fmt(replicate_tolerance));
   if (!(marker_ratio_tolerance >= 0 && marker_ratio_tolerance < 0.1))
     throw std::invalid_argument("marker_ratio_tolerance must be in [0, 0.1), got " + Fmt(marker_ratio_tolerance));
   for (const auto& k : candidates) internal::Entry(k);

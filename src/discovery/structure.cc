@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -107,6 +108,52 @@ std::vector<StructureTest> StructureTests(const Workspace& ws, const std::vector
       regress(by_speed, "level", "", 1);
       regress(by_speed, "speed", "m/s", 1);
       regress(by_angle, "angle", "10 deg", 10);
+      // Where conditions were repeated: do the cell means stand off zero by more than the
+      // scatter within cells allows? Free of the noise model (a check of it).
+      std::map<double, std::map<int, std::vector<double>>> cells;  // angle -> cell -> residuals
+      for (std::size_t i = 0; i < ws.obs.size(); ++i) {
+        const Obs& o = ws.obs[i];
+        if (o.surface == static_cast<int>(surface) && o.used[static_cast<std::size_t>(c)] && std::isfinite(r[i][c]))
+          cells[o.angle_deg][o.cell].push_back(r[i][c]);
+      }
+      for (const auto& [angle, of_cell] : cells) {
+        double ss_lof = 0, ss_pe = 0, n = 0;
+        for (const auto& [cell, v] : of_cell) {
+          const double m = std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+          const double beyond = std::max(0.0, std::abs(m) - options.replicate_tolerance);
+          ss_lof += static_cast<double>(v.size()) * beyond * beyond;
+          for (double x : v) ss_pe += (x - m) * (x - m);
+          n += static_cast<double>(v.size());
+        }
+        const double df1 = static_cast<double>(of_cell.size()), df2 = n - df1;
+        if (df2 < 2) continue;
+        StructureTest t;
+        t.quantity = kComponentName[c];
+        t.scope = scope + " " + Fmt(angle) + " deg";
+        t.covariate = "cells (speed)";
+        t.test = "lack-of-fit F";
+        t.df1 = df1;
+        t.df2 = df2;
+        t.statistic = (ss_lof / df1) / std::max(ss_pe / df2, 1e-30);
+        t.p = stats::FUpperTail(t.statistic, df1, df2);
+        std::ostringstream d;
+        d << t.quantity << " cell means stand off zero beyond " << Fmt(100 * options.replicate_tolerance, 2)
+          << " % of the impact speed by more than the scatter within cells allows (" << of_cell.size() << " cells, "
+          << n << " trials)";
+        t.description = d.str();
+        tests.push_back(t);
+      }
+      // The trend with speed at each angle: an effect whose speed dependence changes with the
+      // angle (friction, for one) can cancel in the pooled trend.
+      std::map<double, std::vector<Point>> at_angle;
+      for (std::size_t k = 0; k < by_speed.size(); ++k) at_angle[by_angle[k].x].push_back(by_speed[k]);
+      if (at_angle.size() > 1)
+        for (const auto& [angle, v] : at_angle) {
+          if (v.size() < 4) continue;
+          const std::size_t before = tests.size();
+          regress(v, "speed", "m/s", 1);
+          if (tests.size() > before) tests.back().scope = scope + " " + Fmt(angle) + " deg";
+        }
     }
   // Image-level evidence: the projected marker distance against the model's.
   std::vector<double> dev, slope;
