@@ -199,6 +199,10 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
       Model ps = chosen.model;
       ps.effects[key] = {EffectForm::kPerSurface, std::vector<double>(S, chosen.model.effects[key].value.at(0))};
       const Fit per = FitModel(ws, all, ps, free, chosen.noise, true, 2);
+      // The shared fit continued as far as the per-surface one was: the comparison is of the two
+      // forms, not of how far each fit was taken.
+      const Fit shared_more = FitModel(ws, all, chosen.model, free, chosen.noise, true, 2);
+      if (shared_more.ok && shared_more.loglik > chosen.loglik) chosen = shared_more;
       const double lr_ps = std::max(0.0, 2 * (per.loglik - chosen.loglik));
       c.p_per_surface = stats::ChiSquaredUpperTail(lr_ps, static_cast<double>(S - 1));
       if (per.ok && per.loglik > chosen.loglik && c.p_per_surface < options.alpha) {

@@ -175,7 +175,15 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
   for (int row = 0; row < crs.num_rows; ++row)
     for (int q = crs.rows[static_cast<std::size_t>(row)]; q < crs.rows[static_cast<std::size_t>(row) + 1]; ++q)
       J(row, crs.cols[static_cast<std::size_t>(q)]) = crs.values[static_cast<std::size_t>(q)];
-  const Eigen::MatrixXd cov = (J.transpose() * J).completeOrthogonalDecomposition().pseudoInverse();
+  // Columns scaled to unit length first: the whitened derivatives by zeta and by an effect can
+  // differ by many orders, and the pseudo-inverse's rank threshold is relative to the largest.
+  Eigen::VectorXd norm = J.colwise().norm().transpose();
+  for (Eigen::Index k = 0; k < norm.size(); ++k)
+    if (!(norm[k] > 0)) norm[k] = 1.0;
+  const Eigen::MatrixXd Js = J * norm.cwiseInverse().asDiagonal();
+  const Eigen::MatrixXd cov = norm.cwiseInverse().asDiagonal() *
+                              (Js.transpose() * Js).completeOrthogonalDecomposition().pseudoInverse() *
+                              norm.cwiseInverse().asDiagonal();
   auto se_of = [&](Eigen::Index col) { return std::sqrt(std::max(0.0, cov(col, col))); };
   Eigen::Index col = 0;
   for (std::size_t s = 0; s < S; ++s) {

@@ -41,7 +41,8 @@ std::string Percent(double fraction) {
   std::ostringstream s;
   s << std::fixed;
   s.precision(0);
-  s << 100 * fraction;
+  // No "-0" for a shrink that rounds to nothing.
+  s << (std::abs(100 * fraction) < 0.5 ? 0.0 : 100 * fraction);
   return s.str();
 }
 

@@ -58,16 +58,27 @@ std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& opti
        "velocities and stays the paper's). Noise model: zeta and mu scatter from trial to trial (s.d. of zeta";
   for (const auto& s : out.final_model) v << " " << Fmt(s.zeta_sd, 2) << " on " << s.surface << ";";
   v << " fitted), plus each velocity's own measurement error.\n\n";
+  // The evidence of an added effect, from the round that added it.
+  auto evidence = [&](const Finding& f) {
+    std::ostringstream e;
+    for (const auto& rd : out.rounds)
+      if (rd.accepted == f.key)
+        for (const auto& c : rd.candidates)
+          if (c.key == f.key)
+            e << "likelihood-ratio p = " << FmtP(c.p_value) << "; held-out error " << Fmt(c.cv_error_current)
+              << " -> " << Fmt(c.cv_error) << " (" << kHeldOutErrorUnit << "), held-out gap "
+              << Fmt(100 * rd.gap_before) << " % -> " << Fmt(100 * rd.gap_after) << " % of the impact speed ("
+              << Percent(f.gap_shrink) << " % smaller)";
+    return e.str();
+  };
   bool any_named = false;
   for (const auto& f : out.findings) {
     if (f.status == FindingStatus::kNamed) {
       any_named = true;
-      v << "Named: " << f.name << Scope(f) << ", " << Estimate(f)
-        << ". Added to the model, it shrinks the disagreement on held-out trials by " << Percent(f.gap_shrink)
-        << " %.\n";
+      v << "Named: " << f.name << Scope(f) << ", " << Estimate(f) << ". " << evidence(f) << ".\n";
     } else if (f.status == FindingStatus::kTentative) {
-      v << "Tentative: " << f.name << Scope(f) << ", " << Estimate(f) << ", improves the fit significantly (held-out gap "
-        << Percent(f.gap_shrink) << " % smaller), but the residuals still show structure that no effect explains.\n";
+      v << "Tentative: " << f.name << Scope(f) << ", " << Estimate(f) << ", improves the fit significantly ("
+        << evidence(f) << "), but the residuals still show structure that no effect explains.\n";
     } else {
       v << "Cannot be told apart with these data: " << f.name << " and " << f.partner
         << ". A measurement that would separate them: " << f.separating_measurement << ".\n";
@@ -95,7 +106,8 @@ std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& opti
     for (const auto& c : last.candidates) {
       if (c.outcome == CandidateOutcome::kNotTested) untested.push_back(c.name);
       if (!c.measurement_effect && std::isfinite(c.detection_limit) &&
-          (c.outcome == CandidateOutcome::kNotSignificant || c.outcome == CandidateOutcome::kWorseHeldOut))
+          (c.outcome == CandidateOutcome::kNotSignificant || c.outcome == CandidateOutcome::kWorseHeldOut ||
+           c.outcome == CandidateOutcome::kConfounded))
         limits.push_back(c.name + ": " + c.parameter + " = " + Fmt(c.detection_limit, 2) + UnitSuffix(c.unit));
     }
     if (!limits.empty()) {

@@ -5,15 +5,20 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <random>
 #include <iostream>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "dynamics/parameters.h"
 #include "pipeline/study_analysis.h"
+#include "stats/distributions.h"
+#include "synth/options.h"
 #include "support/run_command.h"
 
 namespace fs = std::filesystem;
@@ -42,11 +47,44 @@ fs::path RenderStudy(const std::string& name, const std::string& options) {
 /// contact law in every trial (no per-trial scatter) and every camera effect on.
 const char* kDesign = "--surfaces steel --angles-deg 0,10,20,30 --speeds 1.5,2.75,4 --trials-per-cell 2 --no-scatter";
 
-DiscoveryResult DiscoverStudy(const std::string& name, const std::string& options) {
+std::vector<hoof::pipeline::TrialAnalysis> MeasureStudy(const std::string& name, const std::string& options) {
   const fs::path dir = RenderStudy(name, options);
   const auto study = hoof::pipeline::ReadStudy(dir);
-  const auto trials = hoof::pipeline::AnalyzeStudy(study, {}, 2);
-  return Discover(trials, {}, [](const std::string& s) { std::cerr << s << "\n"; });
+  return hoof::pipeline::AnalyzeStudy(study, {}, 2);
+}
+
+DiscoveryResult DiscoverStudy(const std::string& name, const std::string& options) {
+  return Discover(MeasureStudy(name, options), {}, [](const std::string& s) { std::cerr << s << "\n"; });
+}
+
+/// The design researchers often run: three surfaces, four angles, three trials per surface and
+/// angle at speeds drawn uniformly in [1.5, 4] m/s (one trial per condition, 36 trials), with
+/// the renderer's per-trial scatter of e and mu. Returns the synth options (a study config
+/// written beside the studies, and the seed).
+std::string UnreplicatedDesign(std::uint64_t seed, const std::vector<std::string>& surfaces = {"steel", "concrete",
+                                                                                               "asphalt"}) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> speed(1.5, 4.0);
+  nlohmann::json cells = nlohmann::json::array();
+  std::string tag;
+  for (const auto& s : surfaces) {
+    tag += s.substr(0, 1);
+    for (double angle : {0.0, 10.0, 20.0, 30.0}) {
+      std::vector<double> used;
+      while (used.size() < 3) {
+        // Trial ids carry the speed to 0.01 m/s: keep them distinct.
+        const double v = std::round(speed(rng) * 100) / 100;
+        if (std::find(used.begin(), used.end(), v) != used.end()) continue;
+        used.push_back(v);
+        cells.push_back({{"surface", s}, {"angle_deg", angle}, {"speed_m_s", v}});
+      }
+    }
+  }
+  const fs::path config = fs::path(HOOF_BINARY_DIR) / "test-output" / "discovery" /
+                          ("unreplicated_" + tag + "_" + std::to_string(seed) + ".json");
+  fs::create_directories(config.parent_path());
+  std::ofstream(config) << nlohmann::json{{"cells", cells}, {"trials_per_cell", 1}}.dump(1);
+  return "--study-config " + config.string() + " --seed " + std::to_string(seed);
 }
 
 void Print(const DiscoveryResult& r) {
@@ -57,7 +95,7 @@ void Print(const DiscoveryResult& r) {
       std::cout << "   " << c.rank << " " << c.key << " " << c.estimate << " +- " << c.se << " LR " << c.lr_statistic
                 << " p " << c.p_value << " held-out " << c.cv_error_current << " -> " << c.cv_error << " ("
                 << ToString(c.identifiability) << ", " << ToString(c.form) << ", " << ToString(c.outcome)
-                << ", limit " << c.detection_limit << ")" << (c.significant ? " *" : "") << "\n";
+                << ", per-surface p " << c.p_per_surface << ", limit " << c.detection_limit << ")" << (c.significant ? " *" : "") << "\n";
   }
   std::cout << r.seconds << " s, " << r.simulations << " simulations\n";
 }
@@ -194,6 +232,74 @@ TEST(DiscoveryTest, OutOfPlaneTiltIsEstimatedFromTheMarkerDistance) {
   bool marker_test = false;
   for (const auto& t : r.rounds.front().tests) marker_test |= t.quantity == "marker_ratio" && t.significant;
   EXPECT_TRUE(marker_test);
+}
+
+// The decision rule under the conditions users have: per-trial scatter of e and mu at the
+// paper's spread, one trial per condition, continuous speeds, three surfaces. (The full rates
+// are measured by bench/discovery_scorecard; these few seeds guard the rule.)
+TEST(DiscoveryUnderScatterTest, NamesNothingInUnreplicatedStudiesWithoutAHiddenEffect) {
+  for (std::uint64_t seed : {201, 202, 203}) {
+    const DiscoveryResult r = DiscoverStudy("scatter_null_" + std::to_string(seed), UnreplicatedDesign(seed));
+    ASSERT_TRUE(r.success) << r.message;
+    EXPECT_EQ(r.trials_used, 36);
+    EXPECT_EQ(Confident(r), 0) << "seed " << seed << "\n" << r.verdict;
+    EXPECT_FALSE(r.unexplained) << "seed " << seed << "\n" << r.verdict;
+    // The noise model finds the renderer's scatter: the fitted zeta s.d., turned into an e s.d.
+    // through the two-phase law's e(zeta), against the s.d. the renderer drew e with, within
+    // the 99.9 % range of a sample s.d. of the surface's 12 trials (10 degrees of freedom after
+    // zeta and mu).
+    ASSERT_EQ(r.final_model.size(), 3u);
+    const double df = 10;
+    const double low = std::sqrt(hoof::stats::ChiSquaredQuantile(0.0005, df) / df);
+    const double high = std::sqrt(hoof::stats::ChiSquaredQuantile(0.9995, df) / df);
+    for (const auto& s : r.final_model) {
+      const double e_sd = std::abs(hoof::dynamics::RestitutionOfTwoPhaseLaw(s.zeta + s.zeta_sd) -
+                                   hoof::dynamics::RestitutionOfTwoPhaseLaw(s.zeta - s.zeta_sd)) / 2;
+      const double truth = hoof::synth::RestitutionSpread(hoof::dynamics::ParseSurface(s.surface));
+      EXPECT_GT(e_sd, low * truth) << s.surface;
+      EXPECT_LT(e_sd, high * truth) << s.surface;
+    }
+  }
+}
+
+TEST(DiscoveryUnderScatterTest, NamesRollingResistanceWithoutReplicates) {
+  const double truth = 1e-4;  // m; the printed detection limit of this design is of order 3e-6 m
+  const DiscoveryResult r = DiscoverStudy("scatter_rolling", UnreplicatedDesign(211) + " --rolling-resistance-m 1e-4");
+  Print(r);
+  ASSERT_TRUE(r.success) << r.message;
+  const auto* f = FindingOf(r, "rolling_resistance");
+  ASSERT_NE(f, nullptr) << r.verdict;
+  EXPECT_EQ(f->status, FindingStatus::kNamed) << r.verdict;
+  EXPECT_EQ(f->form, hoof::discovery::EffectForm::kShared);
+  EXPECT_NEAR(f->estimate, truth, 0.2 * truth);
+  EXPECT_EQ(Confident(r), 1) << r.verdict;
+  // Its reason is stated, and it is ranked first.
+  ASSERT_FALSE(r.rounds.empty());
+  EXPECT_EQ(r.rounds.front().candidates.front().key, "rolling_resistance");
+  EXPECT_EQ(r.rounds.front().candidates.front().outcome, hoof::discovery::CandidateOutcome::kAdded);
+  EXPECT_FALSE(r.rounds.front().candidates.front().reason.empty());
+}
+
+// An effect on one surface only is named with its surface: Hunt-Crossley damping hidden on
+// asphalt, the other two surfaces without it, all with half the paper's scatter.
+TEST(DiscoveryUnderScatterTest, NamesAnEffectOnOneSurfaceWithItsSurface) {
+  auto trials = MeasureStudy("scatter_sc", UnreplicatedDesign(221, {"steel", "concrete"}) + " --scatter-scale 0.5");
+  const auto asphalt =
+      MeasureStudy("scatter_a_hc", UnreplicatedDesign(222, {"asphalt"}) + " --scatter-scale 0.5 --hunt-crossley-n-s-m2 3e8");
+  trials.insert(trials.end(), asphalt.begin(), asphalt.end());
+  const DiscoveryResult r = Discover(trials, {}, [](const std::string& s) { std::cerr << s << "\n"; });
+  Print(r);
+  ASSERT_TRUE(r.success) << r.message;
+  const auto* f = FindingOf(r, "hunt_crossley");
+  ASSERT_NE(f, nullptr) << r.verdict;
+  EXPECT_EQ(f->status, FindingStatus::kNamed) << r.verdict;
+  EXPECT_EQ(f->form, hoof::discovery::EffectForm::kPerSurface);
+  EXPECT_EQ(f->surfaces, std::vector<std::string>{"asphalt"});
+  for (const auto& v : f->values) {
+    if (v.surface == "asphalt") {
+      EXPECT_NEAR(v.value, 3e8, 0.3 * 3e8);
+    }
+  }
 }
 
 TEST(DiscoveryTest, BadOptionsNameTheField) {
