@@ -356,7 +356,71 @@ struct DiscoverArgs {
   std::string study_h5;
   DiscoverSettings settings;
   std::string report;
+  std::vector<std::string> plans;  ///< --plan KEY=SIZE
 };
+
+/// `--plan KEY=SIZE`: how many trials, and of which conditions, would detect the effect.
+void PrintPlans(const DiscoverArgs& a, const std::vector<pipeline::TrialAnalysis>& trials) {
+  discovery::DiscoveryOptions options;
+  options.alpha = a.settings.alpha;
+  options.jobs = a.settings.jobs;
+  options.candidates = a.settings.candidates;
+  options.measurement_floor = a.settings.measurement_floor;
+  json all = json::array();
+  for (const auto& text : a.plans) {
+    const auto eq = text.find('=');
+    double size = 0.0;
+    std::size_t used = 0;
+    try {
+      size = std::stod(text.substr(eq == std::string::npos ? text.size() : eq + 1), &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (eq == std::string::npos || used == 0 || used != text.size() - eq - 1)
+      throw CLI::ValidationError("--plan", "expected KEY=SIZE (e.g. hunt_crossley=2e7), got '" + text + "'");
+    discovery::Plan p;
+    try {
+      p = discovery::PlanDetection(trials, text.substr(0, eq), size, options);
+    } catch (const std::invalid_argument& e) {
+      throw CLI::ValidationError("--plan", e.what());
+    }
+    if (!p.success) throw std::runtime_error(a.study_h5 + ": no plan: " + p.message);
+    json conditions = json::array();
+    for (const auto& c : p.conditions)
+      conditions.push_back({{"surface", c.surface},
+                            {"angle_deg", JsonNumber(c.angle_deg)},
+                            {"speed_low_m_s", JsonNumber(c.speed_low_m_s)},
+                            {"speed_high_m_s", JsonNumber(c.speed_high_m_s)},
+                            {"trials", c.trials},
+                            {"information_per_trial", JsonNumber(c.information_per_trial)},
+                            {"share", JsonNumber(c.share)}});
+    all.push_back({{"key", p.key},
+                   {"size", JsonNumber(p.size)},
+                   {"unit", p.unit},
+                   {"trials", p.trials},
+                   {"level", JsonNumber(p.level)},
+                   {"detection_limit", JsonNumber(p.detection_limit)},
+                   {"power", JsonNumber(p.power)},
+                   {"trials_needed", JsonNumber(p.trials_needed)},
+                   {"conditions", conditions}});
+    if (a.settings.json) continue;
+    const std::string unit = p.unit == "1" ? "" : " " + p.unit;
+    std::cout << "Plan for " << p.name << " at " << p.parameter << " = " << Num(p.size, 3) << unit << " ("
+              << a.study_h5 << ", " << p.trials << " trials, naming level " << Num(p.level, 2) << "):\n"
+              << "  this study detects " << p.parameter << " >= " << Num(p.detection_limit, 2) << unit
+              << " with 80 % power; its power at " << Num(p.size, 3) << unit << " is " << Percent(p.power) << "\n"
+              << "  80 % power at " << Num(p.size, 3) << unit << " needs about " << Num(p.trials_needed, 6)
+              << " trials of this design (its conditions in the same proportions)\n"
+              << "  information per trial, most informative condition first (zeta and mu profiled out):\n";
+    for (const auto& c : p.conditions)
+      std::cout << "    " << std::left << std::setw(10) << c.surface << std::right << std::setw(5)
+                << Num(c.angle_deg, 3) << " deg  " << Num(c.speed_low_m_s, 3) << "-" << Num(c.speed_high_m_s, 3)
+                << " m/s  " << std::setw(3) << c.trials << " trials  " << std::setw(10)
+                << Num(c.information_per_trial, 3) << " per trial  (" << Percent(c.share) << " of the study's)\n";
+    std::cout << "  (Wald approximation from the baseline fitted with its noise model; docs/discovery.md)\n";
+  }
+  if (a.settings.json) std::cout << all.dump(2) << "\n";
+}
 
 /// The study's trials; errors name the file.
 std::vector<pipeline::TrialAnalysis> ReadTrials(const std::string& h5) {
@@ -373,6 +437,11 @@ std::vector<pipeline::TrialAnalysis> ReadTrials(const std::string& h5) {
 void Discover(const DiscoverArgs& a, RunState& state) {
   CheckDiscoverSettings(a.settings);
   const auto trials = ReadTrials(a.study_h5);
+  if (!a.plans.empty()) {
+    PrintPlans(a, trials);
+    state.exit_code = kExitOk;
+    return;
+  }
   const bool ok = RunStudyDiscovery(a.study_h5, trials, a.settings);
   // The report, when asked for or when one already lies beside the study file.
   fs::path report = a.report;
@@ -488,6 +557,10 @@ void RegisterDiscover(CLI::App& app, RunState& state) {
                   "Rewrite the HTML report to this file (default: report.html beside the study "
                   "file, when it exists)");
   cmd->add_flag("--json", s.json, "Print the whole result as one JSON object");
+  cmd->add_option("--plan", args->plans,
+                  "KEY=SIZE: instead of the workflow, how many trials of this design would detect the "
+                  "effect at that size (library unit) with 80 % power, and which conditions tell most "
+                  "(repeatable)");
   cmd->callback([args, &state] { Discover(*args, state); });
 }
 

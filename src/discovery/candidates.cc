@@ -7,7 +7,6 @@
 #include <numbers>
 #include <sstream>
 
-#include <Eigen/QR>
 #include <boost/math/distributions/normal.hpp>
 
 #include "discovery/internal.h"
@@ -24,41 +23,6 @@ struct Evaluation {
   CrossValidation cv;
   std::vector<std::string> free;
 };
-
-/// The smallest size of a shared effect that a test at one-sided level `level` detects with 80 %
-/// power, from the Fisher information of the effect with zeta and mu profiled out (the Wald
-/// approximation): `d_r` are the residual changes of one unit of the effect, `sens` the
-/// derivatives by zeta and mu, `ref` the current noise model's whitening.
-double DetectionLimit(const Workspace& ws, const std::vector<Eigen::Vector3d>& d_r,
-                      const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref, double level) {
-  const auto S = static_cast<Eigen::Index>(ws.surfaces.size());
-  Eigen::Index rows = 0;
-  for (const auto& t : ref) rows += static_cast<Eigen::Index>(t.components.size());
-  Eigen::MatrixXd X = Eigen::MatrixXd::Zero(rows, 2 * S);
-  Eigen::VectorXd d = Eigen::VectorXd::Zero(rows);
-  Eigen::Index row = 0;
-  for (std::size_t i = 0; i < ws.obs.size(); ++i) {
-    const auto& t = ref[i];
-    const auto n = static_cast<Eigen::Index>(t.components.size());
-    Eigen::MatrixXd J(n, 2);
-    Eigen::VectorXd v(n);
-    for (Eigen::Index a = 0; a < n; ++a) {
-      const int c = t.components[static_cast<std::size_t>(a)];
-      J.row(a) = sens[i].row(c);
-      v[a] = std::isfinite(d_r[i][c]) ? d_r[i][c] : 0.0;
-    }
-    const Eigen::Index s = ws.obs[i].surface;
-    X.block(row, 2 * s, n, 2) = t.whiten * J;
-    d.segment(row, n) = t.whiten * v;
-    row += n;
-  }
-  const Eigen::MatrixXd XtX = X.transpose() * X;
-  const Eigen::VectorXd Xtd = X.transpose() * d;
-  const double info = d.squaredNorm() - Xtd.dot(XtX.completeOrthogonalDecomposition().solve(Xtd));
-  if (!(info > 0)) return kNaN;
-  const boost::math::normal z;
-  return (boost::math::quantile(boost::math::complement(z, level)) + boost::math::quantile(z, 0.8)) / std::sqrt(info);
-}
 
 std::string Moved(const Workspace& ws, const Fit& probe, const Fit& current) {
   bool zeta = false, mu = false;
@@ -187,7 +151,9 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     if (probe.loglik > chosen.loglik) chosen = FitModel(ws, all, probe.model, free, probe.noise, true, 2);
     // The current model is this one with the effect at 0: a fit that ends below it stopped in a
     // worse local optimum, and the nested point is the better answer.
+    bool at_zero = false;
     if (!(chosen.loglik >= current.loglik)) {
+      at_zero = true;
       chosen = current;
       chosen.model.effects[key] = {EffectForm::kShared, {0.0}};
       chosen.effect_se[key] = {kNaN};
@@ -195,7 +161,7 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     c.form = EffectForm::kShared;
     c.df = 1;
     // Per surface against shared: a likelihood ratio with S - 1 degrees of freedom.
-    if (options.per_surface && S > 1 && chosen.ok) {
+    if (options.per_surface && S > 1 && chosen.ok && !at_zero) {
       Model ps = chosen.model;
       ps.effects[key] = {EffectForm::kPerSurface, std::vector<double>(S, chosen.model.effects[key].value.at(0))};
       const Fit per = FitModel(ws, all, ps, free, chosen.noise, true, 2);
@@ -222,7 +188,8 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     c.p_value = ChiBarSquareUpperTail(c.lr_statistic, c.df);
     c.delta_aic = -c.lr_statistic + 2 * c.df;
     c.delta_bic = -c.lr_statistic + c.df * std::log(n_res);
-    ev.cv = CrossValidate(ws, chosen, free, ref, options.folds);
+    // At 0 the candidate is the current model, and so are its held-out predictions.
+    ev.cv = at_zero ? cv_current : CrossValidate(ws, chosen, free, ref, options.folds);
     c.cv_error = ev.cv.mean_error;
     c.cv_error_current = cv_current.mean_error;
     c.cv_p = PairedImprovementP(cv_current.error, ev.cv.error);
@@ -241,7 +208,7 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     // Detection limit: residual change per unit of the effect (secant to the probe size).
     std::vector<Eigen::Vector3d> d_r(ws.obs.size());
     for (std::size_t i = 0; i < ws.obs.size(); ++i) d_r[i] = (residual_current[i] - residual_probe[i]) / e.probe;
-    c.detection_limit = DetectionLimit(ws, d_r, sens, ref, level);
+    c.detection_limit = DetectionLimit(ProfiledInformation(ws, d_r, sens, ref), level);
     c.significant = c.fitted && c.p_value < level && c.cv_error < c.cv_error_current;
     ev.fit = chosen;
     ev.free = free;

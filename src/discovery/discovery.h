@@ -286,4 +286,37 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials,
                          const DiscoveryOptions& options = {},
                          const std::function<void(const std::string&)>& progress = {});
 
+/// How many trials, and where, a study would need to detect an effect of a given size: the
+/// answer to "what could these trials have found, and what would find it".
+struct PlanCondition {
+  std::string surface;
+  double angle_deg = 0.0;
+  double speed_low_m_s = 0.0, speed_high_m_s = 0.0;  ///< range of the impact speeds measured
+  int trials = 0;
+  /// Fisher information about the effect per trial of this condition (zeta and mu per surface
+  /// profiled out, 1 / unit^2), and this condition's share of the study's.
+  double information_per_trial = 0.0, share = 0.0;
+};
+
+struct Plan {
+  bool success = false;
+  std::string message;  ///< why it could not run
+  std::string key, name, parameter, unit;
+  double size = 0.0;  ///< the size asked about
+  int trials = 0;     ///< trials of the study
+  double level = 0.0;  ///< the naming level (alpha / candidates)
+  /// The smallest size this study detects with 80 % power, and its power at `size`.
+  double detection_limit = 0.0, power = 0.0;
+  /// Trials of this study's design (its conditions in the same proportions) for 80 % power at
+  /// `size`.
+  double trials_needed = 0.0;
+  std::vector<PlanCondition> conditions;  ///< most informative first
+};
+
+/// The plan for `key` at `size` (its library unit) under the baseline fitted to `trials` with its
+/// noise model (Wald approximation, as CandidateResult::detection_limit). Throws
+/// std::invalid_argument for a bad key, size or options.
+Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std::string& key, double size,
+                   const DiscoveryOptions& options = {});
+
 }  // namespace hoof::discovery

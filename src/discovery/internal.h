@@ -10,6 +10,7 @@
 ///  - structure.cc: the residuals' trends against the noise model (descriptive tests);
 ///  - cross_validation.cc: held-out errors;
 ///  - candidates.cc: one round: each candidate fitted, tested and judged;
+///  - plan.cc: detection limits and how many trials would detect an effect;
 ///  - verdict.cc: findings and the verdict in words;
 ///  - discovery.cc: the rounds.
 
@@ -213,6 +214,17 @@ struct RoundOutcome {
 RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const std::vector<std::string>& keys,
                            const DiscoveryOptions& options,
                            const std::function<void(const std::string&)>& say, Round& round);
+
+// ---- detection limits and plans (plan.cc) ---------------------------------------------------
+
+/// Per trial: the Fisher information about an effect (1 / unit^2) left after zeta and mu per
+/// surface are profiled out, from `d_r`, the residual changes of one unit of the effect, `sens`,
+/// the derivatives by zeta and mu, and `ref`, the noise model's whitening. Their sum is the
+/// study's.
+std::vector<double> ProfiledInformation(const Workspace& ws, const std::vector<Eigen::Vector3d>& d_r,
+                                        const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref);
+/// The smallest size that a one-sided test at `level` detects with 80 % power (Wald).
+double DetectionLimit(const std::vector<double>& information, double level);
 
 // ---- verdict (verdict.cc) -----------------------------------------------------------------
 

@@ -302,6 +302,32 @@ TEST(DiscoveryUnderScatterTest, NamesAnEffectOnOneSurfaceWithItsSurface) {
   }
 }
 
+// The plan's arithmetic against its closed form: the same trials twice hold twice the
+// information, so the detection limit falls by sqrt(2) and the trials needed for a given size
+// stay the same; the power at the detection limit is 80 %.
+TEST(DiscoveryPlanTest, TwiceTheTrialsHoldTwiceTheInformation) {
+  auto trials = MeasureStudy("scatter_null_201", UnreplicatedDesign(201));
+  const auto once = hoof::discovery::PlanDetection(trials, "rolling_resistance", 5e-6);
+  ASSERT_TRUE(once.success) << once.message;
+  auto twice_trials = trials;
+  for (auto t : trials) {
+    t.spec.id += "_again";
+    twice_trials.push_back(t);
+  }
+  const auto twice = hoof::discovery::PlanDetection(twice_trials, "rolling_resistance", 5e-6);
+  ASSERT_TRUE(twice.success) << twice.message;
+  EXPECT_EQ(twice.trials, 2 * once.trials);
+  EXPECT_NEAR(once.detection_limit / twice.detection_limit, std::sqrt(2.0), 0.02 * std::sqrt(2.0));
+  EXPECT_NEAR(twice.trials_needed, once.trials_needed, 0.05 * once.trials_needed + 1);
+  const auto at_limit = hoof::discovery::PlanDetection(trials, "rolling_resistance", once.detection_limit);
+  EXPECT_NEAR(at_limit.power, 0.8, 0.02);
+  // Normal impacts carry nothing about a contact torque: the information is in the oblique ones.
+  ASSERT_FALSE(once.conditions.empty());
+  EXPECT_GT(once.conditions.front().angle_deg, 0.0);
+  EXPECT_THROW(hoof::discovery::PlanDetection(trials, "rolling_resistance", -1), std::invalid_argument);
+  EXPECT_THROW(hoof::discovery::PlanDetection(trials, "out_of_plane", 1), std::invalid_argument);
+}
+
 TEST(DiscoveryTest, BadOptionsNameTheField) {
   hoof::discovery::DiscoveryOptions o;
   o.folds = 1;

@@ -1,0 +1,138 @@
+// Detection limits and plans of the discovery workflow (docs/discovery.md, "Detection limits
+// and plans"): the Fisher information about an effect that a study holds once zeta and mu per
+// surface are profiled out, the smallest size it detects with 80 % power (the Wald
+// approximation), and how many trials, and of which conditions, would detect a given size.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+#include <Eigen/QR>
+#include <boost/math/distributions/normal.hpp>
+
+#include "discovery/internal.h"
+
+namespace hoof::discovery {
+namespace internal {
+
+std::vector<double> ProfiledInformation(const Workspace& ws, const std::vector<Eigen::Vector3d>& d_r,
+                                        const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref) {
+  const auto S = static_cast<Eigen::Index>(ws.surfaces.size());
+  Eigen::Index rows = 0;
+  for (const auto& t : ref) rows += static_cast<Eigen::Index>(t.components.size());
+  Eigen::MatrixXd X = Eigen::MatrixXd::Zero(rows, 2 * S);
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(rows);
+  std::vector<Eigen::Index> first(ws.obs.size() + 1, 0);
+  Eigen::Index row = 0;
+  for (std::size_t i = 0; i < ws.obs.size(); ++i) {
+    const auto& t = ref[i];
+    const auto n = static_cast<Eigen::Index>(t.components.size());
+    Eigen::MatrixXd J(n, 2);
+    Eigen::VectorXd v(n);
+    for (Eigen::Index a = 0; a < n; ++a) {
+      const int c = t.components[static_cast<std::size_t>(a)];
+      J.row(a) = sens[i].row(c);
+      v[a] = std::isfinite(d_r[i][c]) ? d_r[i][c] : 0.0;
+    }
+    const Eigen::Index s = ws.obs[i].surface;
+    X.block(row, 2 * s, n, 2) = t.whiten * J;
+    d.segment(row, n) = t.whiten * v;
+    first[i] = row;
+    row += n;
+    first[i + 1] = row;
+  }
+  // What zeta and mu can take up of the effect's change is projected out.
+  const Eigen::VectorXd coef = X.completeOrthogonalDecomposition().solve(d);
+  const Eigen::VectorXd left = d - X * coef;
+  std::vector<double> info(ws.obs.size(), 0.0);
+  for (std::size_t i = 0; i < ws.obs.size(); ++i) info[i] = left.segment(first[i], first[i + 1] - first[i]).squaredNorm();
+  return info;
+}
+
+double DetectionLimit(const std::vector<double>& information, double level) {
+  const double info = std::accumulate(information.begin(), information.end(), 0.0);
+  if (!(info > 0)) return kNaN;
+  const boost::math::normal z;
+  return (boost::math::quantile(boost::math::complement(z, level)) + boost::math::quantile(z, 0.8)) / std::sqrt(info);
+}
+
+}  // namespace internal
+
+using namespace internal;
+
+Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std::string& key, double size,
+                   const DiscoveryOptions& options) {
+  options.Validate();
+  const LibraryEntry& e = Entry(key);
+  if (e.measurement_effect)
+    throw std::invalid_argument("plan: '" + key + "' is a measurement effect; plans are for contact effects");
+  if (!(size > 0 && size <= e.upper))
+    throw std::invalid_argument("plan: the size of '" + key + "' must be in (0, " + Fmt(e.upper) + "], got " + Fmt(size));
+  Plan plan;
+  plan.key = key;
+  plan.name = e.name;
+  plan.parameter = e.parameter;
+  plan.unit = e.unit;
+  plan.size = size;
+  Workspace ws;
+  int skipped = 0;
+  Build(trials, options, &skipped, ws);
+  plan.trials = static_cast<int>(ws.obs.size());
+  if (ws.obs.size() < 6) {
+    plan.message = "too few measured trials with a fitted surface model (" + std::to_string(ws.obs.size()) +
+                   "; at least 6 are needed)";
+    return plan;
+  }
+  const std::size_t candidates = options.candidates.empty() ? Library().size() : options.candidates.size();
+  plan.level = options.alpha / static_cast<double>(candidates);
+  const std::vector<int> all = ws.All();
+  Model start;
+  start.zeta = ws.zeta_start;
+  start.mu = ws.mu_start;
+  const Fit base = FitModel(ws, all, start, {}, InitialNoise(ws), true, 3);
+  const auto sens = ws.Sensitivities(base.model, all);
+  std::vector<TrialCovariance> ref;
+  for (std::size_t i = 0; i < ws.obs.size(); ++i) ref.push_back(Covariance(ws, ws.obs[i], sens[i], base.noise));
+  Model with = base.model;
+  with.effects[key] = {EffectForm::kShared, {size}};
+  const auto r0 = ws.Residuals(base.model, all);
+  const auto r1 = ws.Residuals(with, all);
+  std::vector<Eigen::Vector3d> d_r(ws.obs.size());
+  for (std::size_t i = 0; i < ws.obs.size(); ++i) d_r[i] = (r0[i] - r1[i]) / size;
+  const auto info = ProfiledInformation(ws, d_r, sens, ref);
+  const double total = std::accumulate(info.begin(), info.end(), 0.0);
+  plan.detection_limit = DetectionLimit(info, plan.level);
+  const boost::math::normal z;
+  const double z_level = boost::math::quantile(boost::math::complement(z, plan.level));
+  plan.power = total > 0 ? boost::math::cdf(z, size * std::sqrt(total) - z_level) : kNaN;
+  plan.trials_needed = std::isfinite(plan.detection_limit)
+                           ? std::ceil(plan.trials * (plan.detection_limit / size) * (plan.detection_limit / size))
+                           : kNaN;
+  // Per condition (surface and angle; speeds as a range): where the information comes from.
+  std::map<std::pair<int, double>, PlanCondition> by;
+  for (std::size_t i = 0; i < ws.obs.size(); ++i) {
+    const Obs& o = ws.obs[i];
+    auto [it, added] = by.try_emplace({o.surface, o.angle_deg});
+    PlanCondition& c = it->second;
+    if (added) {
+      c.surface = ws.surfaces[static_cast<std::size_t>(o.surface)];
+      c.angle_deg = o.angle_deg;
+      c.speed_low_m_s = c.speed_high_m_s = o.scale;
+    }
+    c.speed_low_m_s = std::min(c.speed_low_m_s, o.scale);
+    c.speed_high_m_s = std::max(c.speed_high_m_s, o.scale);
+    ++c.trials;
+    c.information_per_trial += info[i];
+    c.share += total > 0 ? info[i] / total : kNaN;
+  }
+  for (auto& [k, c] : by) {
+    c.information_per_trial /= c.trials;
+    plan.conditions.push_back(c);
+  }
+  std::stable_sort(plan.conditions.begin(), plan.conditions.end(),
+                   [](const auto& a, const auto& b) { return a.information_per_trial > b.information_per_trial; });
+  plan.success = true;
+  return plan;
+}
+
+}  // namespace hoof::discovery
