@@ -56,7 +56,7 @@ struct DiscoverSettings {
   bool per_surface = true;
   /// Lower bound of the measurement's systematic error per velocity component, fraction of the
   /// impact speed (discovery::DiscoveryOptions::measurement_floor); in [0, 0.1).
-  double measurement_floor = 1e-4;
+  double measurement_floor = 1e-3;
   std::string figures_dir;  ///< where the figures go; empty = figures/ beside the study file
   bool json = false;        ///< print one JSON object instead of the text
 };

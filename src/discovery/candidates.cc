@@ -140,19 +140,29 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     probe_start.effects[key] = {EffectForm::kShared, {e.probe}};
     const auto residual_probe = ws.Residuals(probe_start, all);
     const double fixed_lr = 2 * (LogLikelihood(ws, all, residual_probe, sens, current.noise) - current.loglik);
-    const Fit probe = FitModel(ws, all, probe_start, free_current, current.noise, true, 1);
+    const Fit probe = FitModel(ws, all, probe_start, free_current, current.noise, true, 4);
     const double probe_lr = 2 * (probe.loglik - current.loglik);
     // The free fit, shared by all surfaces, from the better of the two starts.
     std::vector<std::string> free = free_current;
     free.push_back(key);
     Model start = probe.loglik > current.loglik ? probe.model : current.model;
     if (!start.effects.count(key)) start.effects[key] = {EffectForm::kShared, {0.1 * e.probe}};
-    Fit chosen = FitModel(ws, all, start, free, current.noise, true, 2);
-    if (probe.loglik > chosen.loglik) chosen = FitModel(ws, all, probe.model, free, probe.noise, true, 2);
+    Fit chosen = FitModel(ws, all, start, free, current.noise, true);
+    if (probe.loglik > chosen.loglik) chosen = FitModel(ws, all, probe.model, free, probe.noise, true);
     // The current model is this one with the effect at 0: a fit that ends below it stopped in a
     // worse local optimum, and the nested point is the better answer.
+    // The candidate's fit may have found zeta, mu and the noise model a better optimum than
+    // the current fit did; its likelihood ratio is then against the current model refitted from
+    // there, so that a gain of the baseline's own parameters is not credited to the effect.
+    double reference = current.loglik;
+    {
+      Model back = chosen.model;
+      back.effects.erase(key);
+      const Fit again = FitModel(ws, all, back, free_current, chosen.noise, true);
+      if (again.ok && again.loglik > reference) reference = again.loglik;
+    }
     bool at_zero = false;
-    if (!(chosen.loglik >= current.loglik)) {
+    if (!(chosen.loglik >= reference)) {
       at_zero = true;
       chosen = current;
       chosen.model.effects[key] = {EffectForm::kShared, {0.0}};
@@ -164,11 +174,7 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     if (options.per_surface && S > 1 && chosen.ok && !at_zero) {
       Model ps = chosen.model;
       ps.effects[key] = {EffectForm::kPerSurface, std::vector<double>(S, chosen.model.effects[key].value.at(0))};
-      const Fit per = FitModel(ws, all, ps, free, chosen.noise, true, 2);
-      // The shared fit continued as far as the per-surface one was: the comparison is of the two
-      // forms, not of how far each fit was taken.
-      const Fit shared_more = FitModel(ws, all, chosen.model, free, chosen.noise, true, 2);
-      if (shared_more.ok && shared_more.loglik > chosen.loglik) chosen = shared_more;
+      const Fit per = FitModel(ws, all, ps, free, chosen.noise, true);
       const double lr_ps = std::max(0.0, 2 * (per.loglik - chosen.loglik));
       c.p_per_surface = stats::ChiSquaredUpperTail(lr_ps, static_cast<double>(S - 1));
       if (per.ok && per.loglik > chosen.loglik && c.p_per_surface < options.alpha) {
@@ -184,7 +190,7 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     c.se = kNaN;
     for (const auto& v : c.values)
       if (!std::isfinite(c.estimate) || v.value > c.estimate) c.estimate = v.value, c.se = v.se;
-    c.lr_statistic = std::max(0.0, 2 * (chosen.loglik - current.loglik));
+    c.lr_statistic = std::max(0.0, 2 * (chosen.loglik - reference));
     c.p_value = ChiBarSquareUpperTail(c.lr_statistic, c.df);
     c.delta_aic = -c.lr_statistic + 2 * c.df;
     c.delta_bic = -c.lr_statistic + c.df * std::log(n_res);

@@ -74,7 +74,7 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
   say("baseline: fitting zeta and mu per surface and the noise model to " + std::to_string(ws.obs.size()) +
       " trials");
   RoundState st;
-  st.current = FitModel(ws, all, BaselineStart(ws), {}, InitialNoise(ws), true, 3);
+  st.current = FitModel(ws, all, BaselineStart(ws), {}, InitialNoise(ws), true, 12);
   st.tilt = FitTilt(ws, all, false);
   out.baseline = SurfaceFits(ws, st.current);
   const Model baseline_model = st.current.model;

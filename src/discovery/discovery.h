@@ -78,11 +78,13 @@ struct DiscoveryOptions {
   /// about 1e-4 (docs/tracking.md), so 1e-3 (a tilt of 2.6 deg) is well clear of them. The
   /// marker tests are tests of a departure larger than this; in [0, 0.1).
   double marker_ratio_tolerance = 1e-3;
-  /// Lower bound of the measurement's systematic error per velocity component, as a fraction of
-  /// the impact speed (the noise model estimates it; this keeps it from collapsing to the
-  /// per-trial fits' random error alone). The tracker's systematic errors on rendered frames are
-  /// about 1e-4 of the impact speed (docs/tracking.md); in [0, 0.1).
-  double measurement_floor = 1e-4;
+  /// Lower bound of the error per velocity component that the noise model adds to each trial's
+  /// own s.e., as a fraction of the impact speed (it is estimated, and kept from falling below
+  /// this). The tracker's systematic errors on rendered frames are about 1e-4 of the impact
+  /// speed (docs/tracking.md), but the noise model is linear in the scatter of zeta and mu: a
+  /// scatter of e of 0.04-0.07 bends the predictions off its tangent plane by about 1e-3, and
+  /// with a smaller floor that curvature is taken for physics (docs/discovery.md); in [0, 0.1).
+  double measurement_floor = 1e-3;
   /// Where conditions were repeated (replicate cells), the lack-of-fit test compares the cell
   /// means of the residuals with the scatter within cells, free of the noise model. It counts
   /// only the part of a cell mean beyond this (a fraction of the impact speed): the tracker's

@@ -16,6 +16,10 @@
 namespace hoof::discovery::internal {
 namespace {
 
+/// Log-likelihood gain below which the alternation of model and noise has converged (a
+/// likelihood ratio of 0.02, far below any that counts).
+constexpr double kConverged = 0.01;
+
 /// Ceres cost of one trial: its used residual components, whitened by the noise model.
 struct TrialCost {
   const Workspace* ws;
@@ -92,9 +96,11 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
   };
 
   std::unique_ptr<ceres::Problem> problem;
+  auto sens = ws.Sensitivities(fit.model, which);
+  auto r = ws.Residuals(fit.model, which);
+  if (estimate_noise) fit.noise = EstimateNoise(ws, which, r, sens, fit.noise);
+  double loglik = LogLikelihood(ws, which, r, sens, fit.noise);
   for (int pass = 0; pass < passes; ++pass) {
-    const auto sens = ws.Sensitivities(fit.model, which);
-    if (estimate_noise) fit.noise = EstimateNoise(ws, which, ws.Residuals(fit.model, which), sens, fit.noise);
     problem = std::make_unique<ceres::Problem>();
     int blocks = 0;
     for (std::size_t i = 0; i < which.size(); ++i) {
@@ -145,12 +151,18 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
       fit.message = summary.message;
     }
     store();
+    // Model and noise alternate until the likelihood stops rising: a fit stopped early would
+    // hand the next model compared with it a gain that is only further convergence.
+    r = ws.Residuals(fit.model, which);
+    sens = ws.Sensitivities(fit.model, which);
+    if (estimate_noise) fit.noise = EstimateNoise(ws, which, r, sens, fit.noise);
+    const double next = LogLikelihood(ws, which, r, sens, fit.noise);
+    const double gain = next - loglik;
+    loglik = next;
+    if (!estimate_noise || gain < kConverged) break;
   }
   store();
-  const auto r = ws.Residuals(fit.model, which);
-  const auto sens = ws.Sensitivities(fit.model, which);
-  if (estimate_noise) fit.noise = EstimateNoise(ws, which, r, sens, fit.noise);
-  fit.loglik = LogLikelihood(ws, which, r, sens, fit.noise);
+  fit.loglik = loglik;
 
   // Standard errors from the Gauss-Newton normal matrix of the last solve (a pseudo-inverse, so
   // that flat directions such as mu on surfaces whose contacts stick do not break it).

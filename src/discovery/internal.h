@@ -154,10 +154,11 @@ struct Fit {
 
 /// Fits the per-surface zeta and mu and the `free_effects` (others fixed at their values in
 /// `start`; each free effect in the form `start` gives it) to the obs `which`. With
-/// `estimate_noise`, the noise model is re-estimated between `passes` Ceres solves and at the
-/// end (the likelihood is then the profile likelihood); otherwise it stays `noise`.
+/// `estimate_noise`, the noise model is re-estimated before and after each Ceres solve, for up
+/// to `passes` solves until the likelihood stops rising (it is then the profile likelihood);
+/// otherwise it stays `noise` and one solve is made.
 Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& start,
-             const std::vector<std::string>& free_effects, const Noise& noise, bool estimate_noise, int passes = 2);
+             const std::vector<std::string>& free_effects, const Noise& noise, bool estimate_noise, int passes = 8);
 
 /// The out-of-plane (measurement) model: the marker distance ratio is cos(tilt) in every trial.
 struct TiltFit {

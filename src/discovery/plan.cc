@@ -89,7 +89,7 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
   Model start;
   start.zeta = ws.zeta_start;
   start.mu = ws.mu_start;
-  const Fit base = FitModel(ws, all, start, {}, InitialNoise(ws), true, 3);
+  const Fit base = FitModel(ws, all, start, {}, InitialNoise(ws), true, 12);
   const auto sens = ws.Sensitivities(base.model, all);
   std::vector<TrialCovariance> ref;
   for (std::size_t i = 0; i < ws.obs.size(); ++i) ref.push_back(Covariance(ws, ws.obs[i], sens[i], base.noise));
