@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 #include <sstream>
 
 #include <boost/math/distributions/normal.hpp>
@@ -175,8 +176,37 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
       Model ps = chosen.model;
       ps.effects[key] = {EffectForm::kPerSurface, std::vector<double>(S, chosen.model.effects[key].value.at(0))};
       const Fit per = FitModel(ws, all, ps, free, chosen.noise, true);
+      // As against the current model: the shared form refitted from the per-surface solution,
+      // so that the comparison is of the two forms, not of the optima of zeta, mu and the noise
+      // that each fit happened to reach.
+      if (per.ok) {
+        Model back = per.model;
+        const auto& v = per.model.effects.at(key).value;
+        back.effects[key] = {EffectForm::kShared, {std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size())}};
+        const Fit again = FitModel(ws, all, back, free, per.noise, true);
+        if (again.ok && again.loglik > chosen.loglik) chosen = again;
+      }
       const double lr_ps = std::max(0.0, 2 * (per.loglik - chosen.loglik));
       c.p_per_surface = stats::ChiSquaredUpperTail(lr_ps, static_cast<double>(S - 1));
+      // And the values themselves must differ: a Wald test of their equality (chi-square with
+      // S - 1 dof). The likelihood ratio alone also rewards the other optimum of zeta, mu and
+      // the noise that a per-surface fit can reach with equal values.
+      double wald = 0.0, sw = 0.0, swv = 0.0;
+      const auto& pv = per.model.effects.at(key).value;
+      const auto pse = per.effect_se.find(key);
+      bool se_ok = pse != per.effect_se.end();
+      for (std::size_t k = 0; se_ok && k < pv.size(); ++k) {
+        const double se = pse->second[k];
+        if (!(se > 0)) continue;
+        sw += 1 / (se * se);
+        swv += pv[k] / (se * se);
+      }
+      for (std::size_t k = 0; se_ok && sw > 0 && k < pv.size(); ++k) {
+        const double se = pse->second[k];
+        if (se > 0) wald += std::pow(pv[k] - swv / sw, 2) / (se * se);
+      }
+      const double p_wald = stats::ChiSquaredUpperTail(wald, static_cast<double>(S - 1));
+      c.p_per_surface = std::max(c.p_per_surface, p_wald);
       if (per.ok && per.loglik > chosen.loglik && c.p_per_surface < options.alpha) {
         chosen = per;
         c.form = EffectForm::kPerSurface;

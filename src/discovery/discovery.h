@@ -183,7 +183,9 @@ struct CandidateResult {
   double lr_statistic = 0.0;
   int df = 1;
   double p_value = 1.0;
-  double p_per_surface = 1.0;  ///< per-surface against shared (chi-square, surfaces - 1 dof)
+  /// Per-surface against shared: the larger of the likelihood-ratio p and the p of a Wald test
+  /// that the per-surface values are equal (each chi-square with surfaces - 1 dof).
+  double p_per_surface = 1.0;
   double delta_aic = 0.0, delta_bic = 0.0;  ///< this model minus the current (< 0 is better)
   /// Held-out error (kHeldOutErrorUnit) for this model and for the current model, each fitted
   /// without the trial's fold.
