@@ -359,6 +359,21 @@ struct DiscoverArgs {
   std::vector<std::string> plans;  ///< --plan KEY=SIZE
 };
 
+/// `--plan KEY=SIZE` as key and size; a CLI::ValidationError naming the option otherwise.
+std::pair<std::string, double> ParsePlan(const std::string& text) {
+  const auto eq = text.find('=');
+  double size = 0.0;
+  std::size_t used = 0;
+  try {
+    if (eq != std::string::npos) size = std::stod(text.substr(eq + 1), &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (eq == std::string::npos || eq == 0 || used == 0 || used != text.size() - eq - 1)
+    throw CLI::ValidationError("--plan", "expected KEY=SIZE (e.g. hunt_crossley=2e7), got '" + text + "'");
+  return {text.substr(0, eq), size};
+}
+
 /// `--plan KEY=SIZE`: how many trials, and of which conditions, would detect the effect.
 void PrintPlans(const DiscoverArgs& a, const std::vector<pipeline::TrialAnalysis>& trials) {
   discovery::DiscoveryOptions options;
@@ -368,19 +383,10 @@ void PrintPlans(const DiscoverArgs& a, const std::vector<pipeline::TrialAnalysis
   options.measurement_floor = a.settings.measurement_floor;
   json all = json::array();
   for (const auto& text : a.plans) {
-    const auto eq = text.find('=');
-    double size = 0.0;
-    std::size_t used = 0;
-    try {
-      size = std::stod(text.substr(eq == std::string::npos ? text.size() : eq + 1), &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (eq == std::string::npos || used == 0 || used != text.size() - eq - 1)
-      throw CLI::ValidationError("--plan", "expected KEY=SIZE (e.g. hunt_crossley=2e7), got '" + text + "'");
+    const auto [key, size] = ParsePlan(text);
     discovery::Plan p;
     try {
-      p = discovery::PlanDetection(trials, text.substr(0, eq), size, options);
+      p = discovery::PlanDetection(trials, key, size, options);
     } catch (const std::invalid_argument& e) {
       throw CLI::ValidationError("--plan", e.what());
     }
@@ -436,6 +442,7 @@ std::vector<pipeline::TrialAnalysis> ReadTrials(const std::string& h5) {
 
 void Discover(const DiscoverArgs& a, RunState& state) {
   CheckDiscoverSettings(a.settings);
+  for (const auto& text : a.plans) ParsePlan(text);  // a bad one is a command-line error first
   const auto trials = ReadTrials(a.study_h5);
   if (!a.plans.empty()) {
     PrintPlans(a, trials);

@@ -64,6 +64,12 @@ TEST(DiscoverCommandTest, BadSettingsAreACommandLineError) {
   r = RunHoofimpact("discover /nonexistent-folder/study.h5 --alpha 0.7");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--alpha"), std::string::npos) << r.err;
+  r = RunHoofimpact("discover /nonexistent-folder/study.h5 --plan hunt_crossley");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--plan"), std::string::npos) << r.err;
+  r = RunHoofimpact("discover /nonexistent-folder/study.h5 --plan hunt_crossley=2e7x");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--plan"), std::string::npos) << r.err;
   r = RunHoofimpact("discover /nonexistent-folder/study.h5 --measurement-floor 0.2");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--measurement-floor"), std::string::npos) << r.err;
