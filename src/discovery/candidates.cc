@@ -161,6 +161,12 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
       back.effects.erase(key);
       const Fit again = FitModel(ws, all, back, free_current, chosen.noise, true);
       if (again.ok && again.loglik > reference) reference = again.loglik;
+      // And the candidate's own solution with the effect removed, as it stands: the alternation
+      // of model and noise is not monotone, so a refit from a point can end below it.
+      const auto r_back = ws.Residuals(back, all);
+      const auto s_back = ws.Sensitivities(back, all);
+      const Noise n_back = EstimateNoise(ws, all, r_back, s_back, chosen.noise);
+      reference = std::max(reference, LogLikelihood(ws, all, r_back, s_back, n_back));
     }
     bool at_zero = false;
     if (!(chosen.loglik >= reference)) {
@@ -245,7 +251,17 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     std::vector<Eigen::Vector3d> d_r(ws.obs.size());
     for (std::size_t i = 0; i < ws.obs.size(); ++i) d_r[i] = (residual_current[i] - residual_probe[i]) / e.probe;
     c.detection_limit = DetectionLimit(ProfiledInformation(ws, d_r, sens, ref), level);
-    c.significant = c.fitted && c.p_value < level && c.cv_error < c.cv_error_current;
+    // The estimate must also stand clear of 0 by its own standard error (one-sided Wald at the
+    // naming level, per value for a per-surface effect): a likelihood ratio whose effect is
+    // 0.4 s.e. from 0 is a gain of the other parameters, and naming it would contradict the
+    // estimate printed beside it.
+    {
+      const boost::math::normal z;
+      const double z_level = boost::math::quantile(boost::math::complement(z, level / c.df));
+      c.wald_clear = false;
+      for (const auto& v : c.values) c.wald_clear |= v.se > 0 && v.value / v.se > z_level;
+    }
+    c.significant = c.fitted && c.p_value < level && c.wald_clear && c.cv_error < c.cv_error_current;
     ev.fit = chosen;
     ev.free = free;
     evals.push_back(ev);
@@ -271,6 +287,11 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
       c.outcome = CandidateOutcome::kNotSignificant;
       why << "likelihood-ratio p = " << FmtP(c.p_value) << " is not below the naming level " << FmtP(level)
           << " (alpha / " << to_try.size() << " candidates)";
+    } else if (!c.wald_clear) {
+      c.outcome = CandidateOutcome::kNotSignificant;
+      why << "likelihood-ratio p = " << FmtP(c.p_value) << ", but its estimate " << Fmt(c.estimate) << " +- "
+          << Fmt(c.se) << UnitSuffix(c.unit)
+          << " does not stand clear of 0 at the naming level: the gain is in zeta, mu or the noise model";
     } else {
       c.outcome = CandidateOutcome::kWorseHeldOut;
       why << "p = " << FmtP(c.p_value) << " is significant, but the held-out error " << Fmt(c.cv_error)

@@ -194,7 +194,11 @@ struct CandidateResult {
   Identifiability identifiability = Identifiability::kIdentified;
   /// Baseline parameters that absorbed it in the identifiability probe, e.g. "a changed zeta".
   std::string confounded_with;
-  bool significant = false;  ///< p_value < alpha / candidates and cv_error < cv_error_current
+  /// The estimate stands clear of 0 by its standard error (one-sided Wald at the naming level;
+  /// any surface's value for a per-surface effect).
+  bool wald_clear = false;
+  /// p_value < alpha / candidates, wald_clear, and cv_error < cv_error_current.
+  bool significant = false;
   CandidateOutcome outcome = CandidateOutcome::kNotSignificant;
   std::string reason;        ///< why it was or was not added, in words
   /// Smallest size (the library entry's unit) that these trials, with this noise, would detect

@@ -91,7 +91,7 @@ Table TestsTable(const std::string& name, const std::string& description,
 }
 
 Table CandidatesTable(const std::string& name, const std::vector<CandidateResult>& candidates) {
-  std::vector<std::int64_t> rank, measurement, fitted, significant, df;
+  std::vector<std::int64_t> rank, measurement, fitted, significant, df, wald_clear;
   std::vector<std::string> key, label, parameter, unit, message, form, ident, confounded, outcome,
       reason;
   std::vector<double> estimate, se, lr, p, p_per_surface, aic, bic, cv, cv_current, cv_p,
@@ -120,6 +120,7 @@ Table CandidatesTable(const std::string& name, const std::vector<CandidateResult
     ident.push_back(ToString(c.identifiability));
     confounded.push_back(c.confounded_with);
     significant.push_back(Flag(c.significant));
+    wald_clear.push_back(Flag(c.wald_clear));
     outcome.push_back(ToString(c.outcome));
     reason.push_back(c.reason);
     detection_limit.push_back(c.detection_limit);
@@ -175,8 +176,11 @@ Table CandidatesTable(const std::string& name, const std::vector<CandidateResult
        Column::Texts("identifiability", identifiabilities, ident),
        Column::Texts("confounded_with", "baseline parameters that absorb it in the probe",
                      confounded),
+       Column::Integers("wald_clear", "",
+                        "1 when the estimate stands clear of 0 by its s.e. at the naming level",
+                        wald_clear),
        Column::Integers("significant", "",
-                        "1 when p_value < alpha / candidates and the held-out error fell",
+                        "1 when p_value < alpha / candidates, wald_clear and the held-out error fell",
                         significant),
        Column::Texts("outcome", "why it was or was not added: " + outcomes, outcome),
        Column::Texts("reason", "why it was or was not added, in words", reason),
@@ -424,7 +428,7 @@ std::vector<CandidateResult> ReadCandidates(const std::filesystem::path& h5,
   const auto ident = t.Enums("identifiability", &IdentifiabilityFromString);
   const auto outcome = t.Enums("outcome", &CandidateOutcomeFromString);
   const auto measurement = t.Flags("measurement_effect"), fitted = t.Flags("fitted"),
-             significant = t.Flags("significant");
+             significant = t.Flags("significant"), wald_clear = t.Flags("wald_clear");
   const auto df = t.Integers("df");
   const auto estimate = t.Numbers("estimate"), se = t.Numbers("se"), lr = t.Numbers("lr_statistic"),
              p = t.Numbers("p_value"), p_per_surface = t.Numbers("p_per_surface"),
@@ -457,6 +461,7 @@ std::vector<CandidateResult> ReadCandidates(const std::filesystem::path& h5,
     c.identifiability = ident[i];
     c.confounded_with = confounded[i];
     c.significant = significant[i];
+    c.wald_clear = wald_clear[i];
     c.outcome = outcome[i];
     c.reason = reason[i];
     c.detection_limit = detection_limit[i];

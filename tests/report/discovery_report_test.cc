@@ -158,6 +158,7 @@ DiscoveryResult Result() {
   hc.cv_p = 1e-4;
   hc.identifiability = Identifiability::kIdentified;
   hc.significant = true;
+  hc.wald_clear = true;
   hc.outcome = CandidateOutcome::kAdded;
   hc.reason = "the strongest significant candidate; lowers the held-out error from 3.1 to 0.95";
   hc.detection_limit = 0.12;
@@ -386,6 +387,7 @@ TEST(DiscoveryTablesTest, TheResultReadsBackAsWritten) {
     EXPECT_EQ(got.identifiability, want.identifiability) << what;
     EXPECT_EQ(got.confounded_with, want.confounded_with) << what;
     EXPECT_EQ(got.significant, want.significant) << what;
+    EXPECT_EQ(got.wald_clear, want.wald_clear) << what;
     EXPECT_EQ(got.outcome, want.outcome) << what;
     EXPECT_EQ(got.reason, want.reason) << what;
     ExpectSameNumber(got.detection_limit, want.detection_limit, what + " detection_limit");
