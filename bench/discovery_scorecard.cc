@@ -1,4 +1,4 @@
-// The discovery scorecard (docs/discovery-scorecard.md): renders studies that hide an effect of
+// The discovery scorecard (docs/discovery.md, "Scorecard"): renders studies that hide an effect of
 // known kind and size, measures them, runs discovery on them and counts what it names. It
 // measures rates (detection, false naming, wrong names) over a grid of designs, scatters,
 // effects, sizes and seeds; it asserts nothing, and it is neither a ctest test nor a Google
@@ -713,7 +713,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "The discovery scorecard: renders studies with hidden effects, measures them, runs "
       "discovery and prints how often it names the right effect, a wrong one, or anything in "
-      "null studies (docs/discovery-scorecard.md)"};
+      "null studies (docs/discovery.md, section Scorecard)"};
   std::vector<std::string> designs = kDesigns;
   std::vector<double> scatters = {1.0, 0.5};
   std::vector<Effect> effects = AllEffects();

@@ -71,7 +71,10 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
   std::vector<std::string> to_try;
   for (const auto& key : keys)
     if (std::find(state.accepted.begin(), state.accepted.end(), key) == state.accepted.end()) to_try.push_back(key);
-  const double level = options.alpha / static_cast<double>(std::max<std::size_t>(1, to_try.size()));
+  // The naming level: Bonferroni over the hypotheses tried, each candidate once per form (shared
+  // and, with two or more surfaces, per surface: the form is chosen from the same data).
+  const std::size_t forms = options.per_surface && ws.surfaces.size() > 1 ? 2 : 1;
+  const double level = options.alpha / static_cast<double>(std::max<std::size_t>(1, to_try.size() * forms));
   const double chi95 = stats::ChiSquaredQuantile(0.95, 1);
   std::vector<std::string> free_current;
   for (const auto& a : state.accepted)
@@ -286,7 +289,7 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     } else if (c.p_value >= level) {
       c.outcome = CandidateOutcome::kNotSignificant;
       why << "likelihood-ratio p = " << FmtP(c.p_value) << " is not below the naming level " << FmtP(level)
-          << " (alpha / " << to_try.size() << " candidates)";
+          << " (alpha / " << to_try.size() * forms << ": candidates x forms)";
     } else if (!c.wald_clear) {
       c.outcome = CandidateOutcome::kNotSignificant;
       why << "likelihood-ratio p = " << FmtP(c.p_value) << ", but its estimate " << Fmt(c.estimate) << " +- "

@@ -122,7 +122,7 @@ enum class CandidateOutcome {
   kAdded,               ///< the strongest significant candidate: added to the model
   kIndistinguishable,   ///< significant, but fits as well as the one added
   kWeakerThanAdded,     ///< significant, but the one added explains clearly more
-  kNotSignificant,      ///< its likelihood ratio is not significant at alpha / candidates
+  kNotSignificant,      ///< its likelihood ratio is not significant at the naming level (alpha / (candidates x forms))
   kWorseHeldOut,        ///< significant in the fit, but it does not predict held-out trials better
   kBelowResolution,     ///< significant, but smaller than the measurement resolves (out-of-plane
                         ///< tilt within DiscoveryOptions::marker_ratio_tolerance)
@@ -197,7 +197,7 @@ struct CandidateResult {
   /// The estimate stands clear of 0 by its standard error (one-sided Wald at the naming level;
   /// any surface's value for a per-surface effect).
   bool wald_clear = false;
-  /// p_value < alpha / candidates, wald_clear, and cv_error < cv_error_current.
+  /// p_value < the naming level (alpha / (candidates x forms)), wald_clear, and cv_error < cv_error_current.
   bool significant = false;
   CandidateOutcome outcome = CandidateOutcome::kNotSignificant;
   std::string reason;        ///< why it was or was not added, in words
@@ -312,7 +312,7 @@ struct Plan {
   std::string key, name, parameter, unit;
   double size = 0.0;  ///< the size asked about
   int trials = 0;     ///< trials of the study
-  double level = 0.0;  ///< the naming level (alpha / candidates)
+  double level = 0.0;  ///< the naming level (alpha / (candidates x forms))
   /// The smallest size this study detects with 80 % power, and its power at `size`.
   double detection_limit = 0.0, power = 0.0;
   /// Trials of this study's design (its conditions in the same proportions) for 80 % power at

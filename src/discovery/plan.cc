@@ -84,7 +84,8 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
     return plan;
   }
   const std::size_t candidates = options.candidates.empty() ? Library().size() : options.candidates.size();
-  plan.level = options.alpha / static_cast<double>(candidates);
+  const std::size_t forms = options.per_surface && ws.surfaces.size() > 1 ? 2 : 1;
+  plan.level = options.alpha / static_cast<double>(candidates * forms);
   const std::vector<int> all = ws.All();
   Model start;
   start.zeta = ws.zeta_start;
