@@ -4,25 +4,26 @@
 /// name the missing physical effect with evidence, add it to the model and show the gap shrink
 /// on trials the fit never saw.
 ///
-/// The workflow, per round:
+/// The workflow (its parts are listed in discovery/internal.h):
 ///  1. Fit the current model (per surface zeta and mu, plus the effects added so far) to every
-///     measured trial and take the residuals after the impact: v_SC.x, v_SC.y (which carries e)
-///     and w, each as a fraction of the impact speed (w times d_EC), and per frame the marker
-///     distance ratio (image-level evidence of out-of-plane rotation).
-///  2. Test the residuals for structure: lack-of-fit F tests of the cell means (surface x angle
-///     x speed) against the scatter within cells, slope tests against speed, and the marker
-///     distance ratio against 1. Holm's step-down keeps the family-wise level.
-///  3. Fit every candidate effect of the library (candidates.h) jointly with the per-surface
-///     parameters; rank by leave-trials-out cross-validated error, with the likelihood-ratio
-///     test and AIC/BIC beside it. Probe each candidate's identifiability: fix its parameter at
-///     a realistic size, refit the rest, and see whether the data can tell the difference.
-///  4. Accept the best candidate when its likelihood ratio is significant (Bonferroni over the
-///     candidates) and it lowers the held-out error; re-simulate and measure the held-out gap
-///     before and after. Repeat until nothing significant remains or nothing helps.
-///  5. The verdict: an effect is *named* only when, with the accepted effects in the model, no
-///     significant disagreement remains; otherwise the disagreement is *unexplained* and the
-///     accepted effects are *tentative*. Candidates that fit as well as the winner are reported
-///     as indistinguishable, with the measurement that would separate them.
+///     measured trial under a noise model: each trial's zeta and mu scatter about their
+///     surface's, and each measured velocity has its own error. The residuals after the impact
+///     are v_SC.x, v_SC.y (which carries e) and w d_EC, as fractions of the impact speed, and
+///     per frame the marker distance ratio (image-level evidence of out-of-plane rotation).
+///  2. Describe the residuals against the noise model: levels and trends with speed and angle,
+///     the marker distance ratio, and a lack-of-fit test where conditions were repeated (Holm).
+///     These describe; they do not decide what is named.
+///  3. Fit every candidate of the library (Library()) jointly with the per-surface parameters and
+///     the noise model, shared by all surfaces and per surface; test it by its likelihood ratio
+///     against the current model, cross-validate it on held-out trials, probe what it is
+///     confounded with, and give its detection limit.
+///  4. Add the strongest significant candidate (p below alpha / (candidates x forms), its
+///     estimate clear of 0 by its s.e., a lower held-out error), with its outcome and reason for
+///     every other one; repeat until nothing is significant.
+///  5. The verdict: an effect is *named* when, with it in the model, no significant structure
+///     remains; otherwise it is *tentative* and the disagreement *unexplained*. Candidates that
+///     fit as well as the added one are reported as indistinguishable, with the measurement that
+///     would separate them.
 
 #include <functional>
 #include <map>
