@@ -340,21 +340,29 @@ std::string PCell(double p, bool significant) {
   return std::string("<td class=\"num") + (significant ? " sig" : "") + "\">" + Fmt(p, 3) + "</td>";
 }
 
-/// The verdict's paragraphs (separated by blank lines or line breaks), escaped.
+/// The verdict's paragraphs (separated by blank lines), each line of its own, and its lists
+/// (lines that start with "  - "), escaped.
 std::string VerdictHtml(const std::string& verdict) {
-  std::string out, paragraph;
+  std::string out, paragraph, items;
   std::istringstream in(verdict);
   std::string line;
   const auto flush = [&] {
-    if (!paragraph.empty()) out += "<p>" + HtmlEscape(paragraph) + "</p>";
+    if (!paragraph.empty()) out += "<p>" + paragraph + "</p>";
+    if (!items.empty()) out += "<ul>" + items + "</ul>";
     paragraph.clear();
+    items.clear();
   };
   while (std::getline(in, line)) {
     if (line.find_first_not_of(" \t\r") == std::string::npos) {
       flush();
       continue;
     }
-    paragraph += (paragraph.empty() ? "" : " ") + line;
+    if (line.rfind("  - ", 0) == 0) {
+      items += "<li>" + HtmlEscape(line.substr(4)) + "</li>";
+      continue;
+    }
+    if (!items.empty()) flush();
+    paragraph += (paragraph.empty() ? "" : "<br>") + HtmlEscape(line);
   }
   flush();
   return out;

@@ -113,7 +113,8 @@ DiscoveryResult Result() {
   r.simulations = 123456;
   r.verdict =
       "The missing effect is velocity-dependent damping.\n\nWith it in the model no significant "
-      "disagreement remains.";
+      "disagreement remains.\n\nWhat these trials could have missed:\n  - rolling resistance: rho = 3e-06 m\n"
+      "  - Hertzian <stiffness>: p = 0.9\n";
   r.baseline = {{"concrete", 0.21, 0.01, 0.5, 0.02, 4.75e7, 2, 0.031, 0.012},
                 {"steel", 0.18, 0.01, 0.12, 0.01, 2.8e8, 2, 0.027, std::nan("")}};
   r.final_model = {{"concrete", 0.11, 0.02, 0.5, 0.02, 4.75e7, 2, 0.0123, 0.0045},
@@ -524,6 +525,10 @@ TEST(HtmlReportDiscoveryTest, TheSectionShowsVerdictEvidenceAndFigures) {
   EXPECT_NE(html.find("<a href=\"#discovery\">Discovery</a>"), std::string::npos);
   // The verdict, in plain words.
   EXPECT_NE(html.find("<p>The missing effect is velocity-dependent damping.</p>"),
+            std::string::npos);
+  // Its lists as lists, escaped.
+  EXPECT_NE(html.find("<p>What these trials could have missed:</p><ul><li>rolling resistance: rho = 3e-06 m</li>"
+                      "<li>Hertzian &lt;stiffness&gt;: p = 0.9</li></ul>"),
             std::string::npos);
   EXPECT_NE(html.find("The missing effect is named: velocity-dependent (Hunt-Crossley) damping."),
             std::string::npos);
