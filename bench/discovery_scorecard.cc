@@ -698,15 +698,6 @@ nlohmann::json RowJson(const Row& r) {
           {"error", r.error}};
 }
 
-std::string NowUtc() {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  ::gmtime_r(&now, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -843,7 +834,7 @@ int main(int argc, char** argv) {
   PrintReport(rows, designs, scatters, only_render);
   std::cout << "Wall time: " << Num(seconds) << " s\n";
   if (!json_file.empty()) {
-    nlohmann::json out = {{"generated_utc", NowUtc()},
+    nlohmann::json out = {{"generated_utc", hoof::studyfile::NowUtc()},
                           {"cache", cache_dir},
                           {"only_render", only_render},
                           {"seconds", seconds},

@@ -45,6 +45,20 @@ int UsedResiduals(const Workspace& ws) {
 
 double Aic(const CandidateResult& c) { return -c.lr_statistic + 2 * c.df; }
 
+/// p of a Wald test that the values (each with its s.e.) are equal: the chi-square of their
+/// departures from the weighted mean, with one dof fewer than values with an s.e.
+double EqualityP(const std::vector<EffectValue>& values) {
+  double sw = 0.0, swv = 0.0;
+  int n = 0;
+  for (const auto& v : values)
+    if (v.se > 0) sw += 1 / (v.se * v.se), swv += v.value / (v.se * v.se), ++n;
+  if (n < 2) return 1.0;
+  double chi2 = 0.0;
+  for (const auto& v : values)
+    if (v.se > 0) chi2 += std::pow(v.value - swv / sw, 2) / (v.se * v.se);
+  return stats::ChiSquaredUpperTail(chi2, n - 1);
+}
+
 }  // namespace
 
 std::vector<EffectValue> EffectValues(const Workspace& ws, const Fit& f, const std::string& key) {
@@ -63,7 +77,8 @@ std::vector<EffectValue> EffectValues(const Workspace& ws, const Fit& f, const s
   return out;
 }
 
-RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const std::vector<std::string>& keys,
+RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const std::vector<Eigen::Vector3d>& residual_current,
+                           const std::vector<Sensitivity>& sens, const std::vector<std::string>& keys,
                            const DiscoveryOptions& options, const std::function<void(const std::string&)>& say,
                            Round& rd) {
   const std::vector<int> all = ws.All();
@@ -79,10 +94,8 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
   std::vector<std::string> free_current;
   for (const auto& a : state.accepted)
     if (!Entry(a).measurement_effect) free_current.push_back(a);
-  const auto sens = ws.Sensitivities(current.model, all);
   std::vector<TrialCovariance> ref;
   for (std::size_t i = 0; i < ws.obs.size(); ++i) ref.push_back(Covariance(ws, ws.obs[i], sens[i], current.noise));
-  const auto residual_current = ws.Residuals(current.model, all);
   const CrossValidation cv_current = CrossValidate(ws, current, free_current, ref, options.folds);
   const CrossValidation cv_tilt_current = CrossValidateTilt(ws, state.tilt_on, options.folds);
   const double n_res = UsedResiduals(ws);
@@ -153,8 +166,6 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     if (!start.effects.count(key)) start.effects[key] = {EffectForm::kShared, {0.1 * e.probe}};
     Fit chosen = FitModel(ws, all, start, free, current.noise, true);
     if (probe.loglik > chosen.loglik) chosen = FitModel(ws, all, probe.model, free, probe.noise, true);
-    // The current model is this one with the effect at 0: a fit that ends below it stopped in a
-    // worse local optimum, and the nested point is the better answer.
     // The candidate's fit may have found zeta, mu and the noise model a better optimum than
     // the current fit did; its likelihood ratio is then against the current model refitted from
     // there, so that a gain of the baseline's own parameters is not credited to the effect.
@@ -171,6 +182,8 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
       const Noise n_back = EstimateNoise(ws, all, r_back, s_back, chosen.noise);
       reference = std::max(reference, LogLikelihood(ws, all, r_back, s_back, n_back));
     }
+    // The current model is this one with the effect at 0: a fit that ends below the reference
+    // stopped in a worse local optimum, and the nested point is the better answer.
     bool at_zero = false;
     if (!(chosen.loglik >= reference)) {
       at_zero = true;
@@ -200,22 +213,7 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
       // And the values themselves must differ: a Wald test of their equality (chi-square with
       // S - 1 dof). The likelihood ratio alone also rewards the other optimum of zeta, mu and
       // the noise that a per-surface fit can reach with equal values.
-      double wald = 0.0, sw = 0.0, swv = 0.0;
-      const auto& pv = per.model.effects.at(key).value;
-      const auto pse = per.effect_se.find(key);
-      bool se_ok = pse != per.effect_se.end();
-      for (std::size_t k = 0; se_ok && k < pv.size(); ++k) {
-        const double se = pse->second[k];
-        if (!(se > 0)) continue;
-        sw += 1 / (se * se);
-        swv += pv[k] / (se * se);
-      }
-      for (std::size_t k = 0; se_ok && sw > 0 && k < pv.size(); ++k) {
-        const double se = pse->second[k];
-        if (se > 0) wald += std::pow(pv[k] - swv / sw, 2) / (se * se);
-      }
-      const double p_wald = stats::ChiSquaredUpperTail(wald, static_cast<double>(S - 1));
-      c.p_per_surface = std::max(c.p_per_surface, p_wald);
+      c.p_per_surface = std::max(c.p_per_surface, EqualityP(EffectValues(ws, per, key)));
       if (per.ok && per.loglik > chosen.loglik && c.p_per_surface < options.alpha) {
         chosen = per;
         c.form = EffectForm::kPerSurface;

@@ -88,7 +88,7 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
     say("round " + std::to_string(round) + ": " +
         std::to_string(std::count_if(rd.tests.begin(), rd.tests.end(), [](auto& t) { return t.significant; })) +
         " significant trend(s) of " + std::to_string(rd.tests.size()) + " in the residuals");
-    const RoundOutcome o = RunCandidates(ws, st, keys, options, say, rd);
+    const RoundOutcome o = RunCandidates(ws, st, residuals, sens, keys, options, say, rd);
     if (!o.added) {
       out.rounds.push_back(rd);
       break;

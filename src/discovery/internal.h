@@ -212,7 +212,9 @@ struct RoundOutcome {
   Fit fit;                         // the model with it (contact effect)
   TiltFit tilt;                    // the tilt (measurement effect)
 };
-RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const std::vector<std::string>& keys,
+/// `residual_current` and `sens` are the current model's residuals and sensitivities of all obs.
+RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const std::vector<Eigen::Vector3d>& residual_current,
+                           const std::vector<Sensitivity>& sens, const std::vector<std::string>& keys,
                            const DiscoveryOptions& options,
                            const std::function<void(const std::string&)>& say, Round& round);
 

@@ -188,4 +188,7 @@ Table ResultsTable(const std::vector<pipeline::TrialAnalysis>& trials);
 /// a suffix "_2", "_3", ... when ids repeat; an empty id becomes "trial_<index>".
 std::vector<std::string> TrialGroupNames(const std::vector<pipeline::TrialAnalysis>& trials);
 
+/// The current time in UTC as ISO 8601 ("2026-11-22T21:04:51Z"), as study files record it.
+std::string NowUtc();
+
 }  // namespace hoof::studyfile
