@@ -540,7 +540,7 @@ void RegisterDiscover(CLI::App& app, RunState& state) {
   DiscoverSettings& s = args->settings;
   cmd->add_option("--alpha", s.alpha,
                   "Family-wise level: of the structure tests (Holm) and of naming a candidate "
-                  "(Bonferroni); in (0, 0.5)")
+                  "(min-P over the candidates and their forms); in (0, 0.5)")
       ->capture_default_str();
   cmd->add_option("--folds", s.folds, "Leave-trials-out cross-validation folds (>= 2)")
       ->capture_default_str();

@@ -4,6 +4,7 @@
 // judged; the strongest significant one is added.
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <numeric>
 #include <sstream>
@@ -86,22 +87,45 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
   std::vector<std::string> to_try;
   for (const auto& key : keys)
     if (std::find(state.accepted.begin(), state.accepted.end(), key) == state.accepted.end()) to_try.push_back(key);
-  // The naming level: Bonferroni over the hypotheses tried, each candidate once per form (shared
-  // and, with two or more surfaces, per surface: the form is chosen from the same data).
-  const std::size_t forms = options.per_surface && ws.surfaces.size() > 1 ? 2 : 1;
-  const double level = options.alpha / static_cast<double>(std::max<std::size_t>(1, to_try.size() * forms));
   const double chi95 = stats::ChiSquaredQuantile(0.95, 1);
   std::vector<std::string> free_current;
   for (const auto& a : state.accepted)
     if (!Entry(a).measurement_effect) free_current.push_back(a);
   std::vector<TrialCovariance> ref;
   for (std::size_t i = 0; i < ws.obs.size(); ++i) ref.push_back(Covariance(ws, ws.obs[i], sens[i], current.noise));
+  int n_ratio = 0;
+  for (const Obs& o : ws.obs) n_ratio += std::isfinite(o.marker_ratio) ? 1 : 0;
+  // Each contact candidate at its probe size, without refitting: the residual change per unit
+  // (a secant), for the naming level, the identifiability probe and the detection limit.
+  std::map<std::string, std::vector<Eigen::Vector3d>> residual_probe, change;
+  std::vector<std::vector<Eigen::Vector3d>> changes;
+  int independent = 0;
+  for (const auto& key : to_try) {
+    const LibraryEntry& e = Entry(key);
+    if (e.measurement_effect) {
+      independent += n_ratio >= 3 ? 1 : 0;
+      continue;
+    }
+    Model probe_start = current.model;
+    probe_start.effects[key] = {EffectForm::kShared, {e.probe}};
+    residual_probe[key] = ws.Residuals(probe_start, all);
+    auto& d_r = change[key];
+    d_r.resize(ws.obs.size());
+    for (std::size_t i = 0; i < ws.obs.size(); ++i) d_r[i] = (residual_current[i] - residual_probe[key][i]) / e.probe;
+    changes.push_back(d_r);
+  }
+  // The naming level: min-P over the hypotheses tried, each candidate once per form (shared and,
+  // with two or more surfaces, per surface: the form is chosen from the same data).
+  const NamingLevel naming =
+      CalibrateNamingLevel(ws, changes, sens, ref, options.per_surface, independent, options.alpha);
+  const double level = naming.level;
+  rd.naming_level = naming.level;
+  rd.bonferroni_level = naming.bonferroni;
+  rd.hypotheses = naming.hypotheses;
   const CrossValidation cv_current = CrossValidate(ws, current, free_current, ref, options.folds);
   const CrossValidation cv_tilt_current = CrossValidateTilt(ws, state.tilt_on, options.folds);
   const double n_res = UsedResiduals(ws);
   const std::size_t S = ws.surfaces.size();
-  int n_ratio = 0;
-  for (const Obs& o : ws.obs) n_ratio += std::isfinite(o.marker_ratio) ? 1 : 0;
 
   std::vector<Evaluation> evals;
   for (const auto& key : to_try) {
@@ -155,8 +179,7 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     // any trial sensitive to it?), then with zeta and mu refitted (do they absorb it?).
     Model probe_start = current.model;
     probe_start.effects[key] = {EffectForm::kShared, {e.probe}};
-    const auto residual_probe = ws.Residuals(probe_start, all);
-    const double fixed_lr = 2 * (LogLikelihood(ws, all, residual_probe, sens, current.noise) - current.loglik);
+    const double fixed_lr = 2 * (LogLikelihood(ws, all, residual_probe[key], sens, current.noise) - current.loglik);
     const Fit probe = FitModel(ws, all, probe_start, free_current, current.noise, true, 4);
     const double probe_lr = 2 * (probe.loglik - current.loglik);
     // The free fit, shared by all surfaces, from the better of the two starts.
@@ -249,9 +272,7 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
       c.identifiability = Identifiability::kIdentified;
     }
     // Detection limit: residual change per unit of the effect (secant to the probe size).
-    std::vector<Eigen::Vector3d> d_r(ws.obs.size());
-    for (std::size_t i = 0; i < ws.obs.size(); ++i) d_r[i] = (residual_current[i] - residual_probe[i]) / e.probe;
-    c.detection_limit = DetectionLimit(ProfiledInformation(ws, d_r, sens, ref), level);
+    c.detection_limit = DetectionLimit(ProfiledInformation(ws, change[key], sens, ref), level);
     // The estimate must also stand clear of 0 by its own standard error (one-sided Wald at the
     // naming level, per value for a per-surface effect): a likelihood ratio whose effect is
     // 0.4 s.e. from 0 is a gain of the other parameters, and naming it would contradict the
@@ -287,7 +308,7 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     } else if (c.p_value >= level) {
       c.outcome = CandidateOutcome::kNotSignificant;
       why << "likelihood-ratio p = " << FmtP(c.p_value) << " is not below the naming level " << FmtP(level)
-          << " (alpha / " << to_try.size() * forms << ": candidates x forms)";
+          << " (alpha = " << Fmt(options.alpha) << " over " << naming.hypotheses << " hypotheses: candidates x forms)";
     } else if (!c.wald_clear) {
       c.outcome = CandidateOutcome::kNotSignificant;
       why << "likelihood-ratio p = " << FmtP(c.p_value) << ", but its estimate " << Fmt(c.estimate) << " +- "

@@ -17,7 +17,7 @@
 ///     the noise model, shared by all surfaces and per surface; test it by its likelihood ratio
 ///     against the current model, cross-validate it on held-out trials, probe what it is
 ///     confounded with, and give its detection limit.
-///  4. Add the strongest significant candidate (p below alpha / (candidates x forms), its
+///  4. Add the strongest significant candidate (p below the naming level, Round::naming_level; its
 ///     estimate clear of 0 by its s.e., a lower held-out error), with its outcome and reason for
 ///     every other one; repeat until nothing is significant.
 ///  5. The verdict: an effect is *named* when, with it in the model, no significant structure
@@ -63,7 +63,7 @@ const std::vector<LibraryEntry>& Library();
 /// Settings of the workflow.
 struct DiscoveryOptions {
   /// Family-wise significance level: of the structure tests (Holm) and of naming a candidate
-  /// (Bonferroni over the candidates); in (0, 0.5).
+  /// (min-P over the candidates and their forms, Round::naming_level); in (0, 0.5).
   double alpha = 0.01;
   int folds = 3;        ///< Leave-trials-out folds (trials dealt round-robin in design order); >= 2.
   int max_rounds = 3;   ///< Effects added at most; >= 1.
@@ -123,7 +123,7 @@ enum class CandidateOutcome {
   kAdded,               ///< the strongest significant candidate: added to the model
   kIndistinguishable,   ///< significant, but fits as well as the one added
   kWeakerThanAdded,     ///< significant, but the one added explains clearly more
-  kNotSignificant,      ///< its likelihood ratio is not significant at the naming level (alpha / (candidates x forms))
+  kNotSignificant,      ///< its likelihood ratio is not significant at the naming level (Round::naming_level)
   kWorseHeldOut,        ///< significant in the fit, but it does not predict held-out trials better
   kBelowResolution,     ///< significant, but smaller than the measurement resolves (out-of-plane
                         ///< tilt within DiscoveryOptions::marker_ratio_tolerance)
@@ -198,7 +198,7 @@ struct CandidateResult {
   /// The estimate stands clear of 0 by its standard error (one-sided Wald at the naming level;
   /// any surface's value for a per-surface effect).
   bool wald_clear = false;
-  /// p_value < the naming level (alpha / (candidates x forms)), wald_clear, and cv_error < cv_error_current.
+  /// p_value < the naming level (Round::naming_level), wald_clear, and cv_error < cv_error_current.
   bool significant = false;
   CandidateOutcome outcome = CandidateOutcome::kNotSignificant;
   std::string reason;        ///< why it was or was not added, in words
@@ -224,6 +224,12 @@ struct Round {
   int index = 1;
   std::vector<StructureTest> tests;         ///< on the current model's residuals
   std::vector<CandidateResult> candidates;  ///< in rank order
+  /// The naming level of this round's candidates: the per-hypothesis level at which the
+  /// smallest p of all `hypotheses` (candidates x forms) falls below it with probability alpha
+  /// under the current model (min-P, by Monte Carlo under the linearised noise model), and
+  /// Bonferroni's alpha / hypotheses, which it never falls below.
+  double naming_level = 0.0, bonferroni_level = 0.0;
+  int hypotheses = 0;
   std::string accepted;  ///< key of the effect added in this round, empty when none
   std::string decision;  ///< in words
   std::vector<GapTrial> gap;  ///< held-out trials, when an effect was added
@@ -313,7 +319,7 @@ struct Plan {
   std::string key, name, parameter, unit;
   double size = 0.0;  ///< the size asked about
   int trials = 0;     ///< trials of the study
-  double level = 0.0;  ///< the naming level (alpha / (candidates x forms))
+  double level = 0.0;  ///< the naming level of the first round (Round::naming_level)
   /// The smallest size this study detects with 80 % power, and its power at `size`.
   double detection_limit = 0.0, power = 0.0;
   /// Trials of this study's design (its conditions in the same proportions) for 80 % power at

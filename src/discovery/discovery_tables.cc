@@ -576,6 +576,13 @@ std::vector<Table> DiscoveryTables(const DiscoveryResult& r) {
         {Column::Integers("index", "1", "round number", {round.index}),
          Column::Texts("accepted", "key of the effect added, empty when none", {round.accepted}),
          Column::Texts("decision", "the decision in words", {round.decision}),
+         Column::Numbers("naming_level", "1",
+                         "level per hypothesis at which the smallest p of the round's hypotheses "
+                         "falls below it with probability alpha under the current model (min-P)",
+                         {round.naming_level}),
+         Column::Numbers("bonferroni_level", "1", "alpha / hypotheses, for comparison",
+                         {round.bonferroni_level}),
+         Column::Integers("hypotheses", "1", "candidates x forms tried", {round.hypotheses}),
          Column::Numbers("gap_before", "1",
                          "held-out gap (root mean square over trials and components, fractions "
                          "of the impact speed), current model",
@@ -692,7 +699,7 @@ Table DiscoveryOptionsTable(const DiscoveryOptions& o) {
       "The settings the discovery workflow ran with",
       {Column::Numbers("alpha", "1",
                        "family-wise level of the structure tests (Holm) and of naming a "
-                       "candidate (Bonferroni)",
+                       "candidate (min-P over the candidates and forms)",
                        {o.alpha}),
        Column::Integers("folds", "1", "leave-trials-out folds", {o.folds}),
        Column::Integers("max_rounds", "1", "effects added at most", {o.max_rounds}),
@@ -775,6 +782,9 @@ DiscoveryResult ReadDiscovery(const std::filesystem::path& h5) {
       round.index = static_cast<int>(t.Integers("index")[0]);
       round.accepted = t.Texts("accepted")[0];
       round.decision = t.Texts("decision")[0];
+      round.naming_level = t.Numbers("naming_level")[0];
+      round.bonferroni_level = t.Numbers("bonferroni_level")[0];
+      round.hypotheses = static_cast<int>(t.Integers("hypotheses")[0]);
       round.gap_before = t.Numbers("gap_before")[0];
       round.gap_after = t.Numbers("gap_after")[0];
       round.gap_shrink = t.Numbers("gap_shrink")[0];

@@ -10,6 +10,7 @@
 ///  - structure.cc: the residuals' trends against the noise model (descriptive tests);
 ///  - cross_validation.cc: held-out errors;
 ///  - candidates.cc: one round: each candidate fitted, tested and judged;
+///  - multiplicity.cc: the naming level, calibrated for how the candidates' tests overlap;
 ///  - plan.cc: detection limits and how many trials would detect an effect;
 ///  - verdict.cc: findings and the verdict in words;
 ///  - discovery.cc: the rounds.
@@ -220,6 +221,17 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
 
 // ---- detection limits and plans (plan.cc) ---------------------------------------------------
 
+/// The noise model's whitened design: every obs's used components as rows (whitened by `ref`),
+/// d prediction / d (zeta, mu) of each surface as columns, and where each obs's rows start (one
+/// entry more than obs).
+struct WhitenedDesign {
+  Eigen::MatrixXd X;
+  std::vector<Eigen::Index> first;
+};
+WhitenedDesign Whiten(const Workspace& ws, const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref);
+/// A residual change per obs (NaN counts as 0), whitened into the design's rows.
+Eigen::VectorXd WhitenChange(const Workspace& ws, const std::vector<Eigen::Vector3d>& d_r,
+                             const std::vector<TrialCovariance>& ref, const WhitenedDesign& w);
 /// Per trial: the Fisher information about an effect (1 / unit^2) left after zeta and mu per
 /// surface are profiled out, from `d_r`, the residual changes of one unit of the effect, `sens`,
 /// the derivatives by zeta and mu, and `ref`, the noise model's whitening. Their sum is the
@@ -228,6 +240,23 @@ std::vector<double> ProfiledInformation(const Workspace& ws, const std::vector<E
                                         const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref);
 /// The smallest size that a one-sided test at `level` detects with 80 % power (Wald).
 double DetectionLimit(const std::vector<double>& information, double level);
+
+// ---- the naming level (multiplicity.cc) -----------------------------------------------------
+
+struct NamingLevel {
+  double level = 0.0;       // per hypothesis: min-P, never below Bonferroni
+  double bonferroni = 0.0;  // alpha / hypotheses
+  int hypotheses = 0;       // forms of the candidates with information, plus the independent ones
+  int draws = 0;            // Monte Carlo draws (0: Bonferroni was used)
+};
+/// The level at which the smallest p of a round's hypotheses falls below it with probability
+/// `alpha` under the current model: each candidate of `changes` (its residual change per unit,
+/// per obs) tried shared and, with `per_surface` and two or more surfaces, per surface, plus
+/// `independent` hypotheses tested on other data (the marker distance). By `draws` seeded Monte
+/// Carlo draws of the scores' joint normal distribution under the linearised noise model.
+NamingLevel CalibrateNamingLevel(const Workspace& ws, const std::vector<std::vector<Eigen::Vector3d>>& changes,
+                                 const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref,
+                                 bool per_surface, int independent, double alpha, int draws = 20000);
 
 // ---- verdict (verdict.cc) -----------------------------------------------------------------
 

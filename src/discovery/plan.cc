@@ -15,37 +15,48 @@
 namespace hoof::discovery {
 namespace internal {
 
-std::vector<double> ProfiledInformation(const Workspace& ws, const std::vector<Eigen::Vector3d>& d_r,
-                                        const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref) {
+WhitenedDesign Whiten(const Workspace& ws, const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref) {
   const auto S = static_cast<Eigen::Index>(ws.surfaces.size());
-  Eigen::Index rows = 0;
-  for (const auto& t : ref) rows += static_cast<Eigen::Index>(t.components.size());
-  Eigen::MatrixXd X = Eigen::MatrixXd::Zero(rows, 2 * S);
-  Eigen::VectorXd d = Eigen::VectorXd::Zero(rows);
-  std::vector<Eigen::Index> first(ws.obs.size() + 1, 0);
-  Eigen::Index row = 0;
+  WhitenedDesign w;
+  w.first.assign(ws.obs.size() + 1, 0);
+  for (std::size_t i = 0; i < ws.obs.size(); ++i)
+    w.first[i + 1] = w.first[i] + static_cast<Eigen::Index>(ref[i].components.size());
+  w.X = Eigen::MatrixXd::Zero(w.first.back(), 2 * S);
   for (std::size_t i = 0; i < ws.obs.size(); ++i) {
     const auto& t = ref[i];
     const auto n = static_cast<Eigen::Index>(t.components.size());
     Eigen::MatrixXd J(n, 2);
+    for (Eigen::Index a = 0; a < n; ++a) J.row(a) = sens[i].row(t.components[static_cast<std::size_t>(a)]);
+    w.X.block(w.first[i], 2 * ws.obs[i].surface, n, 2) = t.whiten * J;
+  }
+  return w;
+}
+
+Eigen::VectorXd WhitenChange(const Workspace& ws, const std::vector<Eigen::Vector3d>& d_r,
+                             const std::vector<TrialCovariance>& ref, const WhitenedDesign& w) {
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(w.first.back());
+  for (std::size_t i = 0; i < ws.obs.size(); ++i) {
+    const auto& t = ref[i];
+    const auto n = static_cast<Eigen::Index>(t.components.size());
     Eigen::VectorXd v(n);
     for (Eigen::Index a = 0; a < n; ++a) {
       const int c = t.components[static_cast<std::size_t>(a)];
-      J.row(a) = sens[i].row(c);
       v[a] = std::isfinite(d_r[i][c]) ? d_r[i][c] : 0.0;
     }
-    const Eigen::Index s = ws.obs[i].surface;
-    X.block(row, 2 * s, n, 2) = t.whiten * J;
-    d.segment(row, n) = t.whiten * v;
-    first[i] = row;
-    row += n;
-    first[i + 1] = row;
+    d.segment(w.first[i], n) = t.whiten * v;
   }
+  return d;
+}
+
+std::vector<double> ProfiledInformation(const Workspace& ws, const std::vector<Eigen::Vector3d>& d_r,
+                                        const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref) {
+  const WhitenedDesign w = Whiten(ws, sens, ref);
+  const Eigen::VectorXd d = WhitenChange(ws, d_r, ref, w);
   // What zeta and mu can take up of the effect's change is projected out.
-  const Eigen::VectorXd coef = X.completeOrthogonalDecomposition().solve(d);
-  const Eigen::VectorXd left = d - X * coef;
+  const Eigen::VectorXd coef = w.X.completeOrthogonalDecomposition().solve(d);
+  const Eigen::VectorXd left = d - w.X * coef;
   std::vector<double> info(ws.obs.size(), 0.0);
-  for (std::size_t i = 0; i < ws.obs.size(); ++i) info[i] = left.segment(first[i], first[i + 1] - first[i]).squaredNorm();
+  for (std::size_t i = 0; i < ws.obs.size(); ++i) info[i] = left.segment(w.first[i], w.first[i + 1] - w.first[i]).squaredNorm();
   return info;
 }
 
@@ -83,9 +94,6 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
                    "; at least 6 are needed)";
     return plan;
   }
-  const std::size_t candidates = options.candidates.empty() ? Library().size() : options.candidates.size();
-  const std::size_t forms = options.per_surface && ws.surfaces.size() > 1 ? 2 : 1;
-  plan.level = options.alpha / static_cast<double>(candidates * forms);
   const std::vector<int> all = ws.All();
   Model start;
   start.zeta = ws.zeta_start;
@@ -100,6 +108,29 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
   const auto r1 = ws.Residuals(with, all);
   std::vector<Eigen::Vector3d> d_r(ws.obs.size());
   for (std::size_t i = 0; i < ws.obs.size(); ++i) d_r[i] = (r0[i] - r1[i]) / size;
+  // The naming level of the first round, as Discover would set it: every candidate's change at
+  // its probe size under this baseline.
+  {
+    std::vector<std::vector<Eigen::Vector3d>> changes;
+    int independent = 0, n_ratio = 0;
+    for (const Obs& o : ws.obs) n_ratio += std::isfinite(o.marker_ratio) ? 1 : 0;
+    for (const LibraryEntry& c : Library()) {
+      if (!options.candidates.empty() &&
+          std::find(options.candidates.begin(), options.candidates.end(), c.key) == options.candidates.end())
+        continue;
+      if (c.measurement_effect) {
+        independent += n_ratio >= 3 ? 1 : 0;
+        continue;
+      }
+      Model probe = base.model;
+      probe.effects[c.key] = {EffectForm::kShared, {c.probe}};
+      const auto rp = ws.Residuals(probe, all);
+      std::vector<Eigen::Vector3d> d(ws.obs.size());
+      for (std::size_t i = 0; i < ws.obs.size(); ++i) d[i] = (r0[i] - rp[i]) / c.probe;
+      changes.push_back(std::move(d));
+    }
+    plan.level = CalibrateNamingLevel(ws, changes, sens, ref, options.per_surface, independent, options.alpha).level;
+  }
   const auto info = ProfiledInformation(ws, d_r, sens, ref);
   const double total = std::accumulate(info.begin(), info.end(), 0.0);
   plan.detection_limit = DetectionLimit(info, plan.level);
