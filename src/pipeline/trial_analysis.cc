@@ -20,15 +20,6 @@ std::unique_ptr<tracking::FrameSource> OpenFrames(const TrialSpec& spec) {
                                                          spec.frames.first, spec.frames.count);
 }
 
-tracking::ImageToWorld Camera(const TrialSpec& spec, double m_per_px) {
-  tracking::ImageToWorld cam;
-  cam.m_per_px = m_per_px;
-  cam.gravity_I = spec.camera.gravity_image;
-  cam.camera_matrix = spec.camera.camera_matrix;
-  cam.distortion = spec.camera.distortion;
-  return cam;
-}
-
 double Median(std::vector<double> v) {
   if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
   auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
@@ -103,6 +94,15 @@ void CheckOutOfPlane(const TrialSpec& spec, const TrialAnalysisOptions& options,
 
 }  // namespace
 
+tracking::ImageToWorld TrialCamera(const TrialSpec& spec, double m_per_px) {
+  tracking::ImageToWorld cam;
+  cam.m_per_px = m_per_px;
+  cam.gravity_I = spec.camera.gravity_image;
+  cam.camera_matrix = spec.camera.camera_matrix;
+  cam.distortion = spec.camera.distortion;
+  return cam;
+}
+
 TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& options,
                            const std::function<void(int)>& progress) {
   const auto start = std::chrono::steady_clock::now();
@@ -125,7 +125,7 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
     out.m_per_px_used = spec.camera.m_per_px;
     // Scale from the marker spacing: median over frames before the lowest point.
     {
-      const tracking::ImageToWorld unit = Camera(spec, 1.0);
+      const tracking::ImageToWorld unit = TrialCamera(spec, 1.0);
       std::vector<double> ratio;
       const double L = (layout[0] - layout[1]).norm();
       for (std::size_t f = 0; f < out.tracks.frames.size() / 3; ++f) {
@@ -140,7 +140,7 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
         out.m_per_px_used = out.m_per_px_from_markers;
       }
     }
-    const tracking::ImageToWorld cam = Camera(spec, out.m_per_px_used);
+    const tracking::ImageToWorld cam = TrialCamera(spec, out.m_per_px_used);
     CheckSurface(spec, source->Read(0), cam, options, out);
 
     std::vector<kinematics::PoseSample> samples;

@@ -49,6 +49,9 @@ struct TrialAnalysis {
   double seconds = 0.0;                      ///< wall time of the analysis
 };
 
+/// The trial's image-to-world calibration at the scale `m_per_px`.
+tracking::ImageToWorld TrialCamera(const TrialSpec& spec, double m_per_px);
+
 /// Analyses one trial. Never throws for bad trial data: failures are recorded in the result.
 /// `progress(frame)` is called as frames are tracked.
 TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& options = {},
