@@ -272,7 +272,7 @@ void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std:
     else
       os << "  " << std::left << std::setw(5) << "rank" << std::setw(24) << "effect"
          << std::setw(form_width) << "form" << std::setw(30) << "estimate +- se" << std::right
-         << std::setw(10) << "LR p" << std::setw(9) << "dAIC" << std::setw(9) << "dBIC"
+         << std::setw(10) << "LR p" << std::setw(11) << "dAIC" << std::setw(11) << "dBIC"
          << "  " << std::left << std::setw(outcome_width) << "outcome"
          << std::setw(identifiability_width) << "identifiability"
          << "held-out error (current) [" << discovery::kHeldOutErrorUnit << "]\n"
@@ -292,7 +292,7 @@ void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std:
               : c.parameter;
       os << std::setw(form_width) << discovery::ToString(c.form) << std::setw(30)
          << Estimate(c.estimate, c.se, parameter, c.unit) << std::right << std::setw(10)
-         << Num(c.p_value, 3) << std::setw(9) << Num(c.delta_aic, 3) << std::setw(9)
+         << (c.p_value > 0 ? Num(c.p_value, 3) : std::string("<1e-300")) << std::setw(11) << Num(c.delta_aic, 3) << std::setw(11)
          << Num(c.delta_bic, 3) << "  " << std::left << std::setw(outcome_width)
          << discovery::ToString(c.outcome) << std::setw(identifiability_width)
          << discovery::ToString(c.identifiability) << std::right
@@ -494,6 +494,7 @@ bool RunStudyDiscovery(const std::string& study_h5,
   options.candidates = s.candidates;
   options.per_surface = s.per_surface;
   options.measurement_floor = s.measurement_floor;
+  options.kinematics = studyfile::ReadKinematicsOptions(study_h5);
   try {
     options.Validate();
   } catch (const std::invalid_argument& e) {

@@ -24,6 +24,11 @@ struct Evaluation {
   TiltFit tilt;
   CrossValidation cv;
   std::vector<std::string> free;
+  // A rotation rate: the motion with it, the trials re-measured with it, and the contact
+  // model's held-out velocities on them.
+  pipeline::OutOfPlaneMotion motion;
+  std::shared_ptr<const std::vector<pipeline::TrialAnalysis>> remeasured;
+  CrossValidation velocity_cv;
 };
 
 std::string Moved(const Workspace& ws, const Fit& probe, const Fit& current) {
@@ -139,6 +144,24 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     c.measurement_effect = e.measurement_effect;
     c.detection_limit = kNaN;
     say("  " + key);
+    if (IsRotationRate(key)) {
+      RateEvaluation re = EvaluateRotationRate(ws, state, key, free_current, level, options);
+      ev.c = re.c;
+      ev.fit = re.fit;
+      ev.motion = re.motion;
+      ev.remeasured = re.remeasured;
+      // The held-out gap of the velocities, should it be added: the current model's predictions
+      // of the re-measured trials, each fitted without its fold.
+      if (ev.c.significant && re.ws) {
+        const auto s_new = re.ws->Sensitivities(re.fit.model, all);
+        std::vector<TrialCovariance> ref_new;
+        for (std::size_t i = 0; i < re.ws->obs.size(); ++i)
+          ref_new.push_back(Covariance(*re.ws, re.ws->obs[i], s_new[i], re.fit.noise));
+        ev.velocity_cv = CrossValidate(*re.ws, re.fit, free_current, ref_new, options.folds);
+      }
+      evals.push_back(std::move(ev));
+      continue;
+    }
     if (e.measurement_effect) {
       if (n_ratio < 3) {
         c.message = "fewer than 3 trials with a marker distance";
@@ -323,11 +346,16 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     c.reason = why.str();
   }
 
-  // The winner: the significant contact effect of lowest AIC; the measurement effect only when
-  // no contact effect is significant (it is judged on other data, and tried again next round).
+  // The winner: a significant rotation rate first (it changes the velocities that every
+  // contact effect is judged on), of lowest AIC; else the significant contact effect of lowest
+  // AIC; the constant tilt only when neither is significant (it is judged on other data, and
+  // tried again next round).
   Evaluation* best = nullptr;
   for (auto& ev : evals)
-    if (ev.c.significant && !ev.c.measurement_effect && (!best || Aic(ev.c) < Aic(best->c))) best = &ev;
+    if (ev.c.significant && IsRotationRate(ev.c.key) && (!best || Aic(ev.c) < Aic(best->c))) best = &ev;
+  if (!best)
+    for (auto& ev : evals)
+      if (ev.c.significant && !ev.c.measurement_effect && (!best || Aic(ev.c) < Aic(best->c))) best = &ev;
   if (!best)
     for (auto& ev : evals)
       if (ev.c.significant) best = &ev;
@@ -342,7 +370,8 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
       if (&ev == best || !ev.c.significant) continue;
       const double d_aic = Aic(ev.c) - Aic(best->c);
       std::ostringstream w;
-      if (ev.c.measurement_effect == best->c.measurement_effect && d_aic < chi95) {
+      if (ev.c.measurement_effect == best->c.measurement_effect && IsRotationRate(ev.c.key) == IsRotationRate(best->c.key) &&
+          d_aic < chi95) {
         ev.c.outcome = CandidateOutcome::kIndistinguishable;
         w << "significant (p = " << FmtP(ev.c.p_value) << "), and fits as well as " << best->c.name
           << " (AIC within " << Fmt(d_aic) << "): the two cannot be told apart with these data";
@@ -350,7 +379,10 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
       } else {
         ev.c.outcome = CandidateOutcome::kWeakerThanAdded;
         w << "significant (p = " << FmtP(ev.c.p_value) << "), but " << best->c.name;
-        if (ev.c.measurement_effect != best->c.measurement_effect)
+        if (IsRotationRate(best->c.key) && !IsRotationRate(ev.c.key))
+          w << " was added first (a rotation rate goes first: it changes the velocities the contact effects are "
+               "judged on)";
+        else if (ev.c.measurement_effect != best->c.measurement_effect)
           w << " was added first (a contact effect goes before the measurement effect)";
         else
           w << " explains the data better (AIC lower by " << Fmt(d_aic) << ")";
@@ -399,13 +431,17 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
   out.key = w.key;
   out.fit = winner->fit;
   out.tilt = winner->tilt;
+  out.motion = winner->motion;
+  out.remeasured = winner->remeasured;
   rd.accepted = w.key;
-  // The gap on held-out trials before and after.
-  const CrossValidation& before = w.measurement_effect ? cv_tilt_current : cv_current;
-  const CrossValidation& after = winner->cv;
+  // The gap on held-out trials before and after (of the velocities, as measured and as
+  // re-measured, for a rotation rate).
+  const bool rate = IsRotationRate(w.key);
+  const CrossValidation& before = w.measurement_effect && !rate ? cv_tilt_current : cv_current;
+  const CrossValidation& after = rate ? winner->velocity_cv : winner->cv;
   double sb = 0, sa = 0;
   int n = 0;
-  for (std::size_t i = 0; i < ws.obs.size(); ++i) {
+  for (std::size_t i = 0; i < ws.obs.size() && i < before.residual.size() && i < after.residual.size(); ++i) {
     const Obs& o = ws.obs[i];
     if (!std::isfinite(Rms(before.residual[i])) || !std::isfinite(Rms(after.residual[i]))) continue;
     GapTrial g;

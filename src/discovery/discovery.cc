@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <numbers>
 
 #include <boost/math/distributions/normal.hpp>
@@ -57,8 +58,13 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
   };
   DiscoveryResult out;
   int skipped = 0;
+  // The workspace of the trials as measured; after a rotation rate is added, the rounds work on
+  // `current`, built from the trials re-measured with it (kept alive in `remeasured`).
   Workspace ws;
   Build(trials, options, &skipped, ws);
+  const Workspace* current = &ws;
+  std::unique_ptr<Workspace> remeasured_ws;
+  std::shared_ptr<const std::vector<pipeline::TrialAnalysis>> remeasured;
   out.trials_skipped = skipped;
   out.trials_used = static_cast<int>(ws.obs.size());
   if (ws.obs.size() < 6) {
@@ -74,6 +80,7 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
   say("baseline: fitting zeta and mu per surface and the noise model to " + std::to_string(ws.obs.size()) +
       " trials");
   RoundState st;
+  st.measured = &trials;
   st.current = FitModel(ws, all, BaselineStart(ws), {}, InitialNoise(ws), true, 12);
   st.tilt = FitTilt(ws, all, false);
   out.baseline = SurfaceFits(ws, st.current);
@@ -82,13 +89,14 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
   for (int round = 1; round <= options.max_rounds; ++round) {
     Round rd;
     rd.index = round;
-    const auto residuals = ws.Residuals(st.current.model, all);
-    const auto sens = ws.Sensitivities(st.current.model, all);
-    rd.tests = StructureTests(ws, residuals, sens, st.current.noise, st.tilt.tilt_rad, options);
+    const Workspace& cw = *current;
+    const auto residuals = cw.Residuals(st.current.model, all);
+    const auto sens = cw.Sensitivities(st.current.model, all);
+    rd.tests = StructureTests(cw, residuals, sens, st.current.noise, st.tilt.tilt_rad, options);
     say("round " + std::to_string(round) + ": " +
         std::to_string(std::count_if(rd.tests.begin(), rd.tests.end(), [](auto& t) { return t.significant; })) +
         " significant trend(s) of " + std::to_string(rd.tests.size()) + " in the residuals");
-    const RoundOutcome o = RunCandidates(ws, st, residuals, sens, keys, options, say, rd);
+    const RoundOutcome o = RunCandidates(cw, st, residuals, sens, keys, options, say, rd);
     if (!o.added) {
       out.rounds.push_back(rd);
       break;
@@ -112,7 +120,18 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
     f.gap_shrink = rd.gap_shrink;
     out.findings.push_back(f);
     st.accepted.push_back(o.key);
-    if (Entry(o.key).measurement_effect) {
+    if (IsRotationRate(o.key)) {
+      // From now on the trials are the ones re-measured with the motion.
+      st.motion = o.motion;
+      remeasured = o.remeasured;
+      auto w = std::make_unique<Workspace>();
+      int skipped_again = 0;
+      Build(*remeasured, options, &skipped_again, *w);
+      remeasured_ws = std::move(w);
+      current = remeasured_ws.get();
+      st.current = o.fit;
+      st.tilt = FitTilt(*current, all, st.tilt_on);
+    } else if (Entry(o.key).measurement_effect) {
       st.tilt_on = true;
       st.tilt = o.tilt;
     } else {
@@ -122,9 +141,9 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
   }
 
   // The final model's remaining structure: named effects become tentative when some remains.
-  const auto final_residuals = ws.Residuals(st.current.model, all);
-  const auto final_sens = ws.Sensitivities(st.current.model, all);
-  for (const auto& t : StructureTests(ws, final_residuals, final_sens, st.current.noise, st.tilt.tilt_rad, options))
+  const auto final_residuals = current->Residuals(st.current.model, all);
+  const auto final_sens = current->Sensitivities(st.current.model, all);
+  for (const auto& t : StructureTests(*current, final_residuals, final_sens, st.current.noise, st.tilt.tilt_rad, options))
     if (t.significant) out.remaining.push_back(t);
   out.unexplained = !out.remaining.empty();
   if (out.unexplained)
@@ -140,14 +159,18 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
         f.separating_measurement = Entry(c.key).separating_measurement;
         out.findings.push_back(f);
       }
-  out.final_model = SurfaceFits(ws, st.current);
+  out.final_model = SurfaceFits(*current, st.current);
   out.measurement_sd = st.current.noise.systematic_sd;
   for (const auto& key : st.accepted) {
-    if (Entry(key).measurement_effect) {
+    if (IsRotationRate(key)) {
+      for (const auto& rd : out.rounds)
+        for (const auto& c : rd.candidates)
+          if (rd.accepted == key && c.key == key) out.effects.push_back({key, "", c.estimate, c.se});
+    } else if (Entry(key).measurement_effect) {
       out.effects.push_back({key, "", st.tilt.tilt_rad * 180 / std::numbers::pi,
                              st.tilt.tilt_se_rad * 180 / std::numbers::pi});
     } else {
-      for (const auto& v : EffectValues(ws, st.current, key)) out.effects.push_back(v);
+      for (const auto& v : EffectValues(*current, st.current, key)) out.effects.push_back(v);
     }
   }
   const auto base_residuals = ws.Residuals(baseline_model, all);
@@ -162,11 +185,11 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
     r.final_model = final_residuals[i];
     for (int c = 0; c < kComponents; ++c)
       if (!o.used[static_cast<std::size_t>(c)]) r.baseline[c] = r.final_model[c] = kNaN;
-    r.marker_ratio = o.marker_ratio;
+    r.marker_ratio = o.marker_ratio;  // as measured
     out.residuals.push_back(r);
   }
   out.verdict = VerdictText(out, options, skipped);
-  out.simulations = ws.simulations.load();
+  out.simulations = ws.simulations.load() + (remeasured_ws ? remeasured_ws->simulations.load() : 0);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.success = true;
   return out;

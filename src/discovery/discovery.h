@@ -92,6 +92,9 @@ struct DiscoveryOptions {
   /// systematic errors, of order 1e-4 and different from cell to cell (docs/tracking.md), are
   /// not physics; in [0, 0.1).
   double replicate_tolerance = 5e-4;
+  /// The options the trials were measured with: a trial re-measured with a fitted out-of-plane
+  /// motion is measured with them again (studyfile::ReadKinematicsOptions).
+  kinematics::KinematicsOptions kinematics;
 
   /// Throws std::invalid_argument naming the field.
   void Validate() const;

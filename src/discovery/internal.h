@@ -9,6 +9,7 @@
 ///  - fit.cc: a model fitted with Ceres under the noise model;
 ///  - structure.cc: the residuals' trends against the noise model (descriptive tests);
 ///  - cross_validation.cc: held-out errors;
+///  - out_of_plane.cc: a rotation out of the plane that grows in time, with re-measured trials;
 ///  - candidates.cc: one round: each candidate fitted, tested and judged;
 ///  - multiplicity.cc: the naming level, calibrated for how the candidates' tests overlap;
 ///  - plan.cc: detection limits and how many trials would detect an effect;
@@ -20,6 +21,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -27,6 +29,7 @@
 
 #include "discovery/discovery.h"
 #include "dynamics/impact_simulator.h"
+#include "pipeline/out_of_plane.h"
 #include "pipeline/trial_analysis.h"
 
 namespace hoof::discovery::internal {
@@ -49,6 +52,7 @@ std::string UnitSuffix(const std::string& unit);
 /// A measured trial as the workflow uses it.
 struct Obs {
   const pipeline::TrialAnalysis* trial = nullptr;
+  std::size_t trial_index = 0;  // in the trials the workspace was built from
   int surface = 0;
   double angle_deg = 0.0, speed_m_s = 0.0;
   bool normal = false;
@@ -199,9 +203,13 @@ double Rms(const Eigen::Vector3d& r);
 /// What one round works from: the current model and what was added.
 struct RoundState {
   Fit current;
-  std::vector<std::string> accepted;  // contact effects and "out_of_plane"
+  std::vector<std::string> accepted;  // contact effects and measurement effects
   bool tilt_on = false;
   TiltFit tilt;
+  /// The trials as measured, and the out-of-plane motion added so far: the workspace's trials
+  /// are these re-measured with it.
+  const std::vector<pipeline::TrialAnalysis>* measured = nullptr;
+  pipeline::OutOfPlaneMotion motion;
 };
 
 /// Evaluates every candidate against `state`, ranks them and decides; fills `round` (tests
@@ -212,12 +220,36 @@ struct RoundOutcome {
   std::vector<std::string> alike;  // look-alikes of the added effect
   Fit fit;                         // the model with it (contact effect)
   TiltFit tilt;                    // the tilt (measurement effect)
+  /// A rotation rate: the motion with it, and the trials re-measured with that motion.
+  pipeline::OutOfPlaneMotion motion;
+  std::shared_ptr<const std::vector<pipeline::TrialAnalysis>> remeasured;
 };
 /// `residual_current` and `sens` are the current model's residuals and sensitivities of all obs.
 RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const std::vector<Eigen::Vector3d>& residual_current,
                            const std::vector<Sensitivity>& sens, const std::vector<std::string>& keys,
                            const DiscoveryOptions& options,
                            const std::function<void(const std::string&)>& say, Round& round);
+
+// ---- out-of-plane rotation growing in time (out_of_plane.cc) ---------------------------------
+
+/// True for the library keys of a rotation rate ("out_of_plane_rate", "out_of_plane_roll_rate").
+bool IsRotationRate(const std::string& key);
+
+/// A rotation rate's evaluation against the current model: the rate (rad/s) of largest joint
+/// likelihood of the marker distance (per frame, each trial's own scale free) and of the
+/// velocities re-measured with it (the current contact model and noise refitted), its s.e., the
+/// likelihood ratio against no rate, held-out errors of the marker distance, and what adding it
+/// would take.
+struct RateEvaluation {
+  CandidateResult c;
+  Fit fit;
+  pipeline::OutOfPlaneMotion motion;
+  std::shared_ptr<const std::vector<pipeline::TrialAnalysis>> remeasured;
+  std::unique_ptr<Workspace> ws;  // built from `remeasured`
+};
+RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& state, const std::string& key,
+                                    const std::vector<std::string>& free_current, double level,
+                                    const DiscoveryOptions& options);
 
 // ---- detection limits and plans (plan.cc) ---------------------------------------------------
 

@@ -86,6 +86,16 @@ const std::vector<LibraryEntry>& Library() {
       {"out_of_plane", "out-of-plane rotation (a measurement effect)", "tilt", "deg", 10.0, 60.0, true,
        "the projected marker distance shrinks by cos(tilt): apparent changes of the pose",
        "a second camera or a mirror view (stereo)"},
+      {"out_of_plane_rate", "out-of-plane tilt growing through the impact (a measurement effect)", "dtilt/dt",
+       "deg/s", 500.0, 1e4, true,
+       "the marker distance dips toward the impact and recovers after it, and the markers on the face "
+       "slide sideways: both velocities carry a bias of (thickness / 2) dtilt/dt along x_B",
+       "a second camera or a mirror view (stereo), or markers at two depths"},
+      {"out_of_plane_roll_rate", "out-of-plane roll growing through the impact (a measurement effect)",
+       "droll/dt", "deg/s", 500.0, 1e4, true,
+       "the marker distance across the specimen dips toward the impact, and the markers on the face "
+       "slide along y_B: both velocities carry a bias of (thickness / 2) droll/dt",
+       "a second camera or a mirror view (stereo), or markers at two depths"},
   };
   return library;
 }
@@ -162,6 +172,7 @@ void DiscoveryOptions::Validate() const {
   if (folds < 2) throw std::invalid_argument("folds must be >= 2, got " + std::to_string(folds));
   if (max_rounds < 1) throw std::invalid_argument("max_rounds must be >= 1, got " + std::to_string(max_rounds));
   if (jobs < 0) throw std::invalid_argument("jobs must be >= 0, got " + std::to_string(jobs));
+  kinematics.Validate();
   if (!(relative_tolerance > 0 && relative_tolerance <= 1e-4))
     throw std::invalid_argument("relative_tolerance must be in (0, 1e-4], got " + Fmt(relative_tolerance));
   if (!(measurement_floor >= 0 && measurement_floor < 0.1))

@@ -105,7 +105,7 @@ std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& opti
     std::vector<std::string> limits, untested;
     for (const auto& c : last.candidates) {
       if (c.outcome == CandidateOutcome::kNotTested) untested.push_back(c.name);
-      if (!c.measurement_effect && std::isfinite(c.detection_limit) &&
+      if ((!c.measurement_effect || IsRotationRate(c.key)) && std::isfinite(c.detection_limit) &&
           (c.outcome == CandidateOutcome::kNotSignificant || c.outcome == CandidateOutcome::kWorseHeldOut ||
            c.outcome == CandidateOutcome::kConfounded))
         limits.push_back(c.name + ": " + c.parameter + " = " + Fmt(c.detection_limit, 2) + UnitSuffix(c.unit));

@@ -131,6 +131,7 @@ void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOp
     }
     Obs o;
     o.trial = t;
+    o.trial_index = static_cast<std::size_t>(t - trials.data());
     o.scale = t->impact.v_SC_before.norm();
     if (!(o.scale > 0)) {
       ++*skipped;

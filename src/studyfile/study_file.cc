@@ -1036,6 +1036,32 @@ StudyResults ReadStudyResults(const std::filesystem::path& path) {
   return out;
 }
 
+kinematics::KinematicsOptions ReadKinematicsOptions(const std::filesystem::path& path) {
+  H5::Exception::dontPrint();
+  if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(path.string() + ": no such file");
+  kinematics::KinematicsOptions k;
+  try {
+    const H5::H5File file(path.string(), H5F_ACC_RDONLY);
+    const H5::Group root_group = file.openGroup("/");
+    CheckFormat(root_group, path);
+    const GroupReader g = GroupReader(root_group, path.string() + ":").Group("study").Group("analysis_options");
+    k.fit_frames = g.Int("fit_frames");
+    k.min_fit_frames = g.Int("min_fit_frames");
+    k.max_contact_s = g.Scalar("max_contact_s");
+    k.exposure_s = g.Scalar("exposure_s");
+    k.gravity_m_s2 = g.Scalar("gravity_m_s2");
+    k.confidence = g.Scalar("confidence");
+  } catch (const H5::Exception& e) {
+    RethrowHdf5(e, path);
+  }
+  try {
+    k.Validate();
+  } catch (const std::exception& e) {
+    throw std::runtime_error(path.string() + ":/study/analysis_options: " + e.what());
+  }
+  return k;
+}
+
 std::vector<pipeline::TrialAnalysis> ReadTrialAnalyses(const std::filesystem::path& path) {
   H5::Exception::dontPrint();
   if (!std::filesystem::is_regular_file(path))

@@ -170,6 +170,10 @@ StudyResults ReadStudyResults(const std::filesystem::path& path);
 /// std::runtime_error naming the file and the missing or malformed item.
 std::vector<pipeline::TrialAnalysis> ReadTrialAnalyses(const std::filesystem::path& path);
 
+/// The kinematics options the study's trials were measured with (`/study/analysis_options`).
+/// Throws std::runtime_error naming the file and the missing or invalid item.
+kinematics::KinematicsOptions ReadKinematicsOptions(const std::filesystem::path& path);
+
 /// Writes the per-trial results as CSV (one row per trial; the columns of `/results`),
 /// atomically.
 void WriteResultsCsv(const std::filesystem::path& path,

@@ -1,0 +1,351 @@
+// Out-of-plane rotation that grows in time (docs/discovery.md, "Out-of-plane rotation"): a tilt
+// or roll rate of the specimen, judged by two kinds of evidence at once.
+//  - The marker distance per frame: a rotation at a steady rate makes it dip toward the impact
+//    time and recover after it. Each trial's distance keeps its own scale (so a scale
+//    calibration error cannot pass for a rotation); only the shape in time counts.
+//  - The velocities: markers on the face toward the camera slide sideways as the body turns,
+//    and the flight fits take the slide for a velocity. The trials are re-measured with the
+//    motion (pipeline::RemeasureOutOfPlane) and the current contact model refitted to them.
+// The two are independent data; their log-likelihoods add. The rate's sign is free (two-sided).
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <numeric>
+
+#include <boost/math/distributions/normal.hpp>
+#include <boost/math/tools/minima.hpp>
+
+#include "discovery/internal.h"
+#include "stats/distributions.h"
+
+namespace hoof::discovery::internal {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180;
+
+pipeline::OutOfPlaneMotion WithRate(pipeline::OutOfPlaneMotion m, const std::string& key, double rate_rad_s) {
+  if (key == "out_of_plane_rate")
+    m.tilt_rate_rad_s += rate_rad_s;
+  else
+    m.roll_rate_rad_s += rate_rad_s;
+  return m;
+}
+
+/// One trial's marker distance ratio over its flight windows, with the times from its impact.
+struct RatioSeries {
+  std::vector<double> t_s, ratio;
+};
+
+std::vector<RatioSeries> Series(const Workspace& ws, const std::vector<pipeline::TrialAnalysis>& measured) {
+  std::vector<RatioSeries> out(ws.obs.size());
+  for (std::size_t i = 0; i < ws.obs.size(); ++i) {
+    const pipeline::TrialAnalysis& t = measured[ws.obs[i].trial_index];
+    for (const auto* fit : {&t.impact.before, &t.impact.after})
+      for (int f = fit->first_frame; f <= fit->last_frame; ++f) {
+        if (f < 0 || static_cast<std::size_t>(f) >= t.marker_distance_ratio.size()) continue;
+        const double r = t.marker_distance_ratio[static_cast<std::size_t>(f)];
+        if (!std::isfinite(r)) continue;
+        out[i].t_s.push_back(f / t.spec.fps - t.impact.impact_time_s);
+        out[i].ratio.push_back(r);
+      }
+    if (out[i].t_s.size() < 3) out[i] = {};
+  }
+  return out;
+}
+
+/// Per obs, the residual sum of squares of the marker distance about its own scale times the
+/// ratio `motion` predicts (NaN without a series), and the frames.
+struct RatioTerms {
+  std::vector<double> rss;
+  std::vector<int> frames;
+  double Loglik(const std::vector<int>& which) const {
+    double ss = 0;
+    int n = 0;
+    for (int i : which)
+      if (std::isfinite(rss[static_cast<std::size_t>(i)])) ss += rss[static_cast<std::size_t>(i)], n += frames[static_cast<std::size_t>(i)];
+    return n > 0 ? -0.5 * n * std::log(std::max(ss / n, 1e-300)) : 0.0;
+  }
+  double Variance(const std::vector<int>& which) const {
+    double ss = 0;
+    int n = 0;
+    for (int i : which)
+      if (std::isfinite(rss[static_cast<std::size_t>(i)])) ss += rss[static_cast<std::size_t>(i)], n += frames[static_cast<std::size_t>(i)];
+    return n > 0 ? ss / n : kNaN;
+  }
+};
+
+RatioTerms Ratio(const Workspace& ws, const std::vector<pipeline::TrialAnalysis>& measured,
+                 const std::vector<RatioSeries>& series, const pipeline::OutOfPlaneMotion& m) {
+  RatioTerms out{std::vector<double>(ws.obs.size(), kNaN), std::vector<int>(ws.obs.size(), 0)};
+  for (std::size_t i = 0; i < ws.obs.size(); ++i) {
+    const RatioSeries& s = series[i];
+    if (s.t_s.empty()) continue;
+    const auto& specimen = measured[ws.obs[i].trial_index].spec.specimen;
+    std::vector<double> model(s.t_s.size());
+    double rm = 0, mm = 0;
+    for (std::size_t f = 0; f < s.t_s.size(); ++f) {
+      model[f] = pipeline::MarkerDistanceRatio(specimen, m.TiltAt(s.t_s[f]), m.RollAt(s.t_s[f]));
+      rm += s.ratio[f] * model[f];
+      mm += model[f] * model[f];
+    }
+    const double a = rm / mm;
+    double rss = 0;
+    for (std::size_t f = 0; f < s.t_s.size(); ++f) rss += (s.ratio[f] - a * model[f]) * (s.ratio[f] - a * model[f]);
+    out.rss[i] = rss;
+    out.frames[i] = static_cast<int>(s.t_s.size());
+  }
+  return out;
+}
+
+/// The rate of largest marker-distance likelihood over the obs `which` (a coarse grid on both
+/// signs, then Brent between the best point's neighbours).
+double RatioOnlyRate(const Workspace& ws, const std::vector<pipeline::TrialAnalysis>& measured,
+                     const std::vector<RatioSeries>& series, const RoundState& st, const std::string& key,
+                     const std::vector<int>& which, double upper) {
+  auto minus = [&](double w) { return -Ratio(ws, measured, series, WithRate(st.motion, key, w)).Loglik(which); };
+  std::vector<double> grid{0.0};
+  for (int k = 0; k <= 12; ++k) grid.push_back(upper * std::pow(0.5, k)), grid.push_back(-upper * std::pow(0.5, k));
+  std::sort(grid.begin(), grid.end());
+  std::size_t best = 0;
+  std::vector<double> value(grid.size());
+  for (std::size_t j = 0; j < grid.size(); ++j) {
+    value[j] = minus(grid[j]);
+    if (value[j] < value[best]) best = j;
+  }
+  const double lo = grid[best > 0 ? best - 1 : 0], hi = grid[std::min(best + 1, grid.size() - 1)];
+  if (!(hi > lo)) return grid[best];
+  std::uintmax_t iterations = 40;
+  const auto r = boost::math::tools::brent_find_minima(minus, lo, hi, 30, iterations);
+  return r.second < value[best] ? r.first : grid[best];
+}
+
+/// The trials re-measured with a motion, and the workspace built from them (null when an obs
+/// was lost: the likelihoods would not be of the same trials).
+struct Remeasured {
+  std::shared_ptr<std::vector<pipeline::TrialAnalysis>> trials;
+  std::unique_ptr<Workspace> ws;
+};
+
+Remeasured Remeasure(const Workspace& ws, const std::vector<pipeline::TrialAnalysis>& measured,
+                     const pipeline::OutOfPlaneMotion& m, const DiscoveryOptions& options) {
+  Remeasured out;
+  out.trials = std::make_shared<std::vector<pipeline::TrialAnalysis>>(measured.size());
+  ws.ParallelFor(measured.size(), [&](std::size_t i) {
+    (*out.trials)[i] = pipeline::RemeasureOutOfPlane(measured[i], m, options.kinematics);
+  });
+  auto w = std::make_unique<Workspace>();
+  int skipped = 0;
+  Build(*out.trials, options, &skipped, *w);
+  bool same = w->obs.size() == ws.obs.size();
+  for (std::size_t i = 0; same && i < ws.obs.size(); ++i) same = w->obs[i].trial_index == ws.obs[i].trial_index;
+  if (same) out.ws = std::move(w);
+  return out;
+}
+
+/// The joint log-likelihood at one rate, with what it was computed from.
+struct Point {
+  double rate = 0.0;
+  double loglik = -HUGE_VAL, ratio_loglik = 0.0, velocity_loglik = -HUGE_VAL;
+  Fit fit;
+  Remeasured remeasured;
+};
+
+}  // namespace
+
+bool IsRotationRate(const std::string& key) { return key == "out_of_plane_rate" || key == "out_of_plane_roll_rate"; }
+
+RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, const std::string& key,
+                                    const std::vector<std::string>& free_current, double level,
+                                    const DiscoveryOptions& options) {
+  const LibraryEntry& e = Entry(key);
+  const std::vector<pipeline::TrialAnalysis>& measured = *st.measured;
+  const std::vector<int> all = ws.All();
+  RateEvaluation out;
+  CandidateResult& c = out.c;
+  c.key = key;
+  c.name = e.name;
+  c.parameter = e.parameter;
+  c.unit = e.unit;
+  c.measurement_effect = true;
+  c.form = EffectForm::kShared;
+  c.df = 1;
+  c.detection_limit = kNaN;
+  const std::vector<RatioSeries> series = Series(ws, measured);
+  const double upper = e.upper * kDeg, probe = e.probe * kDeg;
+
+  auto evaluate = [&](double rate, int passes) {
+    Point p;
+    p.rate = rate;
+    const pipeline::OutOfPlaneMotion m = WithRate(st.motion, key, rate);
+    p.ratio_loglik = Ratio(ws, measured, series, m).Loglik(all);
+    p.remeasured = Remeasure(ws, measured, m, options);
+    if (!p.remeasured.ws) return p;
+    p.fit = FitModel(*p.remeasured.ws, all, st.current.model, free_current, st.current.noise, true, passes);
+    if (!p.fit.ok) return p;
+    p.velocity_loglik = p.fit.loglik;
+    p.loglik = p.ratio_loglik + p.velocity_loglik;
+    return p;
+  };
+  constexpr int kSearchPasses = 2;
+  const Point zero = evaluate(0.0, kSearchPasses);
+  if (!std::isfinite(zero.loglik)) {
+    c.fitted = false;
+    c.message = "the current model could not be refitted to the trials as measured";
+    c.identifiability = Identifiability::kNotTested;
+    return out;
+  }
+  // Where the rate could be: the marker distance's own answer (its sign is not seen), and the
+  // probe size for the velocities when the marker distance has none.
+  const double from_ratio = std::abs(RatioOnlyRate(ws, measured, series, st, key, all, upper));
+  std::vector<double> starts;
+  if (from_ratio > 1e-3 * probe) starts = {from_ratio, -from_ratio};
+  starts.push_back(probe);
+  starts.push_back(-probe);
+  Point best;
+  best.rate = 0.0;
+  best.loglik = zero.loglik;
+  std::map<double, double> velocity{{0.0, zero.velocity_loglik}};
+  for (double s : starts) {
+    Point p = evaluate(s, kSearchPasses);
+    velocity[s] = p.velocity_loglik;
+    if (p.loglik > best.loglik) best = std::move(p);
+  }
+  // The velocities' information about the rate at 0 (for the detection limit), from the probes.
+  const double info_velocity =
+      std::max(0.0, -(velocity[probe] - 2 * velocity[0.0] + velocity[-probe]) / (probe * probe));
+  if (best.rate != 0.0) {
+    // Refine on the best point's side, between a quarter and four times it.
+    const double sign = best.rate > 0 ? 1.0 : -1.0;
+    const double a = std::abs(best.rate) / 4, b = std::min(upper, 4 * std::abs(best.rate));
+    std::uintmax_t iterations = 12;
+    auto minus = [&](double r) {
+      const Point p = evaluate(sign * r, kSearchPasses);
+      return std::isfinite(p.loglik) ? -p.loglik : HUGE_VAL;
+    };
+    const auto r = boost::math::tools::brent_find_minima(minus, a, b, 10, iterations);
+    if (-r.second > best.loglik) best = evaluate(sign * r.first, kSearchPasses);
+  }
+  // The final fit at the best rate (the noise model to convergence), and at 0 the same way.
+  Point zero_final = evaluate(0.0, 8);
+  Point with_rate;
+  if (best.rate != 0.0) with_rate = evaluate(best.rate, 8);
+  Point& fin = std::isfinite(with_rate.loglik) && with_rate.loglik > zero_final.loglik ? with_rate : zero_final;
+  c.fitted = true;
+  c.estimate = fin.rate / kDeg;
+  // The s.e. from the curvature of the joint log-likelihood.
+  c.se = kNaN;
+  if (fin.rate != 0.0) {
+    const double h = 0.1 * std::abs(fin.rate);
+    const Point lo = evaluate(fin.rate - h, kSearchPasses), hi = evaluate(fin.rate + h, kSearchPasses);
+    const Point mid = evaluate(fin.rate, kSearchPasses);
+    const double curvature = (hi.loglik - 2 * mid.loglik + lo.loglik) / (h * h);
+    if (curvature < 0) c.se = 1 / std::sqrt(-curvature) / kDeg;
+  }
+  c.values = {EffectValue{key, "", c.estimate, c.se}};
+  c.lr_statistic = std::max(0.0, 2 * (fin.loglik - zero_final.loglik));
+  c.p_value = stats::ChiSquaredUpperTail(c.lr_statistic, 1);
+  c.delta_aic = -c.lr_statistic + 2;
+  int frames = 0, residuals = 0;
+  for (const auto& s : series) frames += static_cast<int>(s.t_s.size());
+  for (const Obs& o : ws.obs) residuals += o.Dim();
+  c.delta_bic = -c.lr_statistic + std::log(static_cast<double>(frames + residuals));
+  c.identifiability = frames == 0 && !(info_velocity > 0) ? Identifiability::kNotTested : Identifiability::kIdentified;
+  const boost::math::normal z;
+  const double z_level = boost::math::quantile(boost::math::complement(z, level / 2));
+  c.wald_clear = c.se > 0 && std::abs(c.estimate) / c.se > z_level;
+
+  // Held out: the marker distance of each fold's trials under the rate fitted without them,
+  // against no rate, both in units of the no-rate variance of the other folds.
+  CrossValidation cv, cv_none;
+  cv.error.assign(ws.obs.size(), kNaN);
+  cv_none.error.assign(ws.obs.size(), kNaN);
+  for (int f = 0; f < options.folds; ++f) {
+    std::vector<int> train, test;
+    for (int i : all) (ws.obs[static_cast<std::size_t>(i)].fold == f ? test : train).push_back(i);
+    const double rate = RatioOnlyRate(ws, measured, series, st, key, train, upper);
+    const RatioTerms none = Ratio(ws, measured, series, st.motion);
+    const RatioTerms with = Ratio(ws, measured, series, WithRate(st.motion, key, rate));
+    const double var = none.Variance(train);
+    if (!(var > 0)) continue;
+    for (int i : test) {
+      const auto k = static_cast<std::size_t>(i);
+      if (!std::isfinite(none.rss[k])) continue;
+      cv_none.error[k] = none.rss[k] / none.frames[k] / var;
+      cv.error[k] = with.rss[k] / with.frames[k] / var;
+    }
+  }
+  auto mean = [](const std::vector<double>& v) {
+    double s = 0;
+    int n = 0;
+    for (double x : v)
+      if (std::isfinite(x)) s += x, ++n;
+    return n ? s / n : kNaN;
+  };
+  c.cv_error = mean(cv.error);
+  c.cv_error_current = mean(cv_none.error);
+  c.cv_p = PairedImprovementP(cv_none.error, cv.error);
+  // A rotation that does not change the distance of the layout's first two markers (a roll when
+  // they lie along x_B) leaves nothing to hold out: the velocities alone decide.
+  bool ratio_blind = true;
+  {
+    const pipeline::OutOfPlaneMotion with = WithRate(st.motion, key, probe);
+    for (const Obs& o : ws.obs) {
+      const auto& specimen = measured[o.trial_index].spec.specimen;
+      ratio_blind &= std::abs(pipeline::MarkerDistanceRatio(specimen, with.TiltAt(2e-3), with.RollAt(2e-3)) -
+                              pipeline::MarkerDistanceRatio(specimen, st.motion.TiltAt(2e-3), st.motion.RollAt(2e-3))) <
+                     1e-9;
+    }
+  }
+  if (ratio_blind || !std::isfinite(c.cv_error)) c.cv_error = c.cv_error_current = c.cv_p = kNaN;
+  const bool better_held_out = !std::isfinite(c.cv_error) || c.cv_error < c.cv_error_current;
+  c.significant = c.p_value < level && c.wald_clear && better_held_out;
+
+  // Detection limit: the smallest rate whose noncentrality, from the velocities (quadratic in
+  // the rate) and the marker distance (its dip, each trial's mean removed, over the no-rate
+  // variance), gives a two-sided test at `level` 80 % power.
+  {
+    const RatioTerms none = Ratio(ws, measured, series, st.motion);
+    const double var = none.Variance(all);
+    // The velocities' information from the probes; where the noise model's refits bend the
+    // log-likelihood there (it takes up a bias at 0), the observed information at the estimate.
+    const double info = info_velocity > 0 ? info_velocity
+                        : c.se > 0       ? 1 / std::pow(c.se * kDeg, 2)
+                                         : 0.0;
+    auto noncentrality = [&](double rate) {
+      double lambda = info * rate * rate;
+      if (var > 0) {
+        const pipeline::OutOfPlaneMotion m = WithRate(st.motion, key, rate);
+        for (std::size_t i = 0; i < ws.obs.size(); ++i) {
+          const RatioSeries& s = series[i];
+          if (s.t_s.empty()) continue;
+          const auto& specimen = measured[ws.obs[i].trial_index].spec.specimen;
+          std::vector<double> d(s.t_s.size());
+          for (std::size_t j = 0; j < d.size(); ++j)
+            d[j] = pipeline::MarkerDistanceRatio(specimen, m.TiltAt(s.t_s[j]), m.RollAt(s.t_s[j])) -
+                   pipeline::MarkerDistanceRatio(specimen, st.motion.TiltAt(s.t_s[j]), st.motion.RollAt(s.t_s[j]));
+          const double md = std::accumulate(d.begin(), d.end(), 0.0) / static_cast<double>(d.size());
+          for (double x : d) lambda += (x - md) * (x - md) / var;
+        }
+      }
+      return lambda;
+    };
+    const double target = std::pow(z_level + boost::math::quantile(z, 0.8), 2);
+    if (noncentrality(upper) >= target) {
+      double lo = 0, hi = upper;
+      for (int it = 0; it < 60; ++it) {
+        const double m = 0.5 * (lo + hi);
+        (noncentrality(m) >= target ? hi : lo) = m;
+      }
+      c.detection_limit = hi / kDeg;
+    }
+  }
+
+  out.fit = fin.fit;
+  out.motion = WithRate(st.motion, key, fin.rate);
+  out.remeasured = fin.remeasured.trials;
+  out.ws = std::move(fin.remeasured.ws);
+  return out;
+}
+
+}  // namespace hoof::discovery::internal
