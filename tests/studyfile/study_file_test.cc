@@ -325,6 +325,25 @@ TEST(StudyFileTest, ReadStudyResultsReturnsWhatWasWritten) {
   EXPECT_TRUE(std::isnan(b.m_per_px_from_markers));
 }
 
+TEST(StudyFileTest, TheKinematicsOptionsReadBackAsWritten) {
+  const fs::path file = Dir("kinematics_options") / "study.h5";
+  StudyInfo info = Info();
+  info.options.kinematics.min_fit_frames = 5;
+  info.options.kinematics.max_contact_s = 80e-6;
+  info.options.kinematics.exposure_s = 1e-4;
+  info.options.kinematics.gravity_m_s2 = 9.80665;
+  info.options.kinematics.confidence = 0.9;
+  WriteStudyFile(file, info, Trials());
+  const hoof::kinematics::KinematicsOptions k = ReadKinematicsOptions(file);
+  EXPECT_EQ(k.fit_frames, 17);
+  EXPECT_EQ(k.min_fit_frames, 5);
+  EXPECT_EQ(k.max_contact_s, 80e-6);
+  EXPECT_EQ(k.exposure_s, 1e-4);
+  EXPECT_EQ(k.gravity_m_s2, 9.80665);
+  EXPECT_EQ(k.confidence, 0.9);
+  EXPECT_THROW(ReadKinematicsOptions(Dir("kinematics_options") / "missing.h5"), std::runtime_error);
+}
+
 TEST(StudyFileTest, RepeatedAndSlashedIdsGetDistinctGroups) {
   auto trials = Trials();
   trials[1].spec.id = "steel_20deg_r1";
