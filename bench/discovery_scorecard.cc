@@ -67,14 +67,20 @@ struct Verdict {
   bool ran = false;                ///< the workflow could run on the study
   std::string error;               ///< why not
   std::vector<std::string> named;  ///< library keys of the effects named, in the result's order
+  /// The detection limit discovery printed for `key` in its first round (against the baseline);
+  /// NaN when it gave none.
+  double limit = NAN;
 };
 
-Verdict ReadVerdict(const hoof::discovery::DiscoveryResult& r) {
+Verdict ReadVerdict(const hoof::discovery::DiscoveryResult& r, const std::string& key) {
   Verdict v;
   v.ran = r.success;
   v.error = r.message;
   for (const auto& f : r.findings)
     if (f.status == hoof::discovery::FindingStatus::kNamed) v.named.push_back(f.key);
+  if (!r.rounds.empty())
+    for (const auto& c : r.rounds.front().candidates)
+      if (c.key == key) v.limit = c.detection_limit;
   return v;
 }
 
@@ -139,7 +145,7 @@ std::vector<Effect> AllEffects() {
        [](HiddenEffects& h, double v) {
          h.out_of_plane = {0.0, 0.0, v, 0.0};
        },
-       "out_of_plane"},
+       "out_of_plane_rate"},
   };
 }
 
@@ -148,7 +154,6 @@ const std::vector<std::string> kDesigns = {"paper", "unreplicated", "one_surface
 /// True when discovery naming `named` names the hidden effect.
 bool NamesHidden(const Effect& hidden, const std::string& named) {
   if (hidden.library_prefix.empty()) return false;
-  if (hidden.key == "out_of_plane_rate") return named.rfind(hidden.library_prefix, 0) == 0;
   return named == hidden.library_prefix;
 }
 
@@ -294,6 +299,7 @@ struct Row {
   std::string stage;  ///< where it failed: "render", "analyze", "cache", "discover"; empty if ok
   std::string error;
   double cache_bytes = NAN;
+  double limit = NAN;  ///< the hidden effect's detection limit as discovery printed it
 };
 
 /// The scorecard's own record in a cached study file: how the study was made and how long it
@@ -438,13 +444,14 @@ Row RunStudy(const StudyPoint& p, const fs::path& cache_dir, int jobs, bool only
       if (verbose) std::cerr << "    " << line << "\n";
     });
     row.discover_s = std::chrono::duration<double>(Clock::now() - start).count();
-    const Verdict v = ReadVerdict(result);
+    const Verdict v = ReadVerdict(result, row.point.effect->library_prefix);
     if (!v.ran) {
       row.error = "discovery could not run: " + v.error;
       return row;
     }
     row.discovered = true;
     row.named = v.named;
+    row.limit = v.limit;
     row.stage.clear();
   } catch (const std::exception& e) {
     row.error = e.what();
@@ -600,6 +607,45 @@ void PrintReport(const std::vector<Row>& rows, const std::vector<std::string>& d
       PrintTable(header, table);
     }
 
+    // Power against the size in units of the detection limit discovery printed for each study:
+    // where the limits are right, about 80 % at 1 and at least 90 % from 2.
+    {
+      const std::vector<double> edges = {0.0, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 1e300};
+      std::vector<std::string> effects;
+      for (const Row& r : rows)
+        if (r.point.effect->key != "null" &&
+            std::find(effects.begin(), effects.end(), r.point.effect->key) == effects.end())
+          effects.push_back(r.point.effect->key);
+      std::vector<std::string> head = {"size / printed limit"};
+      for (const auto& e : effects) head.push_back(e);
+      head.push_back("all");
+      std::vector<std::vector<std::string>> bins;
+      for (std::size_t b = 0; b + 1 < edges.size(); ++b) {
+        std::vector<std::string> cells = {b + 2 < edges.size() ? Num(edges[b]) + " - " + Num(edges[b + 1])
+                                                               : ">= " + Num(edges[b])};
+        int all_k = 0, all_n = 0;
+        for (std::size_t j = 0; j <= effects.size(); ++j) {
+          int k = 0, n = 0;
+          for (const Row& r : rows) {
+            if (!r.discovered || r.point.effect->key == "null" || !(r.limit > 0)) continue;
+            if (j < effects.size() && r.point.effect->key != effects[j]) continue;
+            const double x = r.point.size / r.limit;
+            if (x < edges[b] || x >= edges[b + 1]) continue;
+            ++n;
+            k += Detected(r) ? 1 : 0;
+          }
+          if (j == effects.size()) all_k = k, all_n = n;
+          cells.push_back(j == effects.size() ? Rate(all_k, all_n) : (n ? std::to_string(k) + "/" + std::to_string(n) : "-"));
+        }
+        bins.push_back(cells);
+      }
+      std::cout << "### Power against the printed detection limit (hidden effect named; size over the limit "
+                   "discovery printed for that study in round 1)
+
+";
+      PrintTable(head, bins);
+    }
+
     // False naming on null studies and wrong names over all studies.
     table.clear();
     const auto add = [&](const std::string& label, const std::function<bool(const Row&)>& in) {
@@ -684,6 +730,8 @@ nlohmann::json RowJson(const Row& r) {
           {"named", r.named},
           {"discovered", r.discovered},
           {"detected", Detected(r)},
+          {"detection_limit", num(r.limit)},
+          {"size_over_limit", num(r.point.size / r.limit)},
           {"wrong_name", WrongName(r)},
           {"trials", r.trials},
           {"failed_trials", r.failed_trials},

@@ -1,11 +1,17 @@
 #include "report/gnuplot.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "io/atomic_file.h"
 #include "io/csv.h"
@@ -13,17 +19,24 @@
 namespace hoof::report {
 namespace {
 
+/// A gnuplot string expression holding `s` exactly: single-quoted pieces (gnuplot substitutes
+/// no backquoted command, escape or macro inside single quotes; a quote is doubled), joined by
+/// a double-quoted "\n" where `s` breaks its line. Text from a study (an id, a surface) never
+/// reaches a double-quoted string, where gnuplot would run `...` as a shell command.
 std::string Quote(const std::string& s) {
-  std::string out = "\"";
+  std::string out = "'";
   for (char c : s) {
-    if (c == '\n') {  // a line break in a title
-      out += "\\n";
-      continue;
+    if (c == '\n') {
+      out += "'.\"\\n\".'";
+    } else if (c == '\'') {
+      out += "''";
+    } else if (c == '\r' || c == '\0') {
+      out += ' ';  // would end the command
+    } else {
+      out += c;
     }
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
   }
-  return out + "\"";
+  return out + "'";
 }
 
 std::string Number(double v) { return std::isfinite(v) ? io::CsvNumber(v) : "NaN"; }
@@ -106,23 +119,45 @@ void Render(const std::filesystem::path& output, const MakeScript& make_script) 
   } catch (const std::exception& e) {
     throw std::runtime_error(output.string() + ": cannot write the gnuplot script: " + e.what());
   }
-  const std::string cmd = "gnuplot " + Quote(script) + " 2>" + Quote(script + ".err");
-  const int rc = std::system(cmd.c_str());
+  // gnuplot runs without a shell: its only argument is the script's path, its error output goes
+  // to a file.
+  const std::string err_path = script + ".err";
+  int rc = -1;
+  bool missing = false;
+  {
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    std::string arg0 = "gnuplot", arg1 = script;
+    char* argv[] = {arg0.data(), arg1.data(), nullptr};
+    pid_t pid = 0;
+    const int spawned = posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv, environ);
+    posix_spawn_file_actions_destroy(&actions);
+    if (spawned == 0) {
+      int status = 0;
+      while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+      }
+      rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      missing = rc == 127;
+    } else {
+      missing = spawned == ENOENT;
+    }
+  }
   std::string err;
   {
-    std::ifstream in(script + ".err");
+    std::ifstream in(err_path);
     std::stringstream ss;
     ss << in.rdbuf();
     err = ss.str();
   }
   std::filesystem::remove(script, ec);
-  std::filesystem::remove(script + ".err", ec);
+  std::filesystem::remove(err_path, ec);
   if (rc != 0 || !std::filesystem::exists(tmp_out) || std::filesystem::file_size(tmp_out) == 0) {
     std::filesystem::remove(tmp_out, ec);
     throw std::runtime_error(output.string() + ": gnuplot failed" +
-                             (rc == 127 * 256 ? " (not installed? tools/install-deps installs "
-                                                "gnuplot-nox)"
-                                              : "") +
+                             (missing ? " (not installed? tools/install-deps installs gnuplot-nox)" : "") +
                              (err.empty() ? "" : ": " + err));
   }
   io::CommitTemporary(tmp_out, output);

@@ -83,6 +83,39 @@ TEST(FiguresTest, ScriptCarriesTheDataInline) {
   EXPECT_THROW(RenderPlot(Plot{}, "empty.png"), std::runtime_error);
 }
 
+// Text from a study (ids, surfaces, titles) reaches gnuplot as data, never as a command: neither
+// gnuplot's backquotes nor a shell's $(...) run, and the text is drawn as written.
+TEST(FiguresTest, TextFromTheStudyRunsNoCommand) {
+  const fs::path dir = FreshDir("figures_injection");
+  const std::string mark = (dir / "RAN").string();
+  Plot p;
+  p.title = "steel`touch " + mark + "1` and x$(touch " + mark + "2)\nit's \"quoted\" \\ @macro";
+  p.x_label = "x`touch " + mark + "3`";
+  p.y_label = "y'";
+  p.vertical_lines = {{0.5, "t`touch " + mark + "4`"}};
+  Series s;
+  s.title = "id`touch " + mark + "5`'";
+  s.x = {0, 1};
+  s.y = {0, 1};
+  p.series.push_back(s);
+  // The output's own name may hold the same.
+  const fs::path out = dir / ("plot$(touch " + std::string("RAN6") + ")`touch RAN7`.svg");
+  RenderPlot(p, out);
+  MultiPlot m;
+  m.title = p.title;
+  m.panels = {p};
+  RenderPlot(m, dir / "multi.svg");
+  for (int i = 1; i <= 7; ++i) {
+    EXPECT_FALSE(fs::exists(mark + std::to_string(i))) << i;
+    EXPECT_FALSE(fs::exists(fs::path("RAN" + std::to_string(i)))) << i;
+  }
+  ASSERT_TRUE(fs::exists(out));
+  const std::string svg = ReadAll(out);
+  // Drawn as written (SVG escapes the quote marks and the ampersand-free text stays).
+  EXPECT_NE(svg.find("and x$(touch"), std::string::npos);
+  EXPECT_NE(svg.find("@macro"), std::string::npos);
+}
+
 TEST(FiguresTest, UndefinedErrorBarIsLeftOutNotTheMean) {
   Plot p;
   Series s;
