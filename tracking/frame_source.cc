@@ -1,7 +1,8 @@
+#include <cctype>
+#include <limits>
 #include "tracking/frame_source.h"
 
 #include <cstdio>
-#include <regex>
 #include <stdexcept>
 #include <vector>
 
@@ -44,14 +45,36 @@ cv::Mat ToUnitFloat(const cv::Mat& grey) {
   return out;
 }
 
+bool IsFramePattern(const std::string& pattern) {
+  // A linear scan (a std::regex recurses per character and overflows the stack on long input).
+  if (pattern.empty() || pattern.size() > kMaxFramePatternLength) return false;
+  int conversions = 0;
+  for (std::size_t i = 0; i < pattern.size(); ++i) {
+    if (pattern[i] != '%') continue;
+    if (i + 1 < pattern.size() && pattern[i + 1] == '%') {
+      ++i;
+      continue;
+    }
+    std::size_t j = i + 1;
+    if (j < pattern.size() && pattern[j] == '0') ++j;
+    const std::size_t digits = j;
+    while (j < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[j]))) ++j;
+    if (j - digits > 2 || j >= pattern.size() || pattern[j] != 'd') return false;
+    ++conversions;
+    i = j;
+  }
+  return conversions == 1;
+}
+
 ImageSequenceSource::ImageSequenceSource(std::filesystem::path dir, std::string pattern,
                                          int first, int count)
     : dir_(std::move(dir)), pattern_(std::move(pattern)), first_(first), count_(count) {
-  static const std::regex one_int(R"(^[^%]*(%%[^%]*)*%0?\d*d([^%]|%%)*$)");
-  if (!std::regex_match(pattern_, one_int))
+  if (!IsFramePattern(pattern_))
     throw std::invalid_argument("frames.pattern \"" + pattern_ +
                                 "\" must hold exactly one integer conversion such as %06d");
   if (count_ < 1) throw std::invalid_argument("frames.count must be >= 1");
+  if (first_ < 0 || first_ > std::numeric_limits<int>::max() - (count_ - 1))
+    throw std::invalid_argument("frames.first + frames.count is beyond the largest frame number");
 }
 
 std::filesystem::path ImageSequenceSource::PathOf(int index) const {

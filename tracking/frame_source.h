@@ -31,6 +31,13 @@ class FrameSource {
   virtual std::string Describe(int index) const = 0;
 };
 
+/// Longest frame file pattern accepted (characters).
+inline constexpr std::size_t kMaxFramePatternLength = 4096;
+
+/// True when `pattern` holds exactly one integer conversion (%d, %6d or %06d, width at most two
+/// digits) and otherwise only literal text and %%, and is at most kMaxFramePatternLength long.
+bool IsFramePattern(const std::string& pattern);
+
 /// Image files named by a printf pattern, e.g. "frames/%06d.png" with first = 0.
 class ImageSequenceSource : public FrameSource {
  public:

@@ -110,7 +110,9 @@ MarkerTracks TrackMarkers(FrameSource& source,
   std::vector<std::vector<Eigen::Vector2d>> history(static_cast<std::size_t>(n));
   std::vector<int> misses(static_cast<std::size_t>(n), 0);
   std::vector<double> radius(static_cast<std::size_t>(n));
-  tracks.frames.resize(static_cast<std::size_t>(source.count()));
+  // One row per frame as it is read (not `count` rows up front: a count of 2e9 would be
+  // allocated before its first missing frame is found).
+  tracks.frames.emplace_back();
   for (int m = 0; m < n; ++m) {
     const Dot& d = candidates[static_cast<std::size_t>(ids[static_cast<std::size_t>(m)])];
     auto& obs = tracks.frames[0].emplace_back();
@@ -122,7 +124,7 @@ MarkerTracks TrackMarkers(FrameSource& source,
 
   for (int f = 1; f < source.count(); ++f) {
     const cv::Mat frame = source.Read(f);
-    auto& row = tracks.frames[static_cast<std::size_t>(f)];
+    auto& row = tracks.frames.emplace_back();
     row.resize(static_cast<std::size_t>(n));
     for (int m = 0; m < n; ++m) {
       auto& h = history[static_cast<std::size_t>(m)];

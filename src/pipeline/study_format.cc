@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tracking/frame_source.h"
+
 namespace hoof::pipeline {
 namespace {
 
@@ -163,6 +165,13 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
     t.frames.video = Text(frames, "video", file, "frames.");
   } else {
     t.frames.pattern = Text(frames, "pattern", file, "frames.");
+    if (t.frames.pattern.size() > tracking::kMaxFramePatternLength)
+      Fail(file, "frames.pattern", "is " + std::to_string(t.frames.pattern.size()) + " characters long; at most " +
+                                       std::to_string(tracking::kMaxFramePatternLength) + " are accepted");
+    if (!tracking::IsFramePattern(t.frames.pattern))
+      Fail(file, "frames.pattern", "\"" + t.frames.pattern +
+                                       "\" must hold exactly one integer conversion such as %06d (and %% for a "
+                                       "percent sign)");
     const json& first = Require(frames, "first", file, "frames.");
     const json& count = Require(frames, "count", file, "frames.");
     if (!first.is_number_integer() || first.get<int>() < 0)

@@ -68,6 +68,15 @@ TEST(StudyFormatTest, MissingOrWrongFieldsNameFileAndField) {
               "field \"specimen\" names \"B\"");
   ExpectError([&] { ReadTrial(Write("format_badjson", kStudy, "{\"format\": ") / "t1"); },
               "trial.json: not valid JSON");
+  // A pattern of 200 000 characters (which crashed the tracker) and one with two conversions.
+  trial = kTrial;
+  trial.replace(trial.find("frames/%06d.png"), 15, "frames/%06d" + std::string(200000, 'A') + ".png");
+  ExpectError([&] { ReadTrial(Write("format_longpattern", kStudy, trial) / "t1"); },
+              "field \"frames.pattern\" is 200015 characters long; at most 4096 are accepted");
+  trial = kTrial;
+  trial.replace(trial.find("frames/%06d.png"), 15, "frames/%06d_%d.png");
+  ExpectError([&] { ReadTrial(Write("format_twoconversions", kStudy, trial) / "t1"); },
+              "field \"frames.pattern\" \"frames/%06d_%d.png\" must hold exactly one integer conversion");
   std::string study = kStudy;
   study.replace(study.find("\"M2\": [0.024, 0.0]"), 18, "\"M2\": [0.024]");
   ExpectError([&] { ReadStudy(Write("format_badmarker", study, kTrial)); },

@@ -53,6 +53,24 @@ TEST(FrameSourceTest, MissingAndCorruptFramesNameTheFile) {
   EXPECT_THROW(ImageSequenceSource(dir, "frames/%d_%d.png", 0, 3), std::invalid_argument);
 }
 
+TEST(FrameSourceTest, PatternsHoldExactlyOneIntegerConversion) {
+  EXPECT_TRUE(IsFramePattern("frames/%06d.png"));
+  EXPECT_TRUE(IsFramePattern("%d"));
+  EXPECT_TRUE(IsFramePattern("100%%/f%4d.tif"));
+  EXPECT_FALSE(IsFramePattern("frames/x.png"));
+  EXPECT_FALSE(IsFramePattern("%d_%d.png"));
+  EXPECT_FALSE(IsFramePattern("%s.png"));
+  EXPECT_FALSE(IsFramePattern("%123d.png"));  // a width of 123 characters is no file name
+  EXPECT_FALSE(IsFramePattern("%06d.png%"));
+  EXPECT_FALSE(IsFramePattern(""));
+  // A 200 000-character pattern is refused, not scanned into a stack overflow (a std::regex did).
+  const std::string huge = "frames/%06d" + std::string(200000, 'A') + ".png";
+  EXPECT_FALSE(IsFramePattern(huge));
+  EXPECT_THROW(ImageSequenceSource(".", huge, 0, 3), std::invalid_argument);
+  // Frame numbers beyond int are refused before any is read.
+  EXPECT_THROW(ImageSequenceSource(".", "%d.png", 2000000000, 2000000000), std::invalid_argument);
+}
+
 TEST(FrameSourceTest, ReadsAVideoFile) {
   const fs::path dir = FreshDir("frames_video");
   const fs::path path = dir / "clip.avi";
