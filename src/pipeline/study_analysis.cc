@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <map>
 #include <mutex>
 #include <thread>
 
@@ -41,6 +42,16 @@ std::vector<TrialAnalysis> AnalyzeStudy(const StudySpec& study, const TrialAnaly
   for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(worker);
   worker();
   for (auto& t : pool) t.join();
+  // Results are keyed by id: a second trial with an id already taken fails, naming both folders.
+  std::map<std::string, std::size_t> first;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!results[i].success) continue;
+    const auto [it, added] = first.try_emplace(results[i].spec.id, i);
+    if (added) continue;
+    results[i].success = false;
+    results[i].error = (study.trial_dirs[i] / "trial.json").string() + ": field \"id\" is \"" + results[i].spec.id +
+                       "\", already the id of " + study.trial_dirs[it->second].string();
+  }
   return results;
 }
 

@@ -13,6 +13,17 @@
 namespace hoof::pipeline {
 namespace {
 
+/// Why `id` cannot name a trial (it names its files: figures, overlay frames), or "".
+std::string IdProblem(const std::string& id) {
+  if (id.empty()) return "must not be empty";
+  if (id.size() > 200) return "is " + std::to_string(id.size()) + " characters long; at most 200 are accepted";
+  if (id == "." || id == "..") return "\"" + id + "\" cannot name files";
+  for (unsigned char c : id)
+    if (c == '/' || c == '\\' || c < 0x20 || c == 0x7f)
+      return "\"" + id + "\" holds a '/', a '\\' or a control character; it names the trial's files";
+  return "";
+}
+
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -118,7 +129,11 @@ StudySpec ReadStudy(const fs::path& dir) {
     if (!trials.is_array()) Fail(file, "trials", "must be an array of folder names");
     for (const auto& t : trials) {
       if (!t.is_string()) Fail(file, "trials", "must hold folder names, found " + t.dump());
-      study.trial_dirs.push_back(dir / t.get<std::string>());
+      // A trial folder lies inside the study folder: no absolute path, no "..".
+      const fs::path rel = fs::path(t.get<std::string>()).lexically_normal();
+      if (rel.empty() || rel.is_absolute() || rel.has_root_name() || *rel.begin() == ".." || rel == ".")
+        Fail(file, "trials", "\"" + t.get<std::string>() + "\" is not a folder inside the study folder");
+      study.trial_dirs.push_back(dir / rel);
     }
   } else {
     std::vector<fs::path> found;
@@ -142,6 +157,7 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
               file, "", t.warnings);
   CheckFormat(j, "hoofimpact-trial/1", file);
   t.id = Text(j, "id", file, "");
+  if (const std::string why = IdProblem(t.id); !why.empty()) Fail(file, "id", why);
   t.specimen_id = Text(j, "specimen", file, "");
   if (j.contains("specimen_parameters")) {
     // Extension: a trial may carry its specimen inline (same fields as in study.json), so a

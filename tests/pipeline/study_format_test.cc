@@ -85,6 +85,30 @@ TEST(StudyFormatTest, MissingOrWrongFieldsNameFileAndField) {
               "study.json: cannot open");
 }
 
+// An id names the trial's files (figures, overlay frames), and a trials entry a folder: neither
+// may lead outside the study or the output folder.
+TEST(StudyFormatTest, IdsAndTrialFoldersStayInside) {
+  for (const std::string& id : {std::string("../../x"), std::string("a/b"), std::string(".."), std::string("x\\u0001y")}) {
+    std::string trial = kTrial;
+    trial.replace(trial.find("\"id\": \"t1\""), 10, "\"id\": \"" + id + "\"");
+    ExpectError([&] { ReadTrial(Write("format_badid", kStudy, trial) / "t1"); }, "trial.json: field \"id\"");
+  }
+  std::string trial = kTrial;
+  trial.replace(trial.find("\"id\": \"t1\""), 10, "\"id\": \"steel 20 deg (r1) x$y\"");
+  EXPECT_EQ(ReadTrial(Write("format_oddid", kStudy, trial) / "t1").id, "steel 20 deg (r1) x$y");
+  for (const std::string& entry : {std::string("/etc"), std::string("../.."), std::string("t1/../../x"), std::string(".")}) {
+    std::string study = kStudy;
+    study.insert(study.size() - 1, ", \"trials\": [\"" + entry + "\"]");
+    ExpectError([&] { ReadStudy(Write("format_badtrials", study, kTrial)); },
+                "study.json: field \"trials\" \"" + entry + "\" is not a folder inside the study folder");
+  }
+  std::string study = kStudy;
+  study.insert(study.size() - 1, ", \"trials\": [\"./t1\"]");
+  const StudySpec ok = ReadStudy(Write("format_goodtrials", study, kTrial));
+  ASSERT_EQ(ok.trial_dirs.size(), 1u);
+  EXPECT_EQ(ok.trial_dirs[0].filename(), "t1");
+}
+
 TEST(StudyFormatTest, ATrialMayCarryItsSpecimen) {
   std::string trial = kTrial;
   trial.insert(1, R"("specimen_parameters": {"mass_kg": 0.01, "inertia_kg_m2": 2e-6,

@@ -19,6 +19,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/out_of_plane.h"
+#include "pipeline/study_analysis.h"
 #include "pipeline/truth_score.h"
 #include "support/run_command.h"
 
@@ -168,6 +169,26 @@ TEST(TrialAnalysisTest, ReMeasuringWithoutAnOutOfPlaneMotionChangesNothing) {
   const TrialAnalysis again = RemeasureOutOfPlane(r, tiny, {});
   EXPECT_NEAR((again.impact.v_SC_after - r.impact.v_SC_after).norm(), 0.0, 1e-9);
   EXPECT_NEAR(again.impact.e, r.impact.e, 1e-9);
+}
+
+// Results are keyed by id: of two trials with one id, the second fails and names the first's
+// folder; the study goes on.
+TEST(StudyAnalysisTest, ASecondTrialWithTheSameIdFailsNamingTheFirst) {
+  const fs::path dir = OutDir("duplicate_ids");
+  fs::remove_all(dir);
+  fs::copy(fs::path(HOOF_SOURCE_DIR) / "sample_frames", dir, fs::copy_options::recursive);
+  const fs::path second = dir / "steel_20deg_v3.28_r1" / "trial.json";
+  nlohmann::json j = nlohmann::json::parse(std::ifstream(second));
+  j["id"] = "steel_0deg_v3.00_r1";
+  std::ofstream(second) << j.dump(1);
+  const auto results = AnalyzeStudy(ReadStudy(dir), {}, 2);
+  ASSERT_EQ(results.size(), 4u);
+  EXPECT_TRUE(results[0].success) << results[0].error;
+  EXPECT_FALSE(results[1].success);
+  EXPECT_NE(results[1].error.find("field \"id\" is \"steel_0deg_v3.00_r1\", already the id of"), std::string::npos)
+      << results[1].error;
+  EXPECT_NE(results[1].error.find("steel_0deg_v3.00_r1"), std::string::npos);
+  EXPECT_TRUE(results[2].success && results[3].success);
 }
 
 // --- Bad input: each gives a clear error naming the file, frame or field -----------------
