@@ -175,15 +175,18 @@ void RegisterSimulate(CLI::App& app, RunState& state) {
   cmd->add_option("--trajectory", args->trajectory_path,
                   "Write the trajectory sampled at frame times as CSV");
   cmd->add_option("--fps", args->fps, "Frame rate for --trajectory (1/s)")->capture_default_str();
-  cmd->add_option("--frames-before", args->frames_before, "Frames before touch")
+  cmd->add_option("--frames-before", args->frames_before, "Frames before touch (0 to 100000)")
+      ->check(CLI::Range(0, 100000))
       ->capture_default_str();
-  cmd->add_option("--frames-after", args->frames_after, "Frames after touch")
+  cmd->add_option("--frames-after", args->frames_after, "Frames after touch (0 to 100000)")
+      ->check(CLI::Range(0, 100000))
       ->capture_default_str();
   cmd->add_option("--touch-fraction", args->touch_fraction,
                   "Where touch falls between two frames, in frame periods [0, 1)")
       ->capture_default_str();
   cmd->add_option("--contact-samples", args->contact_samples,
-                  "Extra samples spread through the contact")
+                  "Extra samples spread through the contact (0 to 100000)")
+      ->check(CLI::Range(0, 100000))
       ->capture_default_str();
 
   cmd->callback([args, &state] {

@@ -70,6 +70,13 @@ TEST(SimulateCommandTest, BadInputGivesAClearErrorAndNonZeroExit) {
   r = RunHoofimpact("simulate --speed-m-s -3");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("--speed-m-s"), std::string::npos) << r.err;
+  // Work and output are capped: these hung before.
+  r = RunHoofimpact("simulate --frames-before 1000000000 --trajectory /dev/null");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--frames-before"), std::string::npos) << r.err;
+  r = RunHoofimpact("simulate --contact-samples 2000000000 --trajectory /dev/null");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--contact-samples"), std::string::npos) << r.err;
   r = RunHoofimpact("simulate --no-such-flag");
   EXPECT_EQ(r.exit_code, 2);
   r = RunHoofimpact("simulate --help");
