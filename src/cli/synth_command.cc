@@ -104,6 +104,7 @@ void ApplyStudyConfig(const std::string& path, SynthArgs& a) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(in);
+    if (!j.is_object()) Bad("--study-config", "'" + path + "' must hold a JSON object ({...})");
     synth::StudyDesign& d = a.design;
     for (const auto& [key, value] : j.items()) {
       if (key == "name")

@@ -34,11 +34,17 @@ using nlohmann::json;
 json ReadJson(const fs::path& file) {
   std::ifstream in(file);
   if (!in) throw std::runtime_error(file.string() + ": cannot open (missing file?)");
+  json j;
   try {
-    return json::parse(in);
-  } catch (const json::parse_error& e) {
+    j = json::parse(in);
+  } catch (const json::out_of_range& e) {  // a number beyond double, such as 1e999
+    throw std::runtime_error(file.string() + ": a number is out of range (beyond a double): " + e.what());
+  } catch (const json::exception& e) {
     throw std::runtime_error(file.string() + ": not valid JSON: " + e.what());
   }
+  if (!j.is_object())
+    throw std::runtime_error(file.string() + ": must hold a JSON object ({...}), found " + std::string(j.type_name()));
+  return j;
 }
 
 /// Checks the fields of `obj` against the known ones; unknown ones become warnings.

@@ -31,9 +31,10 @@ TrialTruth ReadTruth(const std::filesystem::path& trial_dir) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error(file + ": not valid JSON: " + e.what());
   }
+  if (!j.is_object()) throw std::runtime_error(file + ": must hold a JSON object ({...})");
   TrialTruth t;
   t.impact_time_s = Num(j, "impact_time_s", file);
   t.v_SC_before = Vec(j, "v_SC_before_m_s", file);

@@ -68,6 +68,12 @@ TEST(StudyFormatTest, MissingOrWrongFieldsNameFileAndField) {
               "field \"specimen\" names \"B\"");
   ExpectError([&] { ReadTrial(Write("format_badjson", kStudy, "{\"format\": ") / "t1"); },
               "trial.json: not valid JSON");
+  ExpectError([&] { ReadTrial(Write("format_array", kStudy, "[1, 2]") / "t1"); },
+              "trial.json: must hold a JSON object ({...}), found array");
+  trial = kTrial;
+  trial.replace(trial.find("8000.0"), 6, "1e999");
+  ExpectError([&] { ReadTrial(Write("format_hugefps", kStudy, trial) / "t1"); },
+              "trial.json: a number is out of range");
   // A pattern of 200 000 characters (which crashed the tracker) and one with two conversions.
   trial = kTrial;
   trial.replace(trial.find("frames/%06d.png"), 15, "frames/%06d" + std::string(200000, 'A') + ".png");
