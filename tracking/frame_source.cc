@@ -92,7 +92,15 @@ cv::Mat ImageSequenceSource::Read(int index) {
   const auto path = PathOf(index);
   if (!std::filesystem::exists(path))
     throw std::runtime_error(path.string() + ": frame " + std::to_string(index) + " is missing");
-  const cv::Mat image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+  cv::Mat image;
+  try {
+    image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception& e) {  // e.g. an image beyond OpenCV's pixel limit
+    const bool too_large = e.msg.find("CV_IO_MAX_IMAGE_PIXELS") != std::string::npos;
+    throw std::runtime_error(path.string() + ": frame " + std::to_string(index) +
+                             (too_large ? " has more pixels than OpenCV decodes (2^30; CV_IO_MAX_IMAGE_PIXELS)"
+                                        : " cannot be decoded: " + e.msg));
+  }
   if (image.empty())
     throw std::runtime_error(path.string() + ": frame " + std::to_string(index) +
                              " cannot be decoded (corrupt or not an image)");

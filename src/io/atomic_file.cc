@@ -19,6 +19,10 @@ std::filesystem::path TemporaryPathFor(const std::filesystem::path& path) {
 
 void CommitTemporary(const std::filesystem::path& temporary, const std::filesystem::path& path) {
   std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    std::filesystem::remove(temporary, ec);
+    throw std::runtime_error("cannot write " + path.string() + ": it is a folder; give a file name");
+  }
   std::filesystem::rename(temporary, path, ec);
   if (ec) {
     std::filesystem::remove(temporary, ec);

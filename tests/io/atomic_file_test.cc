@@ -44,6 +44,17 @@ TEST(AtomicFileTest, FailureInTheMiddleKeepsTheOldFile) {
   EXPECT_EQ(files, 1);  // the temporary is gone
 }
 
+TEST(AtomicFileTest, AFolderInPlaceOfTheFileIsNamedAndKept) {
+  const fs::path dir = FreshDir("atomic_folder");
+  fs::create_directories(dir / "out" / "inside");
+  hoof::testing::ExpectErrorContaining([&] { WriteTextAtomically(dir / "out", "x"); },
+                                       (dir / "out").string() + ": it is a folder");
+  EXPECT_TRUE(fs::is_directory(dir / "out" / "inside"));
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
+  EXPECT_EQ(files, 0);  // no temporary left
+}
+
 TEST(AtomicFileTest, UnwritableDirectoryNamesThePath) {
   try {
     WriteTextAtomically("/proc/hoofimpact-cannot-write/out.txt", "x");

@@ -1,5 +1,6 @@
 #include "tracking/frame_source.h"
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -49,6 +50,35 @@ TEST(FrameSourceTest, MissingAndCorruptFramesNameTheFile) {
   ImageSequenceSource src(dir, "frames/%06d.png", 0, 3);
   ExpectError([&] { src.Read(1); }, "000001.png: frame 1 cannot be decoded");
   ExpectError([&] { src.Read(2); }, "000002.png: frame 2 is missing");
+  // A 40000 x 40000 PNG (200 KB on disk) is refused naming the frame, not with OpenCV's assertion.
+  {
+    std::string png = "\x89PNG\r\n\x1a\n";
+    auto chunk = [&png](const std::string& type, const std::string& data) {
+      const auto be = [](std::uint32_t v) {
+        return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8),
+                           static_cast<char>(v)};
+      };
+      png += be(static_cast<std::uint32_t>(data.size())) + type + data;
+      const std::string crc_in = type + data;
+      std::uint32_t crc = 0xffffffffu;  // PNG's CRC-32, bit by bit
+      for (unsigned char c : crc_in) {
+        crc ^= c;
+        for (int b = 0; b < 8; ++b) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
+      }
+      png += be(crc ^ 0xffffffffu);
+    };
+    const std::uint32_t side = 40000;
+    std::string ihdr;
+    for (int k = 3; k >= 0; --k) ihdr += static_cast<char>(side >> (8 * k));
+    ihdr += ihdr;
+    ihdr += std::string{1, 0, 0, 0, 0};  // 1-bit grey
+    chunk("IHDR", ihdr);
+    chunk("IDAT", std::string("\x78\x01\x01\x00\x00\xff\xff\x00\x00\x00\x01", 11));  // an empty zlib stream
+    chunk("IEND", "");
+    std::ofstream(dir / "frames/000000.png", std::ios::binary) << png;
+    ImageSequenceSource huge(dir, "frames/%06d.png", 0, 1);
+    ExpectError([&] { huge.Read(0); }, "000000.png: frame 0 has more pixels than OpenCV decodes");
+  }
   EXPECT_THROW(ImageSequenceSource(dir, "frames/x.png", 0, 3), std::invalid_argument);
   EXPECT_THROW(ImageSequenceSource(dir, "frames/%d_%d.png", 0, 3), std::invalid_argument);
 }
