@@ -640,9 +640,7 @@ void PrintReport(const std::vector<Row>& rows, const std::vector<std::string>& d
         bins.push_back(cells);
       }
       std::cout << "### Power against the printed detection limit (hidden effect named; size over the limit "
-                   "discovery printed for that study in round 1)
-
-";
+                   "discovery printed for that study in round 1)\n\n";
       PrintTable(head, bins);
     }
 

@@ -198,6 +198,10 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
   // Where the rate could be: the marker distance's own answer (its sign is not seen), and the
   // probe size for the velocities when the marker distance has none.
   const double from_ratio = std::abs(RatioOnlyRate(ws, measured, series, st, key, all, upper));
+  // The image's own evidence: the marker distance alone, at its best rate, against none.
+  const double ratio_lr =
+      std::max(0.0, 2 * (Ratio(ws, measured, series, WithRate(st.motion, key, from_ratio)).Loglik(all) - zero.ratio_loglik));
+  const double ratio_p = stats::ChiSquaredUpperTail(ratio_lr, 1);
   std::vector<double> starts;
   if (from_ratio > 1e-3 * probe) starts = {from_ratio, -from_ratio};
   starts.push_back(probe);
@@ -298,8 +302,21 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
     }
   }
   if (ratio_blind || !std::isfinite(c.cv_error)) c.cv_error = c.cv_error_current = c.cv_p = kNaN;
-  const bool better_held_out = !std::isfinite(c.cv_error) || c.cv_error < c.cv_error_current;
-  c.significant = c.p_value < level && c.wald_clear && better_held_out;
+  // Named only with the image's own evidence: a bias of the velocities alone is also what a
+  // contact effect on v_x and spin does (the scorecard named a roll rate in studies with rolling
+  // resistance or tangential compliance hidden before this rule).
+  c.significant = c.p_value < level && c.wald_clear && ratio_p < level && c.cv_error < c.cv_error_current;
+  if (ratio_blind) {
+    c.identifiability = Identifiability::kNotTested;
+    c.outcome = CandidateOutcome::kNotTested;
+    c.reason = "the distance of the layout's first two markers does not change with this rotation, and its bias "
+               "of the velocities alone cannot be told from a contact effect on v_x and spin (LR p = " +
+               FmtP(c.p_value) + "); markers apart across the axis, or a second camera, would test it";
+  } else if (c.p_value < level && c.wald_clear && !(ratio_p < level)) {
+    c.outcome = CandidateOutcome::kNotSignificant;
+    c.reason = "likelihood-ratio p = " + FmtP(c.p_value) + ", but the marker distance alone does not show it (p = " +
+               FmtP(ratio_p) + "): a bias of the velocities alone is also what a contact effect on v_x and spin does";
+  }
 
   // Detection limit: the smallest rate whose noncentrality, from the velocities (quadratic in
   // the rate) and the marker distance (its dip, each trial's mean removed, over the no-rate

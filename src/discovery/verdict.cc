@@ -104,7 +104,9 @@ std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& opti
     const Round& last = out.rounds.back();
     std::vector<std::string> limits, untested;
     for (const auto& c : last.candidates) {
-      if (c.outcome == CandidateOutcome::kNotTested) untested.push_back(c.name);
+      // (A rotation the image cannot see, but whose velocities speak, has its own line above.)
+      if (c.outcome == CandidateOutcome::kNotTested && !(IsRotationRate(c.key) && c.p_value < last.naming_level))
+        untested.push_back(c.name);
       if ((!c.measurement_effect || IsRotationRate(c.key)) && std::isfinite(c.detection_limit) &&
           (c.outcome == CandidateOutcome::kNotSignificant || c.outcome == CandidateOutcome::kWorseHeldOut ||
            c.outcome == CandidateOutcome::kConfounded))
