@@ -40,7 +40,7 @@ void RegisterScore(CLI::App& app, RunState& state) {
     const std::size_t n = study.trial_dirs.size();
     std::vector<nlohmann::json> rows(n);
     std::vector<pipeline::TrialScore> scores(n);
-    std::vector<bool> ok(n, false);
+    std::vector<char> ok(n, 0);  // not vector<bool>: its packed bits would be a data race between workers
     std::size_t next = 0;
     std::mutex mu;
     auto worker = [&] {
@@ -63,7 +63,7 @@ void RegisterScore(CLI::App& app, RunState& state) {
             const auto truth = pipeline::ReadTruth(study.trial_dirs[i]);
             const auto s = pipeline::ScoreTrial(r, truth);
             scores[i] = s;
-            ok[i] = true;
+            ok[i] = 1;
             row.update({{"marker_rms_px", s.marker_rms_px}, {"marker_max_px", s.marker_max_px},
                         {"v_before_rel", s.v_before_rel}, {"v_after_rel", s.v_after_rel},
                         {"w_before_abs", s.w_before_abs}, {"w_after_abs", s.w_after_abs},

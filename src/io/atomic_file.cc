@@ -25,9 +25,9 @@ void CommitTemporary(const std::filesystem::path& temporary, const std::filesyst
   }
   std::filesystem::rename(temporary, path, ec);
   if (ec) {
+    const std::string why = ec.message();  // before remove() overwrites ec ("Success")
     std::filesystem::remove(temporary, ec);
-    throw std::runtime_error("cannot move " + temporary.string() + " to " + path.string() + ": " +
-                             ec.message());
+    throw std::runtime_error("cannot move " + temporary.string() + " to " + path.string() + ": " + why);
   }
 }
 
