@@ -142,10 +142,25 @@ StudySpec ReadStudy(const fs::path& dir) {
       study.trial_dirs.push_back(dir / rel);
     }
   } else {
+    // Every sub-folder holding a trial.json; one that cannot be looked into (a symlink loop,
+    // no permission) is a warning, not the end of the study.
     std::vector<fs::path> found;
-    for (const auto& entry : fs::directory_iterator(dir))
-      if (entry.is_directory() && fs::exists(entry.path() / "trial.json"))
-        found.push_back(entry.path());
+    std::error_code ec;
+    fs::directory_iterator it(dir, ec), end;
+    if (ec) throw std::runtime_error(dir.string() + ": cannot list the study folder: " + ec.message());
+    for (; it != end; it.increment(ec)) {
+      if (ec) {
+        study.warnings.push_back(dir.string() + ": listing stopped: " + ec.message());
+        break;
+      }
+      std::error_code e1, e2;
+      const bool folder = it->is_directory(e1);
+      const bool trial = folder && fs::exists(it->path() / "trial.json", e2);
+      if (e1 || e2)
+        study.warnings.push_back(it->path().string() + ": skipped, cannot be read: " + (e1 ? e1 : e2).message());
+      else if (trial)
+        found.push_back(it->path());
+    }
     std::sort(found.begin(), found.end());
     study.trial_dirs = found;
   }

@@ -115,6 +115,20 @@ TEST(StudyFormatTest, IdsAndTrialFoldersStayInside) {
   EXPECT_EQ(ok.trial_dirs[0].filename(), "t1");
 }
 
+// A symlink loop among the sub-folders of a study without a trials list is skipped with a
+// warning that names it; the trials are still found.
+TEST(StudyFormatTest, AnUnreadableSubfolderIsAWarning) {
+  const fs::path dir = Write("format_symlink_loop", kStudy, kTrial);
+  fs::create_symlink(dir / "loop_a", dir / "loop_b");
+  fs::create_symlink(dir / "loop_b", dir / "loop_a");
+  const StudySpec study = ReadStudy(dir);
+  ASSERT_EQ(study.trial_dirs.size(), 1u);
+  EXPECT_EQ(study.trial_dirs[0].filename(), "t1");
+  std::string all;
+  for (const auto& w : study.warnings) all += w + "\n";
+  EXPECT_NE(all.find("loop_a: skipped, cannot be read"), std::string::npos) << all;
+}
+
 TEST(StudyFormatTest, ATrialMayCarryItsSpecimen) {
   std::string trial = kTrial;
   trial.insert(1, R"("specimen_parameters": {"mass_kg": 0.01, "inertia_kg_m2": 2e-6,
