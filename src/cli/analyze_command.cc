@@ -50,6 +50,12 @@ std::string Summary(const std::vector<pipeline::TrialAnalysis>& results, const s
      << results.size() - ok << " failed\n";
   for (const auto& r : results)
     if (!r.success) os << "  FAILED " << r.spec.id << ": " << r.error << "\n";
+  // Metadata the images contradict: measured, but a user must see it.
+  for (const auto& r : results)
+    if (r.success && std::find(r.flags.begin(), r.flags.end(), "surface_angle") != r.flags.end())
+      for (const auto& w : r.warnings)
+        if (w.find("the surface in the image is at") != std::string::npos)
+          os << "  WARNING " << r.spec.id << ": " << w << " (results use trial.json's angle)\n";
   os << "Study file: " << output << "\n";
   return os.str();
 }

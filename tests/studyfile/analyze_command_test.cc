@@ -144,6 +144,19 @@ TEST_F(AnalyzeCommandTest, BadTrialsAreRecordedAndTheOthersMeasured) {
   EXPECT_EQ(j["responses"]["e"]["observations"].get<int>(), 6);
 }
 
+// A surface angle in trial.json that the image contradicts is measured as stated, and said.
+TEST_F(AnalyzeCommandTest, ASurfaceAngleTheImageContradictsIsAWarning) {
+  const fs::path study = CopyStudy("angle_study");
+  const fs::path trial = study / "steel_20deg_v3.00_r1" / "trial.json";
+  nlohmann::json j = nlohmann::json::parse(std::ifstream(trial));
+  j["surface_angle_deg"] = 0.0;
+  std::ofstream(trial) << j.dump(1);
+  const auto r = RunHoofimpact("analyze " + study.string() + " -o " + (Root() / "angle.h5").string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("WARNING steel_20deg_v3.00_r1: the surface in the image is at 20"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("trial.json says 0 deg"), std::string::npos) << r.out;
+}
+
 TEST_F(AnalyzeCommandTest, UnreadableStudyExitsWithOneAndNamesTheFile) {
   const fs::path empty = Root() / "empty";
   fs::create_directories(empty);
