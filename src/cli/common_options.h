@@ -22,6 +22,16 @@ void AddExtensionOptions(CLI::App* app, dynamics::ContactExtensions& ext);
 /// The extensions as JSON (field names as in ContactExtensions).
 nlohmann::json ExtensionsJson(const dynamics::ContactExtensions& ext);
 
+/// Refuses a value written with a minus sign before it is converted: an unsigned option would
+/// wrap -1 to its largest value.
+inline const CLI::Validator kNotNegative(
+    [](std::string& text) {
+      const auto first = text.find_first_not_of(" \t");
+      return first != std::string::npos && text[first] == '-' ? std::string("must not be negative, got " + text)
+                                                                : std::string();
+    },
+    "NOT NEGATIVE");
+
 /// A number for JSON: null when NaN or infinite.
 inline nlohmann::json JsonNumber(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);

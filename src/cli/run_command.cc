@@ -175,7 +175,8 @@ void RegisterRun(CLI::App& app, RunState& state) {
       ->required()
       ->check(CLI::ExistingDirectory);
   cmd->add_option("-o,--output", args->output_dir, "Output folder")->capture_default_str();
-  cmd->add_option("--jobs", args->jobs, "Threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--jobs", args->jobs, "Threads (0 = all cores)")
+      ->check(CLI::Range(0, 4096))->capture_default_str();
   cmd->add_option("--alpha", args->alpha, "Significance level of the statistics")
       ->capture_default_str();
   cmd->add_flag("--trial-figures", args->trial_figures,

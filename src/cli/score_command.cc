@@ -31,7 +31,8 @@ void RegisterScore(CLI::App& app, RunState& state) {
       ->required()
       ->check(CLI::ExistingDirectory);
   cmd->add_flag("--json", args->json, "Print one JSON object per trial and a summary");
-  cmd->add_option("--jobs", args->jobs, "Worker threads (0 = all cores)");
+  cmd->add_option("--jobs", args->jobs, "Worker threads (0 = all cores)")
+      ->check(CLI::Range(0, 4096));
   AddAnalysisOptions(cmd, args->options, args->method);
   cmd->callback([args, &state] {
     Args& a = *args;

@@ -17,6 +17,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "cli/commands.h"
+#include "cli/common_options.h"
 #include "synth/contact_sheet.h"
 #include "synth/renderer.h"
 #include "synth/study.h"
@@ -435,7 +436,8 @@ void RegisterSynth(CLI::App& app, RunState& state) {
       ->capture_default_str();
   cmd->add_option(
       "--seed", a.seed,
-      "Seed of every random draw: of the trial (default 1) or of the study (default 2024)");
+      "Seed of every random draw: of the trial (default 1) or of the study (default 2024)")
+      ->check(kNotNegative);
   cmd->add_option("--id", a.id, "Trial id (default: the output folder's name)");
   cmd->add_option("--e", a.e, "Fix the normal restitution that sets zeta (no draw)");
   cmd->add_option("--mu", a.mu, "Fix the friction coefficient (no draw)");
@@ -480,6 +482,7 @@ void RegisterSynth(CLI::App& app, RunState& state) {
   cmd->add_option("--out-of-plane-random-deg", a.out_of_plane_random_deg,
                   "Study: per-trial random tilt and roll within +- this (deg)");
   cmd->add_option("--threads", a.threads, "Worker threads for a study (0 = all cores)")
+      ->check(CLI::Range(0, 4096))
       ->capture_default_str();
   cmd->add_flag("--json", a.json, "Print a JSON summary");
   cmd->add_option("--contact-sheet", a.contact_sheet, "Write a contact sheet PNG")->group("");

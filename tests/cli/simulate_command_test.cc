@@ -84,5 +84,19 @@ TEST(SimulateCommandTest, BadInputGivesAClearErrorAndNonZeroExit) {
   EXPECT_NE(r.out.find("--angle-deg"), std::string::npos);
 }
 
+// A negative seed or thread count is a command-line error (exit 2) naming the option, not a
+// value wrapped to 2^64 - 1 or taken as "all cores".
+TEST(CommandLineLimitsTest, NegativeSeedsAndThreadCountsAreRefused) {
+  const std::string sample = std::string(HOOF_SOURCE_DIR) + "/sample_frames";
+  for (const auto& [args, option] : {std::pair<std::string, std::string>{"synth --seed -1 -o /nonexistent/x", "--seed"},
+                                     {"synth --study --threads -1 -o /nonexistent/x", "--threads"},
+                                     {"run " + sample + " --jobs -1 -o /nonexistent/x", "--jobs"},
+                                     {"score " + sample + " --jobs -5", "--jobs"}}) {
+    const auto r = RunHoofimpact(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(option), std::string::npos) << args << "\n" << r.err;
+  }
+}
+
 }  // namespace
 }  // namespace hoof::cli
