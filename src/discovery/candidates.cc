@@ -136,13 +136,8 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
   for (const auto& key : to_try) {
     const LibraryEntry& e = Entry(key);
     Evaluation ev;
+    ev.c = CandidateOf(key);
     CandidateResult& c = ev.c;
-    c.key = key;
-    c.name = e.name;
-    c.parameter = e.parameter;
-    c.unit = e.unit;
-    c.measurement_effect = e.measurement_effect;
-    c.detection_limit = kNaN;
     say("  " + key);
     if (IsRotationRate(key)) {
       RateEvaluation re = EvaluateRotationRate(ws, state, key, free_current, level, options);

@@ -39,6 +39,8 @@ inline constexpr int kComponents = 3;  // v_x, v_y, w d
 inline constexpr const char* kComponentName[kComponents] = {"v_x", "v_y", "w"};
 
 const LibraryEntry& Entry(const std::string& key);
+/// A candidate's result row with its library entry's names filled in (detection limit NaN).
+CandidateResult CandidateOf(const std::string& key);
 /// Sets the extension of `key` to `value` (its own units).
 void Apply(const std::string& key, double value, dynamics::ContactExtensions& x);
 

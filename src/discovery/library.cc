@@ -2,6 +2,7 @@
 // (docs/discovery.md).
 #include <array>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -14,6 +15,18 @@ const LibraryEntry& Entry(const std::string& key) {
   for (const auto& e : Library())
     if (e.key == key) return e;
   throw std::invalid_argument("candidates: unknown effect '" + key + "'");
+}
+
+CandidateResult CandidateOf(const std::string& key) {
+  const LibraryEntry& e = Entry(key);
+  CandidateResult c;
+  c.key = key;
+  c.name = e.name;
+  c.parameter = e.parameter;
+  c.unit = e.unit;
+  c.measurement_effect = e.measurement_effect;
+  c.detection_limit = std::numeric_limits<double>::quiet_NaN();
+  return c;
 }
 
 void Apply(const std::string& key, double value, dynamics::ContactExtensions& x) {

@@ -162,15 +162,10 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
   const std::vector<pipeline::TrialAnalysis>& measured = *st.measured;
   const std::vector<int> all = ws.All();
   RateEvaluation out;
+  out.c = CandidateOf(key);
   CandidateResult& c = out.c;
-  c.key = key;
-  c.name = e.name;
-  c.parameter = e.parameter;
-  c.unit = e.unit;
-  c.measurement_effect = true;
   c.form = EffectForm::kShared;
   c.df = 1;
-  c.detection_limit = kNaN;
   const std::vector<RatioSeries> series = Series(ws, measured);
   const double upper = e.upper * kDeg, probe = e.probe * kDeg;
 
