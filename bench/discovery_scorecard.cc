@@ -70,6 +70,8 @@ struct Verdict {
   /// The detection limit discovery printed for `key` in its first round (against the baseline);
   /// NaN when it gave none.
   double limit = NAN;
+  /// Every candidate's first-round detection limit, by library key.
+  std::map<std::string, double> limits;
 };
 
 Verdict ReadVerdict(const hoof::discovery::DiscoveryResult& r, const std::string& key) {
@@ -79,8 +81,10 @@ Verdict ReadVerdict(const hoof::discovery::DiscoveryResult& r, const std::string
   for (const auto& f : r.findings)
     if (f.status == hoof::discovery::FindingStatus::kNamed) v.named.push_back(f.key);
   if (!r.rounds.empty())
-    for (const auto& c : r.rounds.front().candidates)
+    for (const auto& c : r.rounds.front().candidates) {
       if (c.key == key) v.limit = c.detection_limit;
+      v.limits[c.key] = c.detection_limit;
+    }
   return v;
 }
 
@@ -300,6 +304,7 @@ struct Row {
   std::string error;
   double cache_bytes = NAN;
   double limit = NAN;  ///< the hidden effect's detection limit as discovery printed it
+  std::map<std::string, double> limits;  ///< every candidate's, by library key
 };
 
 /// The scorecard's own record in a cached study file: how the study was made and how long it
@@ -452,6 +457,7 @@ Row RunStudy(const StudyPoint& p, const fs::path& cache_dir, int jobs, bool only
     row.discovered = true;
     row.named = v.named;
     row.limit = v.limit;
+    row.limits = v.limits;
     row.stage.clear();
   } catch (const std::exception& e) {
     row.error = e.what();
@@ -730,6 +736,11 @@ nlohmann::json RowJson(const Row& r) {
           {"detected", Detected(r)},
           {"detection_limit", num(r.limit)},
           {"size_over_limit", num(r.point.size / r.limit)},
+          {"detection_limits", [&] {
+             nlohmann::json j = nlohmann::json::object();
+             for (const auto& [k, v] : r.limits) j[k] = num(v);
+             return j;
+           }()},
           {"wrong_name", WrongName(r)},
           {"trials", r.trials},
           {"failed_trials", r.failed_trials},
