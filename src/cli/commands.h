@@ -42,7 +42,8 @@ void RegisterDiscover(CLI::App& app, RunState& state);
 
 /// The study statistics of `stats STUDY_H5` (stored under /stats, printed, and written to
 /// `out_csv` when not empty); `run` uses it too.
-void RunStudyStatistics(const std::string& study_h5, double alpha, const std::string& out_csv);
+void RunStudyStatistics(const std::string& study_h5, double alpha, const std::string& out_csv,
+                        const std::string& shown_as = "");
 
 /// Settings of the discovery step (`discover`, and `run --discover`).
 struct DiscoverSettings {
@@ -58,6 +59,9 @@ struct DiscoverSettings {
   /// impact speed (discovery::DiscoveryOptions::measurement_floor); in [0, 0.1).
   double measurement_floor = 1e-3;
   std::string figures_dir;  ///< where the figures go; empty = figures/ beside the study file
+  /// The study file's name in messages, when the file discovery writes to is a temporary that
+  /// will be renamed to it (`run`); empty = the file's own name.
+  std::string shown_as;
   bool json = false;        ///< print one JSON object instead of the text
 };
 

@@ -516,15 +516,16 @@ bool RunStudyDiscovery(const std::string& study_h5,
                                              : fs::path(s.figures_dir);
   std::vector<std::string> figures;
   for (const auto& f : report::WriteDiscoveryFigures(result, dir)) figures.push_back(f.string());
+  const std::string& shown = s.shown_as.empty() ? study_h5 : s.shown_as;
   if (s.json) {
-    std::cout << ResultJson(result, study_h5, s, figures).dump(2) << "\n";
+    std::cout << ResultJson(result, shown, s, figures).dump(2) << "\n";
   } else {
-    PrintText(std::cout, result, study_h5);
-    std::cout << "\nStored in " << study_h5 << " under /discovery; " << figures.size()
+    PrintText(std::cout, result, shown);
+    std::cout << "\nStored in " << shown << " under /discovery; " << figures.size()
               << " figure file(s)" << (figures.empty() ? "" : " in " + dir.string()) << "\n";
   }
   if (!result.success)
-    std::cerr << "hoofimpact: error: " << study_h5
+    std::cerr << "hoofimpact: error: " << shown
               << ": the discovery workflow could not run: " << result.message << "\n";
   return result.success;
 }

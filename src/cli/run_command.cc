@@ -18,6 +18,7 @@
 #include "cli/commands.h"
 #include "cli/trial_output.h"
 #include "compare/study_comparison.h"
+#include "io/atomic_file.h"
 #include "pipeline/study_analysis.h"
 #include "report/comparison_figures.h"
 #include "report/figures.h"
@@ -56,7 +57,17 @@ void Run(RunArgs& a, RunState& state) {
   if (study.trial_dirs.empty()) throw std::runtime_error(a.study_dir + ": the study has no trials");
   const std::filesystem::path out = a.output_dir;
   std::filesystem::create_directories(out / "figures");
-  const std::filesystem::path h5 = out / "study.h5";
+  // The study file is built under a temporary name and committed once, complete (measurements,
+  // comparison, statistics, discovery): a run killed on the way leaves the previous study.h5.
+  const std::filesystem::path study_h5 = out / "study.h5";
+  const std::filesystem::path h5 = io::TemporaryPathFor(study_h5);
+  struct RemoveUncommitted {
+    std::filesystem::path path;
+    ~RemoveUncommitted() {
+      std::error_code ec;
+      std::filesystem::remove(path, ec);
+    }
+  } remove_uncommitted{h5};
   const bool tty = ::isatty(STDERR_FILENO) != 0;
 
   // 1. Measure.
@@ -126,20 +137,23 @@ void Run(RunArgs& a, RunState& state) {
 
   // 3. Statistics.
   std::cout << "\n== " << step++ << ". Statistics (as the paper ran them in SAS)\n";
-  RunStudyStatistics(h5.string(), a.alpha, (out / "stats.csv").string());
+  RunStudyStatistics(h5.string(), a.alpha, (out / "stats.csv").string(), study_h5.string());
 
   // Discovery: where model and measurement disagree, and which effect explains it.
   bool discovered = true;
   if (a.discover) {
     std::cout << "\n== " << step++ << ". Discovery: where the model and the measurements disagree\n"
               << std::flush;
+    discover.shown_as = study_h5.string();
     discovered = RunStudyDiscovery(h5.string(), trials, discover);
   }
 
+  io::CommitTemporary(h5, study_h5);
+
   // Figures.
-  const auto results = studyfile::ReadStudyResults(h5);
+  const auto results = studyfile::ReadStudyResults(study_h5);
   auto figures = report::WriteStudyFigures(results, out / "figures");
-  for (const auto& f : report::WriteComparisonFigures(h5, out / "figures")) figures.push_back(f);
+  for (const auto& f : report::WriteComparisonFigures(study_h5, out / "figures")) figures.push_back(f);
   for (const auto& t : trials)
     for (const auto& f : WriteTrialFigures(t, a.options, (out / "figures").string(),
                                            /*always=*/false, a.trial_figures))
@@ -147,7 +161,7 @@ void Run(RunArgs& a, RunState& state) {
   std::cout << "\n== " << step++ << ". " << figures.size() << " figure file(s) in " << (out / "figures").string() << "\n";
 
   // The report.
-  const auto page = report::WriteHtmlReport(h5, out / "report.html");
+  const auto page = report::WriteHtmlReport(study_h5, out / "report.html");
   std::cout << "\n== " << step++ << ". Report: " << page.output.string() << " (" << page.bytes / 1024
             << " KiB, " << page.replays << " replay(s); open it in a browser, no network needed)\n";
 

@@ -34,6 +34,7 @@ struct StatsArgs {
   // Input: a study file (positional) or --csv; --response/--factor are checked in the
   // callback, not by CLI11, because only --csv needs them.
   std::string study_h5;
+  std::string shown_as;  ///< the study file's name in messages, when study_h5 is a temporary
   std::string csv_path;
   std::string response;
   std::string factor;
@@ -518,7 +519,7 @@ ResponseAnalysis AnalyzeResponse(const std::vector<studyfile::TrialResult>& ok,
 StudyStats AnalyzeStudy(const StatsArgs& a) {
   const studyfile::StudyResults study = studyfile::ReadStudyResults(a.study_h5);
   StudyStats s;
-  s.path = a.study_h5;
+  s.path = a.shown_as.empty() ? a.study_h5 : a.shown_as;
   s.trials = study.trials.size();
   std::vector<studyfile::TrialResult> ok;
   for (const auto& t : study.trials) {
@@ -858,7 +859,7 @@ void RunStudy(const StatsArgs& a) {
     std::cout << StudyJson(s, a).dump(2) << "\n";
   } else {
     PrintStudy(s, a);
-    std::cout << "\nTables stored in " << a.study_h5 << " under /stats"
+    std::cout << "\nTables stored in " << (a.shown_as.empty() ? a.study_h5 : a.shown_as) << " under /stats"
               << (a.out_csv.empty() ? "" : " and written to " + a.out_csv) << "\n";
   }
 }
@@ -904,9 +905,11 @@ void RegisterStats(CLI::App& app, RunState& state) {
   });
 }
 
-void RunStudyStatistics(const std::string& study_h5, double alpha, const std::string& out_csv) {
+void RunStudyStatistics(const std::string& study_h5, double alpha, const std::string& out_csv,
+                        const std::string& shown_as) {
   StatsArgs a;
   a.study_h5 = study_h5;
+  a.shown_as = shown_as;
   a.alpha = alpha;
   a.out_csv = out_csv;
   RunStudy(a);
