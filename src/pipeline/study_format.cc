@@ -20,7 +20,7 @@ std::string IdProblem(const std::string& id) {
   if (id == "." || id == "..") return "\"" + id + "\" cannot name files";
   for (unsigned char c : id)
     if (c == '/' || c == '\\' || c < 0x20 || c == 0x7f)
-      return "\"" + id + "\" holds a '/', a '\\' or a control character; it names the trial's files";
+      return "\"" + id + "\" holds a '/', a '\\' or a control character; it names files and tables";
   return "";
 }
 
@@ -108,9 +108,12 @@ SpecimenSpec ParseSpecimen(const json& s, const fs::path& file, const std::strin
   const json& markers = Require(s, "markers_B_m", file, prefix);
   if (!markers.is_object() || markers.size() < 2)
     Fail(file, prefix + "markers_B_m", "must name two or more markers, found " + markers.dump());
-  for (auto it = markers.begin(); it != markers.end(); ++it)
+  for (auto it = markers.begin(); it != markers.end(); ++it) {
+    if (const std::string why = IdProblem(it.key()); !why.empty())
+      Fail(file, prefix + "markers_B_m", "marker name " + why);
     spec.markers_B_m.emplace_back(it.key(),
                                   Pair(it.value(), file, prefix + "markers_B_m." + it.key()));
+  }
   return spec;
 }
 
@@ -127,9 +130,11 @@ StudySpec ReadStudy(const fs::path& dir) {
   const json& specimens = Require(j, "specimens", file, "");
   if (!specimens.is_object() || specimens.empty())
     Fail(file, "specimens", "must hold at least one specimen");
-  for (auto it = specimens.begin(); it != specimens.end(); ++it)
+  for (auto it = specimens.begin(); it != specimens.end(); ++it) {
+    if (const std::string why = IdProblem(it.key()); !why.empty()) Fail(file, "specimens", "specimen id " + why);
     study.specimens[it.key()] =
         ParseSpecimen(it.value(), file, "specimens." + it.key() + ".", study.warnings);
+  }
   if (j.contains("trials")) {
     const json& trials = j.at("trials");
     if (!trials.is_array()) Fail(file, "trials", "must be an array of folder names");
