@@ -18,6 +18,7 @@
 
 #include "cli/commands.h"
 #include "cli/trial_output.h"
+#include "io/atomic_file.h"
 #include "pipeline/study_analysis.h"
 #include "pipeline/study_format.h"
 #include "pipeline/trial_analysis.h"
@@ -71,6 +72,13 @@ void Run(AnalyzeArgs& a, RunState& state) {
   const pipeline::StudySpec study = pipeline::ReadStudy(a.study_dir);
   if (study.trial_dirs.empty()) throw std::runtime_error(a.study_dir + ": the study has no trials");
   for (const auto& w : study.warnings) std::cerr << "hoofimpact: warning: " << w << "\n";
+  // What a killed earlier run left beside the output (its temporaries) goes now.
+  {
+    const std::filesystem::path parent = std::filesystem::absolute(a.output).parent_path();
+    int stale = io::RemoveStaleTemporaries(parent);
+    if (!a.figures_dir.empty()) stale += io::RemoveStaleTemporaries(a.figures_dir);
+    if (stale > 0) std::cerr << "hoofimpact: removed " << stale << " temporary file(s) a killed run left\n";
+  }
 
   const bool tty = ::isatty(STDERR_FILENO) != 0;
   const std::size_t n = study.trial_dirs.size();

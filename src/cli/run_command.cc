@@ -57,6 +57,9 @@ void Run(RunArgs& a, RunState& state) {
   if (study.trial_dirs.empty()) throw std::runtime_error(a.study_dir + ": the study has no trials");
   const std::filesystem::path out = a.output_dir;
   std::filesystem::create_directories(out / "figures");
+  // What a killed earlier run left (its temporaries) goes now.
+  if (const int stale = io::RemoveStaleTemporaries(out) + io::RemoveStaleTemporaries(out / "figures"); stale > 0)
+    std::cerr << "hoofimpact: removed " << stale << " temporary file(s) a killed run left\n";
   // The study file is built under a temporary name and committed once, complete (measurements,
   // comparison, statistics, discovery): a run killed on the way leaves the previous study.h5.
   const std::filesystem::path study_h5 = out / "study.h5";

@@ -1,11 +1,15 @@
 #include "io/atomic_file.h"
 
 #include <atomic>
+#include <cctype>
+#include <cerrno>
+#include <cstdlib>
 #include <fstream>
 #include <stdexcept>
 #include <string>
 #include <system_error>
 
+#include <signal.h>
 #include <unistd.h>
 
 namespace hoof::io {
@@ -59,6 +63,37 @@ void WriteFileAtomically(const std::filesystem::path& path,
 
 void WriteTextAtomically(const std::filesystem::path& path, std::string_view content) {
   WriteFileAtomically(path, [&](std::ostream& out) { out << content; });
+}
+
+namespace {
+
+/// The process id in a name holding ".tmp-<pid>-<n>", or 0.
+long TemporaryOwner(const std::string& name) {
+  for (std::size_t at = name.find(".tmp-"); at != std::string::npos; at = name.find(".tmp-", at + 1)) {
+    std::size_t i = at + 5, digits = 0;
+    long pid = 0;
+    while (i < name.size() && std::isdigit(static_cast<unsigned char>(name[i])) && digits < 10)
+      pid = pid * 10 + (name[i++] - '0'), ++digits;
+    if (digits == 0 || i >= name.size() || name[i] != '-') continue;
+    if (i + 1 < name.size() && std::isdigit(static_cast<unsigned char>(name[i + 1]))) return pid;
+  }
+  return 0;
+}
+
+}  // namespace
+
+int RemoveStaleTemporaries(const std::filesystem::path& dir) {
+  int removed = 0;
+  std::error_code ec;
+  std::filesystem::directory_iterator it(dir, ec), end;
+  for (; !ec && it != end; it.increment(ec)) {
+    const long pid = TemporaryOwner(it->path().filename().string());
+    if (pid <= 0 || pid == ::getpid()) continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
+    std::error_code rm;
+    if (std::filesystem::remove_all(it->path(), rm) > 0 && !rm) ++removed;
+  }
+  return removed;
 }
 
 }  // namespace hoof::io

@@ -28,4 +28,11 @@ std::filesystem::path TemporaryPathFor(const std::filesystem::path& path);
 /// std::runtime_error naming both.
 void CommitTemporary(const std::filesystem::path& temporary, const std::filesystem::path& path);
 
+/// Removes from `dir` (not its sub-folders) the temporaries that a killed process left: files and
+/// folders whose name holds ".tmp-<pid>-<n>" (TemporaryPathFor's, and the renderer's
+/// ".<name>.tmp-<pid>-<n>" folders) for a process id that no longer runs. Another process's
+/// live temporaries, and every other name, are left alone. Returns how many were removed;
+/// never throws.
+int RemoveStaleTemporaries(const std::filesystem::path& dir);
+
 }  // namespace hoof::io

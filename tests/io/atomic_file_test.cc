@@ -1,10 +1,15 @@
 #include "io/atomic_file.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
+
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -53,6 +58,28 @@ TEST(AtomicFileTest, AFolderInPlaceOfTheFileIsNamedAndKept) {
   int files = 0;
   for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
   EXPECT_EQ(files, 0);  // no temporary left
+}
+
+// What a killed process left goes; a live process's temporaries and every other name stay.
+TEST(AtomicFileTest, StaleTemporariesOfDeadProcessesAreRemoved) {
+  const fs::path dir = FreshDir("atomic_stale");
+  // A process id that no longer runs: a child that has exited and been reaped.
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ASSERT_GT(child, 0);
+  ::waitpid(child, nullptr, 0);
+  const std::string dead = std::to_string(child), live = std::to_string(::getppid());
+  for (const std::string& name : {"study.h5.tmp-" + dead + "-0", "plot.png.tmp-" + dead + "-3.gp", ".t1.tmp-" + dead + "-2",
+                                   "study.h5.tmp-" + live + "-0", std::string("notes.tmp-x"), std::string("data.tmp-12"),
+                                   std::string("study.h5")})
+    std::ofstream(dir / name) << "x";
+  fs::create_directories(dir / (".frames.tmp-" + dead + "-1") / "inner");
+  EXPECT_EQ(RemoveStaleTemporaries(dir), 4);
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir)) left.push_back(e.path().filename().string());
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{"data.tmp-12", "notes.tmp-x", "study.h5", "study.h5.tmp-" + live + "-0"}));
+  EXPECT_EQ(RemoveStaleTemporaries(dir / "no-such-folder"), 0);
 }
 
 TEST(AtomicFileTest, UnwritableDirectoryNamesThePath) {
