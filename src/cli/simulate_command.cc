@@ -147,6 +147,8 @@ void PrintText(const SimulateArgs& a, const dynamics::ContactParameters& contact
   std::cout << os.str();
 }
 
+void Simulate(SimulateArgs& a, RunState& state);
+
 }  // namespace
 
 void RegisterSimulate(CLI::App& app, RunState& state) {
@@ -191,6 +193,19 @@ void RegisterSimulate(CLI::App& app, RunState& state) {
 
   cmd->callback([args, &state] {
     SimulateArgs& a = *args;
+    // Every value here comes from the command line: a bad one is a command-line error (exit 2).
+    try {
+      Simulate(a, state);
+    } catch (const std::invalid_argument& e) {
+      throw CLI::ValidationError("simulate", e.what());
+    }
+  });
+}
+
+namespace {
+
+void Simulate(SimulateArgs& a, RunState& state) {
+  {
     dynamics::ContactParameters contact = dynamics::PaperContact(dynamics::ParseSurface(a.surface));
     if (a.k_N_m) contact.k_N_m = *a.k_N_m;
     if (a.b_N_s_m) contact.b_N_s_m = *a.b_N_s_m;
@@ -220,7 +235,8 @@ void RegisterSimulate(CLI::App& app, RunState& state) {
                   << " samples)\n";
     }
     state.exit_code = kExitOk;
-  });
+  }
 }
 
+}  // namespace
 }  // namespace hoof::cli

@@ -61,14 +61,15 @@ TEST(SimulateCommandTest, TrajectoryCsvHasFrameTimesAndFreeFlight) {
 }
 
 TEST(SimulateCommandTest, BadInputGivesAClearErrorAndNonZeroExit) {
+  // Values out of range are command-line errors (exit 2), like unknown flags.
   auto r = RunHoofimpact("simulate --mass-kg -0.008");
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("mass_kg"), std::string::npos) << r.err;
   r = RunHoofimpact("simulate --surface wood");
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("wood"), std::string::npos) << r.err;
   r = RunHoofimpact("simulate --speed-m-s -3");
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--speed-m-s"), std::string::npos) << r.err;
   // Work and output are capped: these hung before.
   r = RunHoofimpact("simulate --frames-before 1000000000 --trajectory /dev/null");
