@@ -169,7 +169,7 @@ void RegisterFit(CLI::App& app, RunState& state) {
     for (const auto& f : a.filters) {
       const auto eq = f.find('=');
       if (eq == std::string::npos)
-        throw std::invalid_argument("--where \"" + f + "\" is invalid: expected COL=VALUE");
+        throw CLI::ValidationError("--where", "\"" + f + "\" is invalid: expected COL=VALUE");
       where.emplace_back(table.Column(f.substr(0, eq)), f.substr(eq + 1));
     }
     auto keep = [&](std::size_t r) {

@@ -35,7 +35,7 @@ void ApplyMethod(const std::string& method, pipeline::TrialAnalysisOptions& opti
   else if (method == "ellipse")
     options.tracker.detector.method = tracking::CentreMethod::kEllipseFit;
   else
-    throw std::invalid_argument("--method \"" + method + "\" is invalid: centroid or ellipse");
+    throw CLI::ValidationError("--method", "\"" + method + "\" is invalid: centroid or ellipse");
 }
 
 nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
