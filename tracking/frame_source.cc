@@ -118,7 +118,10 @@ VideoSource::VideoSource(std::filesystem::path path) : path_(std::move(path)) {
 VideoSource::~VideoSource() = default;
 
 void VideoSource::Open() {
-  capture_ = std::make_unique<cv::VideoCapture>(path_.string());
+  // FFmpeg first; the other backends only if it cannot (hoofimpact silences OpenCV's log, so a
+  // file that no backend reads gets only our message naming it).
+  capture_ = std::make_unique<cv::VideoCapture>(path_.string(), cv::CAP_FFMPEG);
+  if (!capture_->isOpened()) capture_ = std::make_unique<cv::VideoCapture>(path_.string(), cv::CAP_ANY);
   if (!capture_->isOpened())
     throw std::runtime_error(path_.string() + ": cannot open video (unsupported codec?)");
   next_ = 0;

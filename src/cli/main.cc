@@ -3,10 +3,14 @@
 #include <iostream>
 
 #include <CLI/CLI.hpp>
+#include <opencv2/core/utils/logger.hpp>
 
 #include "cli/commands.h"
 
 int main(int argc, char** argv) {
+  // OpenCV's own log (backend warnings, assertion texts) never reaches the user: every failure
+  // is reported by hoofimpact, naming the file and frame.
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
   CLI::App app{
       "hoofimpact: high-speed video of hoof-wall impacts -> restitution, friction and a "
       "two-phase contact model held against the measurements."};
