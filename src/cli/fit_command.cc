@@ -182,6 +182,7 @@ void RegisterFit(CLI::App& app, RunState& state) {
       }
       return true;
     };
+    std::vector<std::size_t> above_one;  // lines with e > 1
     for (std::size_t r = 0; r < table.rows(); ++r) {
       if (!keep(r)) continue;
       // Parsed only for kept rows (a failed trial's "nan" may be filtered out). Speeds: signs
@@ -194,10 +195,21 @@ void RegisterFit(CLI::App& app, RunState& state) {
            << a.before_col << "\", \"" << a.after_col << "\")";
         throw std::runtime_error(os.str());
       }
+      if (after[r] > before[r]) above_one.push_back(table.LineOf(r));
       const std::string g = group_index ? table.Text(r, *group_index) : "";
       groups[g].push_back({before[r], after[r]});
     }
     if (groups.empty()) throw std::runtime_error(a.csv_path + ": no data rows (after --where)");
+    // A rebound faster than the approach (e > 1) is no dissipative contact's: say where.
+    if (!above_one.empty()) {
+      std::ostringstream os;
+      os << a.csv_path << ": e = " << a.after_col << " / " << a.before_col << " > 1 in " << above_one.size()
+         << " row(s), on line(s) ";
+      for (std::size_t i = 0; i < above_one.size() && i < 10; ++i) os << (i ? ", " : "") << above_one[i];
+      if (above_one.size() > 10) os << ", ...";
+      os << ": the contact model dissipates energy and cannot fit them (swapped columns?)";
+      throw std::runtime_error(os.str());
+    }
 
     nlohmann::json out = nlohmann::json::array();
     std::ostringstream grid;

@@ -70,6 +70,14 @@ TEST(FitCommandTest, MissingColumnAndBadValuesAreNamed) {
   r = RunHoofimpact("fit " + path);
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find(":3:"), std::string::npos) << r.err;
+  // A rebound faster than the approach is named by its line, not by an internal parameter.
+  {
+    std::ofstream out(path);
+    out << "v_before_m_s,v_after_m_s\n3.0,2.5\n2.0,2.4\n3.0,1.0\n";
+  }
+  r = RunHoofimpact("fit " + path);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("e = v_after_m_s / v_before_m_s > 1 in 1 row(s), on line(s) 3"), std::string::npos) << r.err;
   r = RunHoofimpact("fit /nonexistent.csv");
   EXPECT_EQ(r.exit_code, 2);  // CLI11 checks that the file exists
 }
