@@ -136,7 +136,13 @@ Remeasured Remeasure(const Workspace& ws, const std::vector<pipeline::TrialAnaly
   });
   auto w = std::make_unique<Workspace>();
   int skipped = 0;
-  Build(*out.trials, options, &skipped, *w);
+  try {
+    Build(*out.trials, options, &skipped, *w);
+  } catch (const std::exception&) {
+    // A rate far from the truth can bias a trial past e = 1, where the surface's starting
+    // model cannot be made: the rate is not a feasible point.
+    return out;
+  }
   bool same = w->obs.size() == ws.obs.size();
   for (std::size_t i = 0; same && i < ws.obs.size(); ++i) same = w->obs[i].trial_index == ws.obs[i].trial_index;
   if (same) out.ws = std::move(w);
@@ -176,7 +182,11 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
     p.ratio_loglik = Ratio(ws, measured, series, m).Loglik(all);
     p.remeasured = Remeasure(ws, measured, m, options);
     if (!p.remeasured.ws) return p;
-    p.fit = FitModel(*p.remeasured.ws, all, st.current.model, free_current, st.current.noise, true, passes);
+    try {
+      p.fit = FitModel(*p.remeasured.ws, all, st.current.model, free_current, st.current.noise, true, passes);
+    } catch (const std::exception&) {
+      return p;  // not a feasible point (see Remeasure)
+    }
     if (!p.fit.ok) return p;
     p.velocity_loglik = p.fit.loglik;
     p.loglik = p.ratio_loglik + p.velocity_loglik;
