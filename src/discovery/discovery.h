@@ -130,7 +130,7 @@ enum class CandidateOutcome {
   kWorseHeldOut,        ///< significant in the fit, but it does not predict held-out trials better
   kBelowResolution,     ///< significant, but smaller than the measurement resolves (out-of-plane
                         ///< tilt within DiscoveryOptions::marker_ratio_tolerance)
-  kNotTested,           ///< see Identifiability::kNotTested
+  kNotTested,           ///< see Identifiability::kNotTested; also a rotation rate the marker layout cannot see
   kConfounded,          ///< see Identifiability::kConfounded
   kNotFitted,           ///< the fit failed (message)
 };
