@@ -2,6 +2,8 @@
 // (docs/discovery.md, "Data and residuals").
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <mutex>
 #include <numbers>
 #include <numeric>
 #include <thread>
@@ -89,13 +91,24 @@ void Workspace::ParallelFor(std::size_t n, const std::function<void(std::size_t)
     for (std::size_t i = 0; i < n; ++i) f(i);
     return;
   }
+  // The first exception of any worker stops the others and is thrown here, after every worker
+  // has joined (one escaping a thread would be std::terminate).
   std::atomic<std::size_t> next{0};
+  std::exception_ptr error;
+  std::mutex error_mutex;
   std::vector<std::thread> pool;
   for (std::size_t w = 0; w < t; ++w)
     pool.emplace_back([&] {
-      for (std::size_t i = next++; i < n; i = next++) f(i);
+      try {
+        for (std::size_t i = next++; i < n; i = next++) f(i);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        next = n;
+      }
     });
   for (auto& th : pool) th.join();
+  if (error) std::rethrow_exception(error);
 }
 
 std::vector<int> Workspace::All() const {
