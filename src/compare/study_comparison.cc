@@ -37,7 +37,14 @@ StudyComparison CompareStudy(const std::vector<pipeline::TrialAnalysis>& trials,
       }
       dynamics::ContactParameters c = m.Contact();
       if (std::isnan(c.mu)) c.mu = 0.0;  // no oblique trials on this surface: frictionless
-      out.trials[i] = CompareTrial(t, c, Uncertainty(m));
+      // One trial that cannot be simulated is recorded as such; it never sinks the study (nor,
+      // thrown from a worker, the program).
+      try {
+        out.trials[i] = CompareTrial(t, c, Uncertainty(m));
+      } catch (const std::exception& e) {
+        out.trials[i] = {};
+        out.trials[i].message = std::string("cannot be compared: ") + e.what();
+      }
     }
   };
   std::vector<std::thread> pool;
