@@ -74,9 +74,16 @@ void Run(AnalyzeArgs& a, RunState& state) {
   for (const auto& w : study.warnings) std::cerr << "hoofimpact: warning: " << w << "\n";
   // What a killed earlier run left beside the output (its temporaries) goes now.
   {
-    const std::filesystem::path parent = std::filesystem::absolute(a.output).parent_path();
-    int stale = io::RemoveStaleTemporaries(parent);
-    if (!a.figures_dir.empty()) stale += io::RemoveStaleTemporaries(a.figures_dir);
+    // Only the study file's own temporaries and figures' (PNG, SVG and their gnuplot scripts):
+    // these folders may hold anyone's files.
+    const std::filesystem::path output = std::filesystem::absolute(a.output);
+    const std::string study_tmp = output.filename().string() + ".tmp-";
+    int stale = io::RemoveStaleTemporaries(output.parent_path(),
+                                           [&](const std::string& name) { return name.rfind(study_tmp, 0) == 0; });
+    if (!a.figures_dir.empty())
+      stale += io::RemoveStaleTemporaries(a.figures_dir, [](const std::string& name) {
+        return name.find(".png.tmp-") != std::string::npos || name.find(".svg.tmp-") != std::string::npos;
+      });
     if (stale > 0) std::cerr << "hoofimpact: removed " << stale << " temporary file(s) a killed run left\n";
   }
 

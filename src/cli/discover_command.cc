@@ -494,7 +494,13 @@ bool RunStudyDiscovery(const std::string& study_h5,
   options.candidates = s.candidates;
   options.per_surface = s.per_surface;
   options.measurement_floor = s.measurement_floor;
-  options.kinematics = studyfile::ReadKinematicsOptions(study_h5);
+  try {
+    options.kinematics = studyfile::ReadKinematicsOptions(study_h5);
+  } catch (const std::exception& e) {
+    // Only a re-measurement with a rotation rate needs them; the defaults are `analyze`'s.
+    std::cerr << "hoofimpact: warning: " << e.what()
+              << "; trials re-measured with an out-of-plane rotation use the default kinematics options\n";
+  }
   try {
     options.Validate();
   } catch (const std::invalid_argument& e) {

@@ -58,7 +58,17 @@ void Run(RunArgs& a, RunState& state) {
   const std::filesystem::path out = a.output_dir;
   std::filesystem::create_directories(out / "figures");
   // What a killed earlier run left (its temporaries) goes now.
-  if (const int stale = io::RemoveStaleTemporaries(out) + io::RemoveStaleTemporaries(out / "figures"); stale > 0)
+  // Only the temporaries of run's own outputs: -o may name a folder that holds other files.
+  const auto run_output = [](const std::string& name) {
+    for (const char* own : {"study.h5.tmp-", "results.csv.tmp-", "stats.csv.tmp-", "report.html.tmp-"})
+      if (name.rfind(own, 0) == 0) return true;
+    return false;
+  };
+  const auto figure = [](const std::string& name) {
+    return name.find(".png.tmp-") != std::string::npos || name.find(".svg.tmp-") != std::string::npos;
+  };
+  if (const int stale = io::RemoveStaleTemporaries(out, run_output) + io::RemoveStaleTemporaries(out / "figures", figure);
+      stale > 0)
     std::cerr << "hoofimpact: removed " << stale << " temporary file(s) a killed run left\n";
   // The study file is built under a temporary name and committed once, complete (measurements,
   // comparison, statistics, discovery): a run killed on the way leaves the previous study.h5.

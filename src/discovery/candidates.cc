@@ -28,6 +28,7 @@ struct Evaluation {
   // model's held-out velocities on them.
   pipeline::OutOfPlaneMotion motion;
   std::shared_ptr<const std::vector<pipeline::TrialAnalysis>> remeasured;
+  std::shared_ptr<Workspace> remeasured_ws;
   CrossValidation velocity_cv;
 };
 
@@ -145,6 +146,7 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
       ev.fit = re.fit;
       ev.motion = re.motion;
       ev.remeasured = re.remeasured;
+      ev.remeasured_ws = re.ws;
       // The held-out gap of the velocities, should it be added: the current model's predictions
       // of the re-measured trials, each fitted without its fold.
       if (ev.c.significant && re.ws) {
@@ -428,6 +430,7 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
   out.tilt = winner->tilt;
   out.motion = winner->motion;
   out.remeasured = winner->remeasured;
+  out.ws = winner->remeasured_ws;
   rd.accepted = w.key;
   // The gap on held-out trials before and after (of the velocities, as measured and as
   // re-measured, for a rotation rate).

@@ -63,7 +63,7 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
   Workspace ws;
   Build(trials, options, &skipped, ws);
   const Workspace* current = &ws;
-  std::unique_ptr<Workspace> remeasured_ws;
+  std::shared_ptr<Workspace> remeasured_ws;
   std::shared_ptr<const std::vector<pipeline::TrialAnalysis>> remeasured;
   out.trials_skipped = skipped;
   out.trials_used = static_cast<int>(ws.obs.size());
@@ -124,10 +124,12 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
       // From now on the trials are the ones re-measured with the motion.
       st.motion = o.motion;
       remeasured = o.remeasured;
-      auto w = std::make_unique<Workspace>();
-      int skipped_again = 0;
-      Build(*remeasured, options, &skipped_again, *w);
-      remeasured_ws = std::move(w);
+      remeasured_ws = o.ws;  // built from them when the rate was evaluated
+      if (!remeasured_ws) {
+        remeasured_ws = std::make_shared<Workspace>();
+        int skipped_again = 0;
+        Build(*remeasured, options, &skipped_again, *remeasured_ws);
+      }
       current = remeasured_ws.get();
       st.current = o.fit;
       st.tilt = FitTilt(*current, all, st.tilt_on);

@@ -42,7 +42,7 @@ namespace hoof::discovery {
 struct LibraryEntry {
   std::string key;        ///< "hunt_crossley", "hertz_stiffness", "plastic_unloading",
                           ///< "static_friction", "tangential_compliance", "rolling_resistance",
-                          ///< "out_of_plane"
+                          ///< "out_of_plane", "out_of_plane_rate", "out_of_plane_roll_rate"
   std::string name;       ///< in words
   std::string parameter;  ///< symbol
   std::string unit;       ///< of the parameter
@@ -55,6 +55,9 @@ struct LibraryEntry {
   /// A tangential spring far stiffer than the normal one makes the contact's equations stiff
   /// and the explicit integrator slow, while it changes nothing measurable.
   double smallest = 0.0;
+  /// A measurement effect that grows through the clip: the trials are re-measured with it
+  /// (a tilt or roll rate, docs/discovery.md "Out-of-plane rotation that grows").
+  bool rotation_rate = false;
 };
 
 /// The library, in a fixed order.

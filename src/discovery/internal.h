@@ -225,6 +225,7 @@ struct RoundOutcome {
   /// A rotation rate: the motion with it, and the trials re-measured with that motion.
   pipeline::OutOfPlaneMotion motion;
   std::shared_ptr<const std::vector<pipeline::TrialAnalysis>> remeasured;
+  std::shared_ptr<Workspace> ws;  // built from `remeasured`, for the rounds after
 };
 /// `residual_current` and `sens` are the current model's residuals and sensitivities of all obs.
 RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const std::vector<Eigen::Vector3d>& residual_current,
@@ -234,7 +235,7 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
 
 // ---- out-of-plane rotation growing in time (out_of_plane.cc) ---------------------------------
 
-/// True for the library keys of a rotation rate ("out_of_plane_rate", "out_of_plane_roll_rate").
+/// True for a library key whose entry is a rotation rate (LibraryEntry::rotation_rate).
 bool IsRotationRate(const std::string& key);
 
 /// A rotation rate's evaluation against the current model: the rate (rad/s) of largest joint
@@ -247,7 +248,7 @@ struct RateEvaluation {
   Fit fit;
   pipeline::OutOfPlaneMotion motion;
   std::shared_ptr<const std::vector<pipeline::TrialAnalysis>> remeasured;
-  std::unique_ptr<Workspace> ws;  // built from `remeasured`
+  std::shared_ptr<Workspace> ws;  // built from `remeasured`
 };
 RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& state, const std::string& key,
                                     const std::vector<std::string>& free_current, double level,

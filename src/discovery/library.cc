@@ -103,12 +103,12 @@ const std::vector<LibraryEntry>& Library() {
        "deg/s", 500.0, 1e4, true,
        "the marker distance dips toward the impact and recovers after it, and the markers on the face "
        "slide sideways: both velocities carry a bias of (thickness / 2) dtilt/dt along x_B",
-       "a second camera or a mirror view (stereo), or markers at two depths"},
+       "a second camera or a mirror view (stereo), or markers at two depths", 0.0, true},
       {"out_of_plane_roll_rate", "out-of-plane roll growing through the impact (a measurement effect)",
        "droll/dt", "deg/s", 500.0, 1e4, true,
        "the marker distance across the specimen dips toward the impact, and the markers on the face "
        "slide along y_B: both velocities carry a bias of (thickness / 2) droll/dt",
-       "a second camera or a mirror view (stereo), or markers at two depths"},
+       "a second camera or a mirror view (stereo), or markers at two depths", 0.0, true},
   };
   return library;
 }

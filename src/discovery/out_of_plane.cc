@@ -159,7 +159,7 @@ struct Point {
 
 }  // namespace
 
-bool IsRotationRate(const std::string& key) { return key == "out_of_plane_rate" || key == "out_of_plane_roll_rate"; }
+bool IsRotationRate(const std::string& key) { return Entry(key).rotation_rate; }
 
 RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, const std::string& key,
                                     const std::vector<std::string>& free_current, double level,
@@ -221,19 +221,20 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
     if (p.loglik > best.loglik) best = std::move(p);
   }
   // The velocities' information about the rate at 0 (for the detection limit), from the probes.
-  const double info_velocity =
-      std::max(0.0, -(velocity[probe] - 2 * velocity[0.0] + velocity[-probe]) / (probe * probe));
+  const double curvature_at_0 = (velocity[probe] - 2 * velocity[0.0] + velocity[-probe]) / (probe * probe);
+  const double info_velocity = std::isfinite(curvature_at_0) ? std::max(0.0, -curvature_at_0) : 0.0;
   if (best.rate != 0.0) {
     // Refine on the best point's side, between a quarter and four times it.
     const double sign = best.rate > 0 ? 1.0 : -1.0;
     const double a = std::abs(best.rate) / 4, b = std::min(upper, 4 * std::abs(best.rate));
     std::uintmax_t iterations = 12;
     auto minus = [&](double r) {
-      const Point p = evaluate(sign * r, kSearchPasses);
-      return std::isfinite(p.loglik) ? -p.loglik : HUGE_VAL;
+      Point p = evaluate(sign * r, kSearchPasses);
+      const double value = std::isfinite(p.loglik) ? -p.loglik : HUGE_VAL;
+      if (p.loglik > best.loglik) best = std::move(p);  // kept: not evaluated again
+      return value;
     };
-    const auto r = boost::math::tools::brent_find_minima(minus, a, b, 10, iterations);
-    if (-r.second > best.loglik) best = evaluate(sign * r.first, kSearchPasses);
+    boost::math::tools::brent_find_minima(minus, a, b, 10, iterations);
   }
   // The final fit at the best rate (the noise model to convergence), and at 0 the same way.
   Point zero_final = evaluate(0.0, 8);
@@ -246,9 +247,9 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
   c.se = kNaN;
   if (fin.rate != 0.0) {
     const double h = 0.1 * std::abs(fin.rate);
+    // At the same passes as the search, whose best point is the middle one.
     const Point lo = evaluate(fin.rate - h, kSearchPasses), hi = evaluate(fin.rate + h, kSearchPasses);
-    const Point mid = evaluate(fin.rate, kSearchPasses);
-    const double curvature = (hi.loglik - 2 * mid.loglik + lo.loglik) / (h * h);
+    const double curvature = (hi.loglik - 2 * best.loglik + lo.loglik) / (h * h);
     if (curvature < 0) c.se = 1 / std::sqrt(-curvature) / kDeg;
   }
   c.values = {EffectValue{key, "", c.estimate, c.se}};
@@ -264,16 +265,29 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
   const double z_level = boost::math::quantile(boost::math::complement(z, level / 2));
   c.wald_clear = c.se > 0 && std::abs(c.estimate) / c.se > z_level;
 
+  // A rotation that does not change the distance of the layout's first two markers (a roll when
+  // they lie along x_B) leaves nothing to hold out: the velocities alone decide.
+  bool ratio_blind = true;
+  {
+    const pipeline::OutOfPlaneMotion with = WithRate(st.motion, key, probe);
+    for (const Obs& o : ws.obs) {
+      const auto& specimen = measured[o.trial_index].spec.specimen;
+      ratio_blind &= std::abs(pipeline::MarkerDistanceRatio(specimen, with.TiltAt(2e-3), with.RollAt(2e-3)) -
+                              pipeline::MarkerDistanceRatio(specimen, st.motion.TiltAt(2e-3), st.motion.RollAt(2e-3))) <
+                     1e-9;
+    }
+  }
+  const RatioTerms none = Ratio(ws, measured, series, st.motion);
+
   // Held out: the marker distance of each fold's trials under the rate fitted without them,
   // against no rate, both in units of the no-rate variance of the other folds.
   CrossValidation cv, cv_none;
   cv.error.assign(ws.obs.size(), kNaN);
   cv_none.error.assign(ws.obs.size(), kNaN);
-  for (int f = 0; f < options.folds; ++f) {
+  for (int f = 0; f < options.folds && !ratio_blind; ++f) {
     std::vector<int> train, test;
     for (int i : all) (ws.obs[static_cast<std::size_t>(i)].fold == f ? test : train).push_back(i);
     const double rate = RatioOnlyRate(ws, measured, series, st, key, train, upper);
-    const RatioTerms none = Ratio(ws, measured, series, st.motion);
     const RatioTerms with = Ratio(ws, measured, series, WithRate(st.motion, key, rate));
     const double var = none.Variance(train);
     if (!(var > 0)) continue;
@@ -294,18 +308,6 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
   c.cv_error = mean(cv.error);
   c.cv_error_current = mean(cv_none.error);
   c.cv_p = PairedImprovementP(cv_none.error, cv.error);
-  // A rotation that does not change the distance of the layout's first two markers (a roll when
-  // they lie along x_B) leaves nothing to hold out: the velocities alone decide.
-  bool ratio_blind = true;
-  {
-    const pipeline::OutOfPlaneMotion with = WithRate(st.motion, key, probe);
-    for (const Obs& o : ws.obs) {
-      const auto& specimen = measured[o.trial_index].spec.specimen;
-      ratio_blind &= std::abs(pipeline::MarkerDistanceRatio(specimen, with.TiltAt(2e-3), with.RollAt(2e-3)) -
-                              pipeline::MarkerDistanceRatio(specimen, st.motion.TiltAt(2e-3), st.motion.RollAt(2e-3))) <
-                     1e-9;
-    }
-  }
   if (ratio_blind || !std::isfinite(c.cv_error)) c.cv_error = c.cv_error_current = c.cv_p = kNaN;
   // Named only with the image's own evidence: a bias of the velocities alone is also what a
   // contact effect on v_x and spin does (the scorecard named a roll rate in studies with rolling
@@ -327,7 +329,6 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
   // the rate) and the marker distance (its dip, each trial's mean removed, over the no-rate
   // variance), gives a two-sided test at `level` 80 % power.
   {
-    const RatioTerms none = Ratio(ws, measured, series, st.motion);
     const double var = none.Variance(all);
     // The velocities' information from the probes; where the noise model's refits bend the
     // log-likelihood there (it takes up a bias at 0), the observed information at the estimate.

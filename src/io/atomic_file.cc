@@ -82,12 +82,14 @@ long TemporaryOwner(const std::string& name) {
 
 }  // namespace
 
-int RemoveStaleTemporaries(const std::filesystem::path& dir) {
+int RemoveStaleTemporaries(const std::filesystem::path& dir, const std::function<bool(const std::string&)>& ours) {
   int removed = 0;
   std::error_code ec;
   std::filesystem::directory_iterator it(dir, ec), end;
   for (; !ec && it != end; it.increment(ec)) {
-    const long pid = TemporaryOwner(it->path().filename().string());
+    const std::string name = it->path().filename().string();
+    if (ours && !ours(name)) continue;
+    const long pid = TemporaryOwner(name);
     if (pid <= 0 || pid == ::getpid()) continue;
     if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
     std::error_code rm;

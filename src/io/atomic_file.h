@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <functional>
 #include <ostream>
+#include <string>
 #include <string_view>
 
 namespace hoof::io {
@@ -31,8 +32,10 @@ void CommitTemporary(const std::filesystem::path& temporary, const std::filesyst
 /// Removes from `dir` (not its sub-folders) the temporaries that a killed process left: files and
 /// folders whose name holds ".tmp-<pid>-<n>" (TemporaryPathFor's, and the renderer's
 /// ".<name>.tmp-<pid>-<n>" folders) for a process id that no longer runs. Another process's
-/// live temporaries, and every other name, are left alone. Returns how many were removed;
-/// never throws.
-int RemoveStaleTemporaries(const std::filesystem::path& dir);
+/// live temporaries, and every other name, are left alone. With `ours`, only names it accepts
+/// (a folder the program does not own, such as the one a study file is written into, holds
+/// other programs' files). Returns how many were removed; never throws.
+int RemoveStaleTemporaries(const std::filesystem::path& dir,
+                           const std::function<bool(const std::string& name)>& ours = {});
 
 }  // namespace hoof::io

@@ -80,6 +80,11 @@ TEST(AtomicFileTest, StaleTemporariesOfDeadProcessesAreRemoved) {
   std::sort(left.begin(), left.end());
   EXPECT_EQ(left, (std::vector<std::string>{"data.tmp-12", "notes.tmp-x", "study.h5", "study.h5.tmp-" + live + "-0"}));
   EXPECT_EQ(RemoveStaleTemporaries(dir / "no-such-folder"), 0);
+  // With a filter, only the temporaries it accepts.
+  for (const std::string& name : {"study.h5.tmp-" + dead + "-1", "other.h5.tmp-" + dead + "-1"})
+    std::ofstream(dir / name) << "x";
+  EXPECT_EQ(RemoveStaleTemporaries(dir, [](const std::string& name) { return name.rfind("study.h5.tmp-", 0) == 0; }), 1);
+  EXPECT_TRUE(fs::exists(dir / ("other.h5.tmp-" + dead + "-1")));
 }
 
 TEST(AtomicFileTest, UnwritableDirectoryNamesThePath) {
