@@ -6,8 +6,11 @@
 #include <opencv2/core/utils/logger.hpp>
 
 #include "cli/commands.h"
+#include "io/interrupt.h"
 
 int main(int argc, char** argv) {
+  // First, before any thread starts: Ctrl-C removes unfinished outputs and ends with 130.
+  hoof::io::HandleInterrupts();
   // OpenCV's own log (backend warnings, assertion texts) never reaches the user: every failure
   // is reported by hoofimpact, naming the file and frame.
   cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);

@@ -1,5 +1,7 @@
 #include "io/atomic_file.h"
 
+#include "io/interrupt.h"
+
 #include <atomic>
 #include <cctype>
 #include <cerrno>
@@ -18,6 +20,7 @@ std::filesystem::path TemporaryPathFor(const std::filesystem::path& path) {
   static std::atomic<unsigned long> counter{0};
   std::filesystem::path tmp = path;
   tmp += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+  TrackTemporary(tmp);  // an interrupt removes it unless it was committed
   return tmp;
 }
 
@@ -25,14 +28,17 @@ void CommitTemporary(const std::filesystem::path& temporary, const std::filesyst
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
     std::filesystem::remove(temporary, ec);
+    UntrackTemporary(temporary);
     throw std::runtime_error("cannot write " + path.string() + ": it is a folder; give a file name");
   }
   std::filesystem::rename(temporary, path, ec);
   if (ec) {
     const std::string why = ec.message();  // before remove() overwrites ec ("Success")
     std::filesystem::remove(temporary, ec);
+    UntrackTemporary(temporary);
     throw std::runtime_error("cannot move " + temporary.string() + " to " + path.string() + ": " + why);
   }
+  UntrackTemporary(temporary);
 }
 
 void WriteFileAtomically(const std::filesystem::path& path,
@@ -56,6 +62,7 @@ void WriteFileAtomically(const std::filesystem::path& path,
   } catch (...) {
     std::error_code ec;
     std::filesystem::remove(tmp, ec);
+    UntrackTemporary(tmp);
     throw;
   }
   CommitTemporary(tmp, path);

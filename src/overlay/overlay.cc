@@ -6,7 +6,6 @@
 #include <limits>
 #include <memory>
 #include <numbers>
-#include <random>
 #include <sstream>
 #include <stdexcept>
 
@@ -14,6 +13,8 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "io/atomic_file.h"
+#include "io/interrupt.h"
 #include "studyfile/study_file.h"
 #include "tracking/frame_source.h"
 
@@ -306,8 +307,8 @@ OverlaySummary RenderTrialOverlay(const fs::path& h5, const std::string& id, con
   const std::string group = fs::path(d.result.group).filename().string();
   sum.dir = opt.output_dir / group;
   fs::create_directories(opt.output_dir);
-  std::mt19937_64 rng(std::random_device{}());
-  const fs::path tmp = opt.output_dir / ("." + group + ".tmp-" + std::to_string(rng() % 1000000000));
+  // ".<group>.tmp-<pid>-<n>": removed by an interrupt, and by a later run if this one is killed.
+  const fs::path tmp = io::TemporaryPathFor(opt.output_dir / ("." + group));
   fs::create_directories(tmp);
   try {
     std::vector<fs::path> tmp_frames;
@@ -338,9 +339,11 @@ OverlaySummary RenderTrialOverlay(const fs::path& h5, const std::string& id, con
     }
     fs::remove_all(sum.dir);
     fs::rename(tmp, sum.dir);
+    io::UntrackTemporary(tmp);
   } catch (...) {
     std::error_code ec;
     fs::remove_all(tmp, ec);
+    io::UntrackTemporary(tmp);
     throw;
   }
   return sum;

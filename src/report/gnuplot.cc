@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "io/atomic_file.h"
+#include "io/interrupt.h"
 #include "io/csv.h"
 
 namespace hoof::report {
@@ -111,6 +112,8 @@ template <class MakeScript>
 void Render(const std::filesystem::path& output, const MakeScript& make_script) {
   const auto tmp_out = io::TemporaryPathFor(output).string() + output.extension().string();
   const auto script = io::TemporaryPathFor(output).string() + ".gp";
+  const std::string err_path = script + ".err";
+  for (const auto& t : {tmp_out, script, err_path}) io::TrackTemporary(t);  // an interrupt removes them
   std::error_code ec;
   if (output.has_parent_path()) std::filesystem::create_directories(output.parent_path(), ec);
   if (ec) throw std::runtime_error(output.string() + ": cannot create its folder: " + ec.message());
@@ -121,7 +124,6 @@ void Render(const std::filesystem::path& output, const MakeScript& make_script) 
   }
   // gnuplot runs without a shell: its only argument is the script's path, its error output goes
   // to a file.
-  const std::string err_path = script + ".err";
   int rc = -1;
   bool missing = false;
   {
@@ -132,13 +134,19 @@ void Render(const std::filesystem::path& output, const MakeScript& make_script) 
     posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
     std::string arg0 = "gnuplot", arg1 = script;
     char* argv[] = {arg0.data(), arg1.data(), nullptr};
+    posix_spawnattr_t attributes;
+    posix_spawnattr_init(&attributes);
+    io::ResetChildSignals(attributes);  // Ctrl-C reaches gnuplot too
     pid_t pid = 0;
-    const int spawned = posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv, environ);
+    const int spawned = posix_spawnp(&pid, "gnuplot", &actions, &attributes, argv, environ);
     posix_spawn_file_actions_destroy(&actions);
+    posix_spawnattr_destroy(&attributes);
     if (spawned == 0) {
+      io::TrackChild(pid);
       int status = 0;
       while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
       }
+      io::UntrackChild(pid);
       rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
       missing = rc == 127;
     } else {
@@ -154,8 +162,11 @@ void Render(const std::filesystem::path& output, const MakeScript& make_script) 
   }
   std::filesystem::remove(script, ec);
   std::filesystem::remove(err_path, ec);
+  io::UntrackTemporary(script);
+  io::UntrackTemporary(err_path);
   if (rc != 0 || !std::filesystem::exists(tmp_out) || std::filesystem::file_size(tmp_out) == 0) {
     std::filesystem::remove(tmp_out, ec);
+    io::UntrackTemporary(tmp_out);
     throw std::runtime_error(output.string() + ": gnuplot failed" +
                              (missing ? " (not installed? tools/install-deps installs gnuplot-nox)" : "") +
                              (err.empty() ? "" : ": " + err));

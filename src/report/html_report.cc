@@ -23,6 +23,7 @@
 
 #include "discovery/discovery_tables.h"
 #include "io/atomic_file.h"
+#include "io/interrupt.h"
 #include "pipeline/study_format.h"
 #include "report/comparison_figures.h"
 #include "report/discovery_figures.h"
@@ -239,11 +240,16 @@ std::string StatsSection(const fs::path& h5) {
   return h.str();
 }
 
-/// A fresh folder name for figures drawn only to be embedded.
-fs::path TemporaryFigureDir() {
-  return fs::temp_directory_path() /
-         ("hoofimpact-report-" + std::to_string(::getpid()) + "-" +
-          std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
+/// A fresh folder for figures drawn only to be embedded, "hoofimpact-report.tmp-<pid>-<n>" in the
+/// system's temporary folder: an interrupt removes it, and the next report removes one that a
+/// killed process left (RemoveStaleReportFolders).
+fs::path TemporaryFigureDir() { return io::TemporaryPathFor(fs::temp_directory_path() / "hoofimpact-report"); }
+
+void RemoveStaleReportFolders() {
+  std::error_code ec;
+  const fs::path tmp = fs::temp_directory_path(ec);
+  if (ec) return;
+  io::RemoveStaleTemporaries(tmp, [](const std::string& name) { return name.rfind("hoofimpact-report.tmp-", 0) == 0; });
 }
 
 /// A PNG figure embedded as a data URI, captioned with its file stem.
@@ -270,9 +276,11 @@ std::string FiguresSection(const studyfile::StudyResults& study, const fs::path&
     }
   } catch (...) {
     fs::remove_all(dir);
+    io::UntrackTemporary(dir);
     throw;
   }
   fs::remove_all(dir);
+  io::UntrackTemporary(dir);
   if (count == 0) h << "<p>No figure: no trial was measured.</p>";
   h << "</div></section>";
   return h.str();
@@ -636,9 +644,11 @@ std::string DiscoverySection(const fs::path& h5, HtmlReportSummary& summary) {
     h << figure_of("discovery_residuals");
   } catch (...) {
     fs::remove_all(dir);
+    io::UntrackTemporary(dir);
     throw;
   }
   fs::remove_all(dir);
+  io::UntrackTemporary(dir);
   h << "</section>";
   return h.str();
 }
@@ -947,6 +957,7 @@ HtmlReportSummary WriteHtmlReport(const fs::path& study_h5, const fs::path& outp
   options.Validate();
   if (!fs::is_regular_file(study_h5))
     throw std::runtime_error(study_h5.string() + ": no such study file");
+  RemoveStaleReportFolders();
   const studyfile::StudyResults study = studyfile::ReadStudyResults(study_h5);
   const auto surfaces = TryReadTable(study_h5, "/comparison/surfaces");
   const auto cmp = TryReadTable(study_h5, "/comparison/trials");

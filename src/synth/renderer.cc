@@ -13,6 +13,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "io/atomic_file.h"
+#include "io/interrupt.h"
 #include "synth/camera_model.h"
 #include "synth/frame_renderer.h"
 #include "synth/trial_files.h"
@@ -110,6 +111,7 @@ class TemporaryFolder {
     static std::atomic<int> counter{0};
     temp_ = target.parent_path() / ("." + target.filename().string() + ".tmp-" +
                                     std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    io::TrackTemporary(temp_);  // an interrupt removes it
     std::error_code ec;
     fs::create_directories(temp_ / "frames", ec);
     if (ec)
@@ -119,6 +121,7 @@ class TemporaryFolder {
   ~TemporaryFolder() {
     std::error_code ec;
     if (!committed_) fs::remove_all(temp_, ec);
+    io::UntrackTemporary(temp_);
   }
   TemporaryFolder(const TemporaryFolder&) = delete;
   TemporaryFolder& operator=(const TemporaryFolder&) = delete;

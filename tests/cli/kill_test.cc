@@ -1,11 +1,15 @@
-// kill -9 at seeded random moments during analyze, run and report (issue 13): the previous
-// outputs stay readable every time, and the next complete run leaves no temporary behind.
+// Jobs ended from outside at seeded random moments: kill -9 during analyze, run, discover and
+// report leaves the previous outputs readable, and the next complete run leaves no temporary
+// behind; Ctrl-C (SIGINT) during the same jobs ends them with exit code 130 and leaves no
+// temporary at all, at once.
 #include <fcntl.h>
+#include <stdlib.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -47,6 +51,38 @@ int Wait(pid_t pid) {
   return status;
 }
 
+/// An eight-trial study (one surface, two angles, four speeds), rendered once and shared by the
+/// tests of this file: enough trials for discovery to run.
+fs::path SmallStudy() {
+  const fs::path dir = fs::path(HOOF_BINARY_DIR) / "test-output" / "kill-study";
+  if (fs::exists(dir / "study.json")) return dir;
+  const fs::path tmp = dir.string() + ".tmp-" + std::to_string(::getpid()) + "-0";
+  fs::remove_all(tmp);
+  fs::create_directories(tmp.parent_path());
+  const pid_t pid = Start({"synth", "--study", "-o", tmp.string(), "--surfaces", "steel", "--angles-deg", "0,20",
+                           "--speeds", "2,2.7,3.4,4", "--trials-per-cell", "1", "--seed", "13"});
+  EXPECT_EQ(Wait(pid), 0);
+  std::error_code ec;
+  fs::rename(tmp, dir, ec);  // another test process may have been first
+  if (ec) fs::remove_all(tmp, ec);
+  return dir;
+}
+
+/// Waits (at most 30 s) until process `pid` blocks SIGINT, which main() does first
+/// (io::HandleInterrupts), read from /proc/<pid>/status.
+bool WaitUntilInterruptsHandled(pid_t pid) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (std::chrono::steady_clock::now() < until) {
+    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+    std::string line;
+    while (std::getline(status, line))
+      if (line.rfind("SigBlk:", 0) == 0 && (std::stoull(line.substr(7), nullptr, 16) >> (SIGINT - 1)) & 1u)
+        return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return false;
+}
+
 /// Names holding ".tmp-" in `dir` (not below it).
 std::vector<std::string> Temporaries(const fs::path& dir) {
   std::vector<std::string> out;
@@ -56,45 +92,108 @@ std::vector<std::string> Temporaries(const fs::path& dir) {
   return out;
 }
 
-TEST(KillTest, AKilledJobLeavesThePreviousOutputsReadableAndTheNextRunCleansUp) {
-  const fs::path root = fs::path(HOOF_BINARY_DIR) / "test-output" / "kill";
-  fs::remove_all(root);
-  fs::create_directories(root);
-  const std::string study = std::string(HOOF_SOURCE_DIR) + "/sample_frames";
-  const fs::path analyzed = root / "study.h5", run = root / "run";
-  const std::vector<std::string> analyze_args = {"analyze", study, "-o", analyzed.string(), "--figures",
-                                                 (root / "figures").string()};
-  const std::vector<std::string> run_args = {"run", study, "-o", run.string()};
-  const std::vector<std::string> report_args = {"report", (run / "study.h5").string(), "-o", (root / "report").string()};
-  // Complete outputs first, and how long each job takes.
-  std::vector<double> seconds;
-  for (const auto* args : {&analyze_args, &run_args, &report_args}) {
-    const auto t0 = std::chrono::steady_clock::now();
-    ASSERT_EQ(Wait(Start(*args)), 0);
-    seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+/// The jobs of these tests, with their outputs under `root`.
+struct Jobs {
+  fs::path root, analyzed, run, discovered, small_h5, tmpdir;
+  std::vector<std::vector<std::string>> args;  // analyze, run, discover, report
+  std::vector<double> seconds;                 // of a complete job each
+
+  explicit Jobs(const std::string& name) {
+    root = fs::path(HOOF_BINARY_DIR) / "test-output" / name;
+    fs::remove_all(root);
+    fs::create_directories(root);
+    // The report's embedded figures go to the system's temporary folder: this one, to look in.
+    tmpdir = root / "tmp";
+    fs::create_directories(tmpdir);
+    ::setenv("TMPDIR", tmpdir.c_str(), 1);
+    const std::string study = std::string(HOOF_SOURCE_DIR) + "/sample_frames";
+    analyzed = root / "study.h5";
+    run = root / "run";
+    small_h5 = root / "small.h5";
+    discovered = root / "discovered.h5";
+    EXPECT_EQ(Wait(Start({"analyze", SmallStudy().string(), "-o", small_h5.string()})), 0);
+    args = {{"analyze", study, "-o", analyzed.string(), "--figures", (root / "figures").string()},
+            {"run", study, "-o", run.string()},
+            {"discover", small_h5.string(), "-o", discovered.string(), "--jobs", "2"},
+            {"report", (run / "study.h5").string(), "-o", (root / "report").string()}};
+    // Complete outputs first, and how long each job takes.
+    for (const auto& a : args) {
+      const auto t0 = std::chrono::steady_clock::now();
+      EXPECT_EQ(Wait(Start(a)), 0);
+      seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
   }
+
+  /// The previous outputs are whole: the study files read, with their comparison, statistics
+  /// and discovery; the report is there; discover's input is as analyze wrote it.
+  void ExpectWhole(const std::string& when, std::uintmax_t small_bytes) const {
+    EXPECT_NO_THROW(hoof::studyfile::ReadStudyResults(analyzed)) << when;
+    EXPECT_NO_THROW(hoof::studyfile::ReadStudyResults(run / "study.h5")) << when;
+    EXPECT_NO_THROW(hoof::studyfile::ReadTable(run / "study.h5", "/comparison/surfaces")) << when;
+    EXPECT_NO_THROW(hoof::studyfile::ReadTable(run / "study.h5", "/stats/e/cells")) << when;
+    EXPECT_NO_THROW(hoof::studyfile::ReadTable(discovered, "/discovery/summary")) << when;
+    EXPECT_THROW(hoof::studyfile::ReadTable(small_h5, "/discovery/summary"), std::exception) << when;
+    EXPECT_EQ(fs::file_size(small_h5), small_bytes) << when;
+    EXPECT_GT(fs::file_size(run / "report.html"), 1000u) << when;
+    EXPECT_GT(fs::file_size(root / "report" / "report.html"), 1000u) << when;
+  }
+
+  std::vector<fs::path> Folders() const {
+    return {root, root / "figures", run, run / "figures", root / "report", tmpdir};
+  }
+};
+
+TEST(KillTest, AKilledJobLeavesThePreviousOutputsReadableAndTheNextRunCleansUp) {
+  Jobs jobs("kill");
+  ASSERT_FALSE(HasFailure());
+  const std::uintmax_t small_bytes = fs::file_size(jobs.small_h5);
   std::mt19937_64 rng(20261123);
-  for (int i = 0; i < 21; ++i) {
-    const int job = i % 3;
-    const auto& args = job == 0 ? analyze_args : job == 1 ? run_args : report_args;
-    std::uniform_real_distribution<double> when(0.0, seconds[static_cast<std::size_t>(job)]);
-    const pid_t pid = Start(args);
+  for (int i = 0; i < 24; ++i) {
+    const std::size_t job = static_cast<std::size_t>(i) % jobs.args.size();
+    std::uniform_real_distribution<double> when(0.0, jobs.seconds[job]);
+    const pid_t pid = Start(jobs.args[job]);
     std::this_thread::sleep_for(std::chrono::duration<double>(when(rng)));
     ::kill(pid, SIGKILL);
     Wait(pid);
-    // The previous outputs are whole: the study files read, the report is there.
-    EXPECT_NO_THROW(hoof::studyfile::ReadStudyResults(analyzed)) << "kill " << i;
-    EXPECT_NO_THROW(hoof::studyfile::ReadStudyResults(run / "study.h5")) << "kill " << i;
-    // and run's study file is complete: the comparison and the statistics are in it.
-    EXPECT_NO_THROW(hoof::studyfile::ReadTable(run / "study.h5", "/comparison/surfaces")) << "kill " << i;
-    EXPECT_NO_THROW(hoof::studyfile::ReadTable(run / "study.h5", "/stats/e/cells")) << "kill " << i;
-    EXPECT_GT(fs::file_size(run / "report.html"), 1000u) << "kill " << i;
+    jobs.ExpectWhole("kill " + std::to_string(i) + " of " + jobs.args[job][0], small_bytes);
   }
   // The next complete runs leave no temporary behind.
-  ASSERT_EQ(Wait(Start(analyze_args)), 0);
-  ASSERT_EQ(Wait(Start(run_args)), 0);
-  for (const fs::path& dir : {root, root / "figures", run, run / "figures"})
+  for (const auto& a : jobs.args) ASSERT_EQ(Wait(Start(a)), 0) << a[0];
+  for (const fs::path& dir : jobs.Folders())
     for (const auto& t : Temporaries(dir)) ADD_FAILURE() << "left behind: " << t;
+}
+
+TEST(KillTest, CtrlCEndsAJobWithCode130AndLeavesNoTemporary) {
+  Jobs jobs("interrupt");
+  ASSERT_FALSE(HasFailure());
+  const std::uintmax_t small_bytes = fs::file_size(jobs.small_h5);
+  std::mt19937_64 rng(20261124);
+  int interrupted = 0;
+  for (int i = 0; i < 16; ++i) {
+    const std::size_t job = static_cast<std::size_t>(i) % jobs.args.size();
+    std::uniform_real_distribution<double> when(0.0, 0.9 * jobs.seconds[job]);
+    const double delay = when(rng);
+    const pid_t pid = Start(jobs.args[job]);
+    // A signal while the program is still being loaded, before main() takes the signals, ends
+    // it by the default action before it has written anything; the random moment counts from
+    // when main() has taken them.
+    EXPECT_TRUE(WaitUntilInterruptsHandled(pid)) << jobs.args[job][0];
+    std::this_thread::sleep_for(std::chrono::duration<double>(delay));
+    ::kill(pid, SIGINT);
+    const int status = Wait(pid);
+    const std::string what = "interrupt " + std::to_string(i) + " of " + jobs.args[job][0] + " after " +
+                             std::to_string(delay) + " s";
+    ASSERT_TRUE(WIFEXITED(status)) << what << ": ended by signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+    // 130 = 128 + SIGINT; 0 when the job finished before the signal came.
+    EXPECT_TRUE(WEXITSTATUS(status) == 130 || WEXITSTATUS(status) == 0) << what << ": exit " << WEXITSTATUS(status);
+    interrupted += WEXITSTATUS(status) == 130;
+    jobs.ExpectWhole(what, small_bytes);
+    // No temporary at all, without waiting for a later run to clean up.
+    for (const fs::path& dir : jobs.Folders())
+      for (const auto& t : Temporaries(dir)) ADD_FAILURE() << what << ": left behind: " << t;
+    for (const auto& e : fs::directory_iterator(jobs.tmpdir)) ADD_FAILURE() << what << ": left behind: " << e.path();
+  }
+  EXPECT_GE(interrupted, 12) << "most signals should come while a job runs";
 }
 
 }  // namespace
