@@ -20,6 +20,7 @@
 #include "cli/common_options.h"
 #include "discovery/discovery.h"
 #include "discovery/discovery_tables.h"
+#include "io/atomic_file.h"
 #include "report/discovery_figures.h"
 #include "report/html_report.h"
 #include "studyfile/study_file.h"
@@ -354,6 +355,7 @@ void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std:
 
 struct DiscoverArgs {
   std::string study_h5;
+  std::string output;  ///< the study file written: a copy of study_h5 with /discovery
   DiscoverSettings settings;
   std::string report;
   std::vector<std::string> plans;  ///< --plan KEY=SIZE
@@ -428,6 +430,12 @@ void PrintPlans(const DiscoverArgs& a, const std::vector<pipeline::TrialAnalysis
   if (a.settings.json) std::cout << all.dump(2) << "\n";
 }
 
+/// `S.h5` -> `S-discovery.h5` beside it.
+fs::path DefaultDiscoveryOutput(const std::string& study_h5) {
+  const fs::path in(study_h5);
+  return in.parent_path() / (in.stem().string() + "-discovery" + (in.has_extension() ? in.extension().string() : ".h5"));
+}
+
 /// The study's trials; errors name the file.
 std::vector<pipeline::TrialAnalysis> ReadTrials(const std::string& h5) {
   if (!fs::is_regular_file(h5)) throw std::runtime_error(h5 + ": no such study file");
@@ -443,27 +451,55 @@ std::vector<pipeline::TrialAnalysis> ReadTrials(const std::string& h5) {
 void Discover(const DiscoverArgs& a, RunState& state) {
   CheckDiscoverSettings(a.settings);
   for (const auto& text : a.plans) ParsePlan(text);  // a bad one is a command-line error first
+  // The input is never modified: the result goes into a copy, written beside the output as a
+  // temporary and renamed over it only when the workflow ran.
+  const fs::path output = a.output.empty() ? DefaultDiscoveryOutput(a.study_h5) : fs::path(a.output);
+  std::error_code ec;
+  if (fs::exists(output, ec) && fs::equivalent(output, a.study_h5, ec))
+    throw CLI::ValidationError("-o", output.string() + " is the input study file; discover never modifies its "
+                                     "input: name another file");
+  if (fs::is_directory(output, ec))
+    throw CLI::ValidationError("-o", output.string() + " is a folder; name the study file to write");
   const auto trials = ReadTrials(a.study_h5);
   if (!a.plans.empty()) {
     PrintPlans(a, trials);
     state.exit_code = kExitOk;
     return;
   }
-  const bool ok = RunStudyDiscovery(a.study_h5, trials, a.settings);
-  // The report, when asked for or when one already lies beside the study file.
-  fs::path report = a.report;
-  if (report.empty()) {
-    const fs::path beside = fs::path(a.study_h5).parent_path() / "report.html";
-    if (fs::is_regular_file(beside)) report = beside;
+  if (!output.parent_path().empty()) fs::create_directories(output.parent_path());
+  const std::string own = output.filename().string() + ".tmp-";
+  if (const int stale = io::RemoveStaleTemporaries(
+          fs::absolute(output).parent_path(), [&](const std::string& name) { return name.rfind(own, 0) == 0; });
+      stale > 0)
+    std::cerr << "hoofimpact: removed " << stale << " temporary file(s) a killed run left\n";
+  const fs::path temporary = io::TemporaryPathFor(output);
+  bool ok = false;
+  try {
+    fs::copy_file(a.study_h5, temporary);
+    DiscoverSettings settings = a.settings;
+    settings.shown_as = output.string();
+    if (settings.figures_dir.empty()) settings.figures_dir = (output.parent_path() / "figures").string();
+    ok = RunStudyDiscovery(temporary.string(), trials, settings);
+    if (ok) io::CommitTemporary(temporary, output);
+  } catch (...) {
+    fs::remove(temporary, ec);
+    throw;
   }
-  if (!report.empty()) {
-    const auto page = report::WriteHtmlReport(a.study_h5, report);
+  if (!ok) {
+    fs::remove(temporary, ec);
+    std::cerr << "hoofimpact: " << output.string() << " not written\n";
+    state.exit_code = kExitFailure;
+    return;
+  }
+  // The report only when asked for, and only of a complete result.
+  if (!a.report.empty()) {
+    const auto page = report::WriteHtmlReport(output.string(), a.report);
     (a.settings.json ? std::cerr : std::cout)
         << "report: " << page.output.string() << " (" << page.bytes / 1024 << " KiB, "
         << page.figures << " figures)\n";
     if (!page.notes.empty()) std::cerr << page.notes;
   }
-  state.exit_code = ok ? kExitOk : kExitFailure;
+  state.exit_code = kExitOk;
 }
 
 }  // namespace
@@ -542,7 +578,7 @@ void RegisterDiscover(CLI::App& app, RunState& state) {
       "discover",
       "Find where the model and the measurements of a study file disagree, name the missing "
       "effect with evidence, add it and show the gap shrink on held-out trials "
-      "(docs/discovery.md); stored under /discovery, with figures");
+      "(docs/discovery.md); written to a copy of the study file under /discovery, with figures");
   cmd->add_option("study_h5", args->study_h5, "Study file written by `hoofimpact run` or `analyze`")
       ->required();
   DiscoverSettings& s = args->settings;
@@ -566,11 +602,14 @@ void RegisterDiscover(CLI::App& app, RunState& state) {
       "--shared-only", [args] { args->settings.per_surface = false; },
       "Give every contact effect one value shared by all surfaces (default: a per-surface "
       "form too, chosen by a likelihood-ratio test)");
+  cmd->add_option("-o,--output", args->output,
+                  "Study file to write: a copy of STUDY_H5 with the result under /discovery (default: "
+                  "STUDY-discovery.h5 beside it); the input is never modified");
   cmd->add_option("--figures", s.figures_dir,
-                  "Folder for the figures (default: figures/ beside the study file)");
+                  "Folder for the figures (default: figures/ beside the output file)");
   cmd->add_option("--report", args->report,
-                  "Rewrite the HTML report to this file (default: report.html beside the study "
-                  "file, when it exists)");
+                  "Also write the HTML report of the output file to this file (only when the "
+                  "workflow ran)");
   cmd->add_flag("--json", s.json, "Print the whole result as one JSON object");
   cmd->add_option("--plan", args->plans,
                   "KEY=SIZE: instead of the workflow, how many trials of this design would detect the "

@@ -57,6 +57,29 @@ TEST(DiscoverCommandTest, AnHdf5FileThatIsNotAStudyFileIsNamed) {
   EXPECT_NE(r.err.find(h5.string()), std::string::npos) << r.err;
 }
 
+TEST(DiscoverCommandTest, TheInputIsNeverTheOutput) {
+  const fs::path dir = FreshDir("discover_command_test/same");
+  const fs::path h5 = dir / "study.h5";
+  const hid_t f = H5Fcreate(h5.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  H5Fclose(f);
+  const auto bytes = fs::file_size(h5);
+  for (const std::string& same : {h5.string(), (dir / "." / "study.h5").string()}) {
+    const auto r = RunHoofimpact("discover " + h5.string() + " -o " + same);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("is the input study file"), std::string::npos) << r.err;
+  }
+  const auto r = RunHoofimpact("discover " + h5.string() + " -o " + dir.string());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("is a folder"), std::string::npos) << r.err;
+  EXPECT_EQ(fs::file_size(h5), bytes);
+  // A study file discovery cannot run on writes nothing: no copy, no figures.
+  const auto bad = RunHoofimpact("discover " + h5.string());
+  EXPECT_EQ(bad.exit_code, 1) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "study-discovery.h5"));
+  EXPECT_FALSE(fs::exists(dir / "figures"));
+}
+
 TEST(DiscoverCommandTest, BadSettingsAreACommandLineError) {
   auto r = RunHoofimpact("discover /nonexistent-folder/study.h5 --folds 1");
   EXPECT_EQ(r.exit_code, 2);
