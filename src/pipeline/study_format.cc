@@ -1,6 +1,8 @@
 #include "pipeline/study_format.h"
 
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -216,10 +218,18 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
                                        "percent sign)");
     const json& first = Require(frames, "first", file, "frames.");
     const json& count = Require(frames, "count", file, "frames.");
-    if (!first.is_number_integer() || first.get<int>() < 0)
-      Fail(file, "frames.first", "must be an integer >= 0, found " + first.dump());
-    if (!count.is_number_integer() || count.get<int>() < 1)
-      Fail(file, "frames.count", "must be an integer >= 1, found " + count.dump());
+    // Compared as 64-bit integers before narrowing, so 4294967297 is refused, not read as 1.
+    constexpr std::int64_t kMaxInt = std::numeric_limits<int>::max();
+    const auto in_range = [&](const json& v, std::int64_t low) {
+      if (!v.is_number_integer()) return false;
+      if (v.is_number_unsigned()) return v.get<std::uint64_t>() <= static_cast<std::uint64_t>(kMaxInt) &&
+                                         static_cast<std::int64_t>(v.get<std::uint64_t>()) >= low;
+      return v.get<std::int64_t>() >= low && v.get<std::int64_t>() <= kMaxInt;
+    };
+    if (!in_range(first, 0))
+      Fail(file, "frames.first", "must be an integer in [0, " + std::to_string(kMaxInt) + "], found " + first.dump());
+    if (!in_range(count, 1))
+      Fail(file, "frames.count", "must be an integer in [1, " + std::to_string(kMaxInt) + "], found " + count.dump());
     t.frames.first = first.get<int>();
     t.frames.count = count.get<int>();
   }
