@@ -83,6 +83,13 @@ TEST(StudyFormatTest, MissingOrWrongFieldsNameFileAndField) {
   trial.replace(trial.find("frames/%06d.png"), 15, "frames/%06d_%d.png");
   ExpectError([&] { ReadTrial(Write("format_twoconversions", kStudy, trial) / "t1"); },
               "field \"frames.pattern\" \"frames/%06d_%d.png\" must hold exactly one integer conversion");
+  // Counts beyond an int are refused, not wrapped (4294967297 = 2^32 + 1 would read as 1).
+  for (const char* count : {"4294967297", "18446744073709551615", "-1", "2.5"}) {
+    trial = kTrial;
+    trial.replace(trial.find("\"count\": 64"), 11, std::string("\"count\": ") + count);
+    ExpectError([&] { ReadTrial(Write("format_count", kStudy, trial) / "t1"); },
+                std::string("field \"frames.count\" must be an integer in [1, 2147483647], found ") + count);
+  }
   std::string study = kStudy;
   study.replace(study.find("\"M2\": [0.024, 0.0]"), 18, "\"M2\": [0.024]");
   ExpectError([&] { ReadStudy(Write("format_badmarker", study, kTrial)); },
