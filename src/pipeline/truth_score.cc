@@ -10,10 +10,25 @@
 namespace hoof::pipeline {
 namespace {
 
+/// `v` as [x, y]; std::runtime_error naming the file and `field` otherwise.
+Eigen::Vector2d Pair(const nlohmann::json& v, const std::string& field, const std::string& file) {
+  if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number())
+    throw std::runtime_error(file + ": field \"" + field + "\" must be [x, y], found " + v.dump());
+  return {v[0].get<double>(), v[1].get<double>()};
+}
+
 Eigen::Vector2d Vec(const nlohmann::json& j, const std::string& key, const std::string& file) {
-  if (!j.contains(key) || !j.at(key).is_array() || j.at(key).size() != 2)
-    throw std::runtime_error(file + ": field \"" + key + "\" is missing or not [x, y]");
-  return {j.at(key)[0].get<double>(), j.at(key)[1].get<double>()};
+  if (!j.contains(key)) throw std::runtime_error(file + ": field \"" + key + "\" is missing");
+  return Pair(j.at(key), key, file);
+}
+
+/// An optional number of a frame (0 when absent).
+double FrameNumber(const nlohmann::json& f, const std::string& key, const std::string& field,
+                   const std::string& file) {
+  if (!f.contains(key)) return 0.0;
+  if (!f.at(key).is_number())
+    throw std::runtime_error(file + ": field \"" + field + "\" must be a number, found " + f.at(key).dump());
+  return f.at(key).get<double>();
 }
 
 double Num(const nlohmann::json& j, const std::string& key, const std::string& file) {
@@ -46,12 +61,18 @@ TrialTruth ReadTruth(const std::filesystem::path& trial_dir) {
                                                                   : std::numeric_limits<double>::quiet_NaN();
   if (!j.contains("frames") || !j.at("frames").is_array())
     throw std::runtime_error(file + ": field \"frames\" is missing");
-  for (const auto& f : j.at("frames")) {
+  const nlohmann::json& frames = j.at("frames");
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const nlohmann::json& f = frames[i];
+    const std::string at = "frames[" + std::to_string(i) + "]";
+    if (!f.is_object() || !f.contains("markers_px") || !f.at("markers_px").is_object())
+      throw std::runtime_error(file + ": field \"" + at + ".markers_px\" is missing or not an object");
     std::map<std::string, Eigen::Vector2d> m;
     for (auto it = f.at("markers_px").begin(); it != f.at("markers_px").end(); ++it)
-      m[it.key()] = {it.value()[0].get<double>(), it.value()[1].get<double>()};
+      m[it.key()] = Pair(it.value(), at + ".markers_px." + it.key(), file);
     t.markers_px.push_back(m);
-    const double tilt = f.value("out_of_plane_tilt_rad", 0.0), roll = f.value("out_of_plane_roll_rad", 0.0);
+    const double tilt = FrameNumber(f, "out_of_plane_tilt_rad", at + ".out_of_plane_tilt_rad", file);
+    const double roll = FrameNumber(f, "out_of_plane_roll_rad", at + ".out_of_plane_roll_rad", file);
     if (tilt != 0.0 || roll != 0.0) t.out_of_plane = true;
   }
   return t;
