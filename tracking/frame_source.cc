@@ -1,8 +1,11 @@
-#include <cctype>
-#include <limits>
 #include "tracking/frame_source.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -92,9 +95,25 @@ cv::Mat ImageSequenceSource::Read(int index) {
   const auto path = PathOf(index);
   if (!std::filesystem::exists(path))
     throw std::runtime_error(path.string() + ": frame " + std::to_string(index) + " is missing");
+  // The file's bytes first: a PNG cut short (a copy that stopped) is named here, before the
+  // decoder sees it and prints libpng's own "Read Error" on stderr.
+  std::vector<unsigned char> bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (!in.good() && !in.eof())
+      throw std::runtime_error(path.string() + ": frame " + std::to_string(index) + " cannot be read");
+  }
+  static constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  static constexpr unsigned char kPngEnd[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xae, 0x42, 0x60, 0x82};
+  if (bytes.size() >= 8 && std::equal(kPngSignature, kPngSignature + 8, bytes.begin()) &&
+      (bytes.size() < 8 + 12 || !std::equal(kPngEnd, kPngEnd + 12, bytes.end() - 12)))
+    throw std::runtime_error(path.string() + ": frame " + std::to_string(index) +
+                             " is cut short (a PNG file without its end chunk, " + std::to_string(bytes.size()) +
+                             " bytes)");
   cv::Mat image;
   try {
-    image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+    image = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
   } catch (const cv::Exception& e) {  // e.g. an image beyond OpenCV's pixel limit
     const bool too_large = e.msg.find("CV_IO_MAX_IMAGE_PIXELS") != std::string::npos;
     throw std::runtime_error(path.string() + ": frame " + std::to_string(index) +

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -78,6 +79,19 @@ TEST(FrameSourceTest, MissingAndCorruptFramesNameTheFile) {
     std::ofstream(dir / "frames/000000.png", std::ios::binary) << png;
     ImageSequenceSource huge(dir, "frames/%06d.png", 0, 1);
     ExpectError([&] { huge.Read(0); }, "000000.png: frame 0 has more pixels than OpenCV decodes");
+  }
+  // A PNG cut short (half of a good one) is named as such, and libpng prints nothing.
+  {
+    const fs::path good = dir / "frames/000003.png";
+    cv::imwrite(good.string(), cv::Mat(64, 80, CV_8U, cv::Scalar(120)));
+    std::ifstream in(good, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(dir / "frames/000004.png", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    ImageSequenceSource cut(dir, "frames/%06d.png", 3, 2);
+    EXPECT_NO_THROW(cut.Read(0));
+    ::testing::internal::CaptureStderr();
+    ExpectError([&] { cut.Read(1); }, "000004.png: frame 1 is cut short (a PNG file without its end chunk");
+    EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
   }
   EXPECT_THROW(ImageSequenceSource(dir, "frames/x.png", 0, 3), std::invalid_argument);
   EXPECT_THROW(ImageSequenceSource(dir, "frames/%d_%d.png", 0, 3), std::invalid_argument);
