@@ -3,6 +3,8 @@
 /// Command-line options shared by several subcommands, and JSON helpers.
 
 #include <cmath>
+#include <cstdlib>
+#include <functional>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -31,6 +33,25 @@ inline const CLI::Validator kNotNegative(
                                                                 : std::string();
     },
     "NOT NEGATIVE");
+
+/// Refuses NaN, infinities and numbers beyond a double (1e999). main() puts it on every
+/// floating-point option of every command.
+inline const CLI::Validator kFinite(
+    [](std::string& text) {
+      char* end = nullptr;
+      const double value = std::strtod(text.c_str(), &end);
+      return end != text.c_str() && !std::isfinite(value) ? std::string("must be a finite number, got " + text)
+                                                         : std::string();
+    },
+    "FINITE");
+
+/// Puts kFinite on every floating-point option of `app`'s subcommands.
+void RequireFiniteNumbers(CLI::App& app);
+
+/// Runs `validate` (a library's options Validate()) and turns the std::invalid_argument it
+/// throws into a command-line error (exit 2). The error names the option of `cmd` whose field
+/// the message names (render.fps -> --fps), else the command.
+void ValidateOptions(const CLI::App* cmd, const std::function<void()>& validate);
 
 /// A number for JSON: null when NaN or infinite.
 inline nlohmann::json JsonNumber(double value) {

@@ -6,6 +6,7 @@
 #include <opencv2/core/utils/logger.hpp>
 
 #include "cli/commands.h"
+#include "cli/common_options.h"
 #include "io/interrupt.h"
 
 int main(int argc, char** argv) {
@@ -32,6 +33,7 @@ int main(int argc, char** argv) {
   hoof::cli::RegisterReport(app, state);
   hoof::cli::RegisterOverlay(app, state);
   hoof::cli::RegisterDiscover(app, state);
+  hoof::cli::RequireFiniteNumbers(app);  // NaN, inf and 1e999 are command-line errors everywhere
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -25,9 +25,11 @@ void RegisterReport(CLI::App& app, RunState& state) {
       ->capture_default_str();
   cmd->add_option("--replay-trials", args->options.replay_trials,
                   "Trials with a replay (one per surface first; 0 = none; 0..50)")
+      ->check(CLI::Range(0, 50))
       ->capture_default_str();
   cmd->add_option("--replay-frames", args->options.frames_per_replay,
                   "Frames per replay, centred on the impact (2..400)")
+      ->check(CLI::Range(2, 400))
       ->capture_default_str();
   cmd->callback([args, &state] {
     const auto summary = report::WriteHtmlReport(

@@ -4,6 +4,7 @@
 // Prints where everything is.
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -204,7 +205,13 @@ void RegisterRun(CLI::App& app, RunState& state) {
   cmd->add_option("-o,--output", args->output_dir, "Output folder")->capture_default_str();
   cmd->add_option("--jobs", args->jobs, "Threads (0 = all cores)")
       ->check(CLI::Range(0, 4096))->capture_default_str();
-  cmd->add_option("--alpha", args->alpha, "Significance level of the statistics")
+  cmd->add_option("--alpha", args->alpha, "Significance level of the statistics, in (0, 0.5)")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            const double a = std::strtod(text.c_str(), nullptr);
+            return a > 0 && a < 0.5 ? std::string() : "must be in (0, 0.5), got " + text;
+          },
+          "(0, 0.5)"))
       ->capture_default_str();
   cmd->add_flag("--trial-figures", args->trial_figures,
                 "Also draw every trial's displacement figure (paper Figure 3)");

@@ -157,17 +157,25 @@ void RegisterSimulate(CLI::App& app, RunState& state) {
       "simulate", "Simulate one impact with the paper's two-phase contact model");
   cmd->add_option("--surface", args->surface, "steel, concrete or asphalt (sets k, b, mu)")
       ->capture_default_str();
-  cmd->add_option("--k", args->k_N_m, "Contact stiffness k (N/m); overrides the surface");
-  cmd->add_option("--b", args->b_N_s_m, "Compression damping b (N s/m); overrides the surface");
-  cmd->add_option("--zeta", args->zeta, "Damping ratio; sets b = 2 zeta sqrt(k m)")
+  cmd->add_option("--k", args->k_N_m, "Contact stiffness k (N/m; 1 to 1e12); overrides the surface")
+      ->check(CLI::Range(1.0, 1e12));
+  cmd->add_option("--b", args->b_N_s_m, "Compression damping b (N s/m; 0 to 1e9); overrides the surface")
+      ->check(CLI::Range(0.0, 1e9));
+  cmd->add_option("--zeta", args->zeta, "Damping ratio (0 to 100); sets b = 2 zeta sqrt(k m)")
+      ->check(CLI::Range(0.0, 100.0))
       ->excludes("--b");
-  cmd->add_option("--mu", args->mu, "Coulomb friction coefficient; overrides the surface");
-  cmd->add_option("--angle-deg", args->angle_deg, "Surface angle phi (deg)")->capture_default_str();
-  cmd->add_option("--speed-m-s", args->speed_m_s, "Vertical impact speed (m/s)")
+  cmd->add_option("--mu", args->mu, "Coulomb friction coefficient (0 to 10); overrides the surface")
+      ->check(CLI::Range(0.0, 10.0));
+  cmd->add_option("--angle-deg", args->angle_deg, "Surface angle phi (deg; 0 to 80)")
+      ->check(CLI::Range(0.0, 80.0))
+      ->capture_default_str();
+  cmd->add_option("--speed-m-s", args->speed_m_s, "Vertical impact speed (m/s; up to 100)")
+      ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   AddSpecimenOptions(cmd, args->specimen);
   AddExtensionOptions(cmd, args->extensions);
-  cmd->add_option("--gravity-m-s2", args->sim.gravity_m_s2, "Gravity g; 0 turns it off")
+  cmd->add_option("--gravity-m-s2", args->sim.gravity_m_s2, "Gravity g (0 to 100); 0 turns it off")
+      ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   cmd->add_option("--rtol", args->sim.relative_tolerance,
                   "Integrator relative tolerance, per state against max(|x|, its scale in the "
@@ -205,6 +213,10 @@ void RegisterSimulate(CLI::App& app, RunState& state) {
 namespace {
 
 void Simulate(SimulateArgs& a, RunState& state) {
+  // The sampling options are checked whether or not --trajectory uses them.
+  if (!(a.fps > 0)) throw std::invalid_argument("--fps must be > 0");
+  if (!(a.touch_fraction >= 0 && a.touch_fraction < 1))
+    throw std::invalid_argument("--touch-fraction must be in [0, 1)");
   {
     dynamics::ContactParameters contact = dynamics::PaperContact(dynamics::ParseSurface(a.surface));
     if (a.k_N_m) contact.k_N_m = *a.k_N_m;

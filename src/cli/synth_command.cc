@@ -174,6 +174,12 @@ void ApplyStudyConfig(const std::string& path, SynthArgs& a) {
   } catch (const nlohmann::json::exception& e) {
     throw std::invalid_argument("--study-config '" + path + "': " + e.what());
   }
+  // The file's values on their own: a bad one is bad input (exit 1) naming the file.
+  try {
+    a.design.Validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
 }
 
 void AddCameraOptions(CLI::App* cmd, SynthArgs& a) {
@@ -218,22 +224,7 @@ void AddCameraOptions(CLI::App* cmd, SynthArgs& a) {
 void AddHiddenOptions(CLI::App* cmd, SynthArgs& a) {
   dynamics::ContactExtensions& x = a.hidden.contact;
   synth::OutOfPlane& o = a.hidden.out_of_plane;
-  cmd->add_option("--hunt-crossley-n-s-m2", x.hunt_crossley_N_s_m2,
-                  "Hidden: Hunt-Crossley damping (N s/m^2)");
-  cmd->add_option("--stiffness-exponent-extra", x.stiffness_exponent_extra,
-                  "Hidden: extra stiffness exponent p, 0.5 = Hertz");
-  cmd->add_option("--stiffness-reference-depth-m", x.stiffness_reference_depth_m,
-                  "Hidden: delta_ref of the nonlinear stiffness (m)");
-  cmd->add_option("--unloading-stiffness-ratio", x.unloading_stiffness_ratio,
-                  "Hidden: plastic unloading, k_u = k (1 + r)");
-  cmd->add_option("--static-friction-excess", x.static_friction_excess, "Hidden: mu_s - mu");
-  cmd->add_option("--tangential-compliance-ratio", x.tangential_compliance_ratio,
-                  "Hidden: k / k_t of the tangential spring");
-  cmd->add_option("--rolling-resistance-m", x.rolling_resistance_m,
-                  "Hidden: rolling resistance arm rho (m)");
-  cmd->add_option("--friction-speed-slope-s-m", x.friction_speed_slope_s_m,
-                  "Hidden: speed-dependent sliding friction mu (1 + s |v_T|) P, s in s/m "
-                  "(outside the discovery library on purpose)");
+  AddExtensionOptions(cmd, x);  // the same options, bounds and help as simulate and fit
   cmd->add_option("--tilt-deg", o.tilt_deg, "Hidden: out-of-plane tilt about y_B at touch (deg)");
   cmd->add_option("--roll-deg", o.roll_deg,
                   "Hidden: out-of-plane roll about the long axis at touch (deg)");
@@ -277,7 +268,7 @@ void CheckArgs(const SynthArgs& a) {
   if (!(a.angle_deg >= 0 && a.angle_deg <= 60))
     Bad("--angle-deg", "must be in [0, 60], got " + std::to_string(a.angle_deg));
   if (a.e && !(*a.e > 0 && *a.e < 1)) Bad("--e", "must be in (0, 1)");
-  if (a.mu && !(*a.mu >= 0)) Bad("--mu", "must be >= 0");
+  if (a.mu && !(*a.mu >= 0 && *a.mu <= 10)) Bad("--mu", "must be in [0, 10]");
   if (!(a.scatter_scale >= 0 && a.scatter_scale <= 4))
     Bad("--scatter-scale", "must be in [0, 4], got " + std::to_string(a.scatter_scale));
   for (double s : a.design.speeds_m_s)
@@ -335,9 +326,8 @@ void WriteContactSheet(const std::string& path, const std::vector<synth::StudyTr
     throw std::runtime_error("cannot write contact sheet '" + path + "'");
 }
 
-void Run(SynthArgs& a, RunState& state, CLI::App* cmd) {
-  while (a.output.size() > 1 && a.output.back() == '/') a.output.pop_back();
-  if (!a.study_config.empty()) ApplyStudyConfig(a.study_config, a);
+/// The command line applied on top of --study-config, and every value checked.
+void ApplyOptions(SynthArgs& a, CLI::App* cmd) {
   synth::StudyDesign& d = a.design;
   if (cmd->count("--seed") > 0) d.seed = a.seed;
   if (cmd->count("--name") > 0) d.name = a.name;
@@ -353,6 +343,18 @@ void Run(SynthArgs& a, RunState& state, CLI::App* cmd) {
   if (!a.markers.empty()) a.geometry.markers = ParseMarkers(a.markers);
   ApplyCameraSwitches(a);
   CheckArgs(a);
+  a.render.Validate();
+  a.geometry.Validate();
+  a.hidden.out_of_plane.Validate();
+  a.hidden.contact.Validate();
+  if (a.study) a.design.Validate();
+}
+
+void Run(SynthArgs& a, RunState& state, CLI::App* cmd) {
+  while (a.output.size() > 1 && a.output.back() == '/') a.output.pop_back();
+  if (!a.study_config.empty()) ApplyStudyConfig(a.study_config, a);  // a bad file: exit 1
+  // The options: an out-of-range value is a command-line error (exit 2) naming the option.
+  ValidateOptions(cmd, [&] { ApplyOptions(a, cmd); });
   const bool tty = ::isatty(STDERR_FILENO) == 1;
   std::vector<synth::StudyTrial> trials;
   double seconds = 0;

@@ -27,6 +27,13 @@ void AddAnalysisOptions(CLI::App* cmd, pipeline::TrialAnalysisOptions& options, 
       ->capture_default_str();
   cmd->add_flag("--scale-from-markers", options.scale_from_markers,
                 "Take the scale from the marker spacing instead of camera.m_per_px");
+  // Out-of-range values are command-line errors (exit 2), found before any trial is read.
+  cmd->parse_complete_callback([cmd, &options] {
+    ValidateOptions(cmd, [&] {
+      options.kinematics.Validate();
+      options.tracker.Validate();
+    });
+  });
 }
 
 void ApplyMethod(const std::string& method, pipeline::TrialAnalysisOptions& options) {

@@ -124,7 +124,11 @@ Eigen::Vector2d Measures(const Eigen::Matrix<double, 8, 1>& q, const SurfaceAxes
 void KinematicsOptions::Validate() const {
   if (fit_frames < 3) throw std::invalid_argument("kinematics fit_frames must be >= 3");
   if (min_fit_frames < 3) throw std::invalid_argument("kinematics min_fit_frames must be >= 3");
-  if (!(max_contact_s >= 0)) throw std::invalid_argument("kinematics max_contact_s must be >= 0");
+  if (fit_frames > 100000) throw std::invalid_argument("kinematics fit_frames must be <= 100000");
+  if (!(max_contact_s >= 0 && max_contact_s <= 1))
+    throw std::invalid_argument("kinematics max_contact_s must be in [0, 1] s");
+  if (!(std::isfinite(exposure_s) && exposure_s <= 1))
+    throw std::invalid_argument("kinematics exposure_s must be <= 1 s (< 0: one frame period)");
   if (!(gravity_m_s2 >= 0)) throw std::invalid_argument("kinematics gravity_m_s2 must be >= 0");
   if (!(confidence > 0 && confidence < 1))
     throw std::invalid_argument("kinematics confidence must be in (0, 1)");

@@ -64,7 +64,16 @@ TEST(SimulateCommandTest, BadInputGivesAClearErrorAndNonZeroExit) {
   // Values out of range are command-line errors (exit 2), like unknown flags.
   auto r = RunHoofimpact("simulate --mass-kg -0.008");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("mass_kg"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--mass-kg"), std::string::npos) << r.err;
+  // Every bound of the physical inputs, and no NaN anywhere; the sampling options are checked
+  // without --trajectory too.
+  for (const char* bad : {"--mass-kg 1e-12", "--speed-m-s 1e300", "--mu nan", "--k inf", "--zeta -1",
+                          "--hunt-crossley-n-s-m2 1e300", "--rolling-resistance-m 5", "--fps -1",
+                          "--touch-fraction nan", "--angle-deg 1e999"}) {
+    r = RunHoofimpact(std::string("simulate ") + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.err;
+    EXPECT_NE(r.err.find(std::string(bad).substr(0, std::string(bad).find(' '))), std::string::npos) << r.err;
+  }
   r = RunHoofimpact("simulate --surface wood");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("wood"), std::string::npos) << r.err;

@@ -82,11 +82,11 @@ TEST(SynthCommandTest, SpeedDependentFrictionIsHiddenAndRecordedInTruth) {
   std::ifstream in_study(study / "asphalt_20deg_v2.50_r1" / "truth.json");
   const auto study_truth = nlohmann::json::parse(in_study);
   EXPECT_EQ(study_truth["model"]["hidden_effects"]["friction_speed_slope_s_m"].get<double>(), 0.25);
-  // A negative slope names the field.
+  // A negative slope is a command-line error naming the option.
   r = RunHoofimpact("synth -o " + Fresh("speed-friction-bad").string() +
                     " --friction-speed-slope-s-m -1");
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("friction_speed_slope_s_m"), std::string::npos) << r.err;
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--friction-speed-slope-s-m"), std::string::npos) << r.err;
 }
 
 TEST(SynthCommandTest, ScatterScaleIsAFlagAndAStudyConfigKeyAndIsRecordedInTruth) {
@@ -113,9 +113,10 @@ TEST(SynthCommandTest, ScatterScaleIsAFlagAndAStudyConfigKeyAndIsRecordedInTruth
   std::ifstream in_study(study / "concrete_10deg_v2.50_r1" / "truth.json");
   EXPECT_EQ(nlohmann::json::parse(in_study)["model"]["scatter_scale"].get<double>(), 0.25);
 
-  // Bad values name the option, or the field when they come from the config.
+  // Bad values name the option (a command-line error, exit 2), or the field and the file when
+  // they come from the config (bad input, exit 1).
   r = RunHoofimpact("synth -o " + Fresh("scatter-scale-bad").string() + " --scatter-scale 5");
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--scatter-scale"), std::string::npos) << r.err;
   {
     std::ofstream out(config);
@@ -125,29 +126,32 @@ TEST(SynthCommandTest, ScatterScaleIsAFlagAndAStudyConfigKeyAndIsRecordedInTruth
                     " --study-config " + config.string());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("scatter_scale"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(config.string()), std::string::npos) << r.err;
 }
 
 TEST(SynthCommandTest, BadInputNamesTheOptionAndFails) {
+  // Option values out of range are command-line errors (exit 2) naming the option; the others
+  // (an unknown surface name) are bad input (exit 1).
   const std::string out = Fresh("bad").string();
   auto r = RunHoofimpact("synth -o " + out + " --speed-m-s -3");
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--speed-m-s"), std::string::npos) << r.err;
   r = RunHoofimpact("synth -o " + out + " --angle-deg 75");
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--angle-deg"), std::string::npos) << r.err;
   r = RunHoofimpact("synth -o " + out + " --surface wood");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("--surface"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("wood"), std::string::npos) << r.err;
   r = RunHoofimpact("synth -o /proc/hoof-no-such/trial");
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--output"), std::string::npos) << r.err;
   r = RunHoofimpact("synth -o " + out + " --study --speeds 2,-1");
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--speeds"), std::string::npos) << r.err;
   r = RunHoofimpact("synth -o " + out + " --tilt-deg 80");
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("tilt_deg"), std::string::npos) << r.err;
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--tilt-deg"), std::string::npos) << r.err;
   r = RunHoofimpact("synth");
   EXPECT_EQ(r.exit_code, 2);  // --output is required
   r = RunHoofimpact("synth --help");
