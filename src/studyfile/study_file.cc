@@ -40,8 +40,16 @@ std::string Join(const std::vector<std::string>& parts, const std::string& separ
     throw std::runtime_error(path.string() +
                              " is not an HDF5 file (study files are written by hoofimpact "
                              "analyze and hoofimpact run)");
-  throw std::runtime_error(path.string() + ": HDF5 error in " + e.getFuncName() + ": " +
-                           e.getDetailMsg());
+  // A file with HDF5's signature that does not open: most often one cut short by a copy or a
+  // killed writer (hoofimpact itself only ever renames complete files into place).
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(path, ec);
+  if (e.getFuncName().find("H5File") != std::string::npos)
+    throw std::runtime_error(path.string() + ": cannot be opened: the HDF5 file is damaged or cut short (" +
+                             (ec ? std::string("size unknown") : std::to_string(bytes) + " bytes") +
+                             "); write it again with hoofimpact analyze or run");
+  throw std::runtime_error(path.string() + ": cannot be read, the HDF5 file is damaged (in " + e.getFuncName() +
+                           ": " + e.getDetailMsg() + ")");
 }
 
 /// Runs `write` on a temporary file beside `path` and renames it over `path`; removes the

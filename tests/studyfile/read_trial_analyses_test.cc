@@ -13,6 +13,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <functional>
 #include <map>
 #include <string>
@@ -496,6 +497,15 @@ TEST(ReadTrialAnalysesTest, AFileThatIsNotAStudyFileIsAnError) {
         .write(type, std::string("something-else/1"));
   });
   ExpectFailureNaming(renamed, "format \"something-else/1\"");
+
+  // A study file cut short (half of it, as a copy that stopped leaves it) is named as such.
+  const fs::path cut = Dir() / "cut.h5";
+  {
+    std::ifstream in(Study().file, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  }
+  ExpectFailureNaming(cut, "cannot be opened: the HDF5 file is damaged or cut short");
 }
 
 TEST(ReadTrialAnalysesTest, AMissingTrialGroupIsNamed) {
