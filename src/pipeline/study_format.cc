@@ -52,6 +52,10 @@ json ReadJson(const fs::path& file) {
 /// Checks the fields of `obj` against the known ones; unknown ones become warnings.
 void WarnUnknown(const json& obj, const std::set<std::string>& known, const fs::path& file,
                  const std::string& prefix, std::vector<std::string>& warnings) {
+  // Found by fuzzing: a specimen, frames or camera that is a number or an array.
+  if (!obj.is_object())
+    Fail(file, prefix.empty() ? std::string("(top level)") : prefix.substr(0, prefix.size() - 1),
+         "must be an object ({...}), found " + std::string(obj.type_name()));
   for (auto it = obj.begin(); it != obj.end(); ++it)
     if (!known.count(it.key()))
       warnings.push_back(file.string() + ": unknown field \"" + prefix + it.key() +

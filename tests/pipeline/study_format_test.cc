@@ -83,6 +83,15 @@ TEST(StudyFormatTest, MissingOrWrongFieldsNameFileAndField) {
   trial.replace(trial.find("frames/%06d.png"), 15, "frames/%06d_%d.png");
   ExpectError([&] { ReadTrial(Write("format_twoconversions", kStudy, trial) / "t1"); },
               "field \"frames.pattern\" \"frames/%06d_%d.png\" must hold exactly one integer conversion");
+  // Found by fuzzing: a specimen, frames or camera that is not an object is named as such.
+  std::string study_bad = kStudy;
+  study_bad.replace(study_bad.find("\"A\": {"), 6, "\"A\": 5.0, \"B\": {");
+  ExpectError([&] { ReadStudy(Write("format_specimen_number", study_bad, kTrial)); },
+              "study.json: field \"specimens.A\" must be an object ({...}), found number");
+  trial = kTrial;
+  trial.replace(trial.find("\"frames\": {"), 11, "\"frames\": [1], \"x\": {");
+  ExpectError([&] { ReadTrial(Write("format_frames_array", kStudy, trial) / "t1"); },
+              "trial.json: field \"frames\" must be an object ({...}), found array");
   // Counts beyond an int are refused, not wrapped (4294967297 = 2^32 + 1 would read as 1).
   for (const char* count : {"4294967297", "18446744073709551615", "-1", "2.5"}) {
     trial = kTrial;
