@@ -18,6 +18,13 @@ namespace fs = std::filesystem;
 using hoof::testing::FreshDir;
 using hoof::testing::RunHoofimpact;
 
+/// An HDF5 file with nothing in it (not a study file).
+fs::path EmptyHdf5(const fs::path& path) {
+  const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (f >= 0) H5Fclose(f);
+  return path;
+}
+
 TEST(DiscoverCommandTest, HelpListsTheOptions) {
   const auto r = RunHoofimpact("discover --help");
   EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -48,10 +55,8 @@ TEST(DiscoverCommandTest, AFileThatIsNotHdf5IsNamed) {
 
 TEST(DiscoverCommandTest, AnHdf5FileThatIsNotAStudyFileIsNamed) {
   const fs::path dir = FreshDir("discover_command_test/empty_h5");
-  const fs::path h5 = dir / "empty.h5";
-  const hid_t f = H5Fcreate(h5.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  ASSERT_GE(f, 0);
-  H5Fclose(f);
+  const fs::path h5 = EmptyHdf5(dir / "empty.h5");
+  ASSERT_TRUE(fs::exists(h5));
   const auto r = RunHoofimpact("discover " + h5.string());
   EXPECT_EQ(r.exit_code, 1) << r.out;
   EXPECT_NE(r.err.find(h5.string()), std::string::npos) << r.err;
@@ -59,10 +64,8 @@ TEST(DiscoverCommandTest, AnHdf5FileThatIsNotAStudyFileIsNamed) {
 
 TEST(DiscoverCommandTest, TheInputIsNeverTheOutput) {
   const fs::path dir = FreshDir("discover_command_test/same");
-  const fs::path h5 = dir / "study.h5";
-  const hid_t f = H5Fcreate(h5.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  ASSERT_GE(f, 0);
-  H5Fclose(f);
+  const fs::path h5 = EmptyHdf5(dir / "study.h5");
+  ASSERT_TRUE(fs::exists(h5));
   const auto bytes = fs::file_size(h5);
   for (const std::string& same : {h5.string(), (dir / "." / "study.h5").string()}) {
     const auto r = RunHoofimpact("discover " + h5.string() + " -o " + same);
