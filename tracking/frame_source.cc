@@ -1,17 +1,20 @@
 #include "tracking/frame_source.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cctype>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <zlib.h>
 
 namespace hoof::tracking {
 
@@ -89,6 +92,35 @@ std::filesystem::path ImageSequenceSource::PathOf(int index) const {
 
 std::string ImageSequenceSource::Describe(int index) const { return PathOf(index).string(); }
 
+namespace {
+
+/// Why the bytes of a PNG file would not decode, or "" (also for a file that is not a PNG: the
+/// decoder judges that). Every chunk's length and CRC-32 is checked, up to the end chunk, so a
+/// file cut short or damaged is named here instead of by libpng, which prints its own message
+/// on stderr ("libpng error: Read Error", "bad adaptive filter value").
+std::string PngProblem(const std::vector<unsigned char>& bytes) {
+  static constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (bytes.size() < 8 || !std::equal(kSignature, kSignature + 8, bytes.begin())) return "";
+  const auto be32 = [&](std::size_t at) {
+    return (std::uint32_t{bytes[at]} << 24) | (std::uint32_t{bytes[at + 1]} << 16) |
+           (std::uint32_t{bytes[at + 2]} << 8) | std::uint32_t{bytes[at + 3]};
+  };
+  const std::string size = " (" + std::to_string(bytes.size()) + " bytes)";
+  for (std::size_t at = 8;;) {
+    if (bytes.size() - at < 12) return "is cut short: a PNG file without its end chunk" + size;
+    const std::uint32_t length = be32(at);
+    if (length > bytes.size() - at - 12) return "is cut short: a PNG chunk runs past the end of the file" + size;
+    const std::string type(bytes.begin() + static_cast<std::ptrdiff_t>(at + 4), bytes.begin() + static_cast<std::ptrdiff_t>(at + 8));
+    const uLong crc = crc32(crc32(0L, Z_NULL, 0), bytes.data() + at + 4, static_cast<uInt>(length + 4));
+    if (crc != be32(at + 8 + length))
+      return "is damaged: its PNG chunk " + type + " at byte " + std::to_string(at) + " fails its CRC check" + size;
+    if (type == "IEND") return "";
+    at += 12 + length;
+  }
+}
+
+}  // namespace
+
 cv::Mat ImageSequenceSource::Read(int index) {
   if (index < 0 || index >= count_)
     throw std::out_of_range("frame " + std::to_string(index) + " is outside the sequence");
@@ -104,13 +136,8 @@ cv::Mat ImageSequenceSource::Read(int index) {
     if (!in.good() && !in.eof())
       throw std::runtime_error(path.string() + ": frame " + std::to_string(index) + " cannot be read");
   }
-  static constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  static constexpr unsigned char kPngEnd[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xae, 0x42, 0x60, 0x82};
-  if (bytes.size() >= 8 && std::equal(kPngSignature, kPngSignature + 8, bytes.begin()) &&
-      (bytes.size() < 8 + 12 || !std::equal(kPngEnd, kPngEnd + 12, bytes.end() - 12)))
-    throw std::runtime_error(path.string() + ": frame " + std::to_string(index) +
-                             " is cut short (a PNG file without its end chunk, " + std::to_string(bytes.size()) +
-                             " bytes)");
+  if (const std::string problem = PngProblem(bytes); !problem.empty())
+    throw std::runtime_error(path.string() + ": frame " + std::to_string(index) + " " + problem);
   cv::Mat image;
   try {
     image = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);

@@ -90,7 +90,15 @@ TEST(FrameSourceTest, MissingAndCorruptFramesNameTheFile) {
     ImageSequenceSource cut(dir, "frames/%06d.png", 3, 2);
     EXPECT_NO_THROW(cut.Read(0));
     ::testing::internal::CaptureStderr();
-    ExpectError([&] { cut.Read(1); }, "000004.png: frame 1 is cut short (a PNG file without its end chunk");
+    ExpectError([&] { cut.Read(1); }, "000004.png: frame 1 is cut short: a PNG");
+    EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+    // Damaged in the middle (bytes of the image data flipped): named by the chunk whose CRC
+    // fails, and again libpng prints nothing.
+    std::string damaged = bytes;
+    for (std::size_t i = 60; i < 90 && i < damaged.size() - 12; ++i) damaged[i] = static_cast<char>(damaged[i] ^ 0x5a);
+    std::ofstream(dir / "frames/000004.png", std::ios::binary | std::ios::trunc) << damaged;
+    ::testing::internal::CaptureStderr();
+    ExpectError([&] { cut.Read(1); }, "000004.png: frame 1 is damaged: its PNG chunk");
     EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
   }
   EXPECT_THROW(ImageSequenceSource(dir, "frames/x.png", 0, 3), std::invalid_argument);
