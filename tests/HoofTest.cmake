@@ -1,4 +1,6 @@
-# hoof_add_test(NAME <name> SOURCES <files...> LIBS <targets...> [LABELS <labels...>])
+# hoof_add_test(NAME <name> SOURCES <files...> LIBS <targets...> [LABELS <label>])
+# One label per executable: gtest_discover_tests writes a list of labels unquoted, and ctest
+# would read the second as a property name.
 # Builds one gtest executable and registers its tests with CTest (gtest_discover_tests),
 # running from the project root so tests can find tests/data and sample_frames.
 include(GoogleTest)

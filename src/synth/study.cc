@@ -94,6 +94,9 @@ StudyResult RenderStudy(const StudyDesign& design, const SpecimenGeometry& geome
   threads = std::min(threads, total);
   const int cv_threads = cv::getNumThreads();
   cv::setNumThreads(threads > 1 ? 1 : cv_threads);  // parallel across trials, not inside
+  // OpenCV makes the operation object of cv::Mat::zeros lazily, unsynchronised (a data race
+  // ThreadSanitizer found between two rendering threads): make it here, before the threads.
+  (void)cv::Mat(cv::Mat::zeros(1, 1, CV_32FC2));
   std::atomic<int> next{0}, done{0};
   std::mutex mutex;
   const auto work = [&] {
