@@ -171,7 +171,9 @@ TEST(KillTest, CtrlCEndsAJobWithCode130AndLeavesNoTemporary) {
   int interrupted = 0;
   for (int i = 0; i < 16; ++i) {
     const std::size_t job = static_cast<std::size_t>(i) % jobs.args.size();
-    std::uniform_real_distribution<double> when(0.0, 0.9 * jobs.seconds[job]);
+    // Within the first half of a complete job's time: the job still runs when the signal
+    // comes even if this run is twice as fast as the measured one (the machine's load varies).
+    std::uniform_real_distribution<double> when(0.0, 0.5 * jobs.seconds[job]);
     const double delay = when(rng);
     const pid_t pid = Start(jobs.args[job]);
     // A signal while the program is still being loaded, before main() takes the signals, ends
@@ -193,6 +195,7 @@ TEST(KillTest, CtrlCEndsAJobWithCode130AndLeavesNoTemporary) {
       for (const auto& t : Temporaries(dir)) ADD_FAILURE() << what << ": left behind: " << t;
     for (const auto& e : fs::directory_iterator(jobs.tmpdir)) ADD_FAILURE() << what << ": left behind: " << e.path();
   }
+  // Not vacuous: most signals came while a job ran (0 means it had finished first).
   EXPECT_GE(interrupted, 12) << "most signals should come while a job runs";
 }
 
