@@ -5,7 +5,6 @@
 #include <cctype>
 #include <cstdio>
 #include <fstream>
-#include <iterator>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -131,9 +130,12 @@ cv::Mat ImageSequenceSource::Read(int index) {
   // decoder sees it and prints libpng's own "Read Error" on stderr.
   std::vector<unsigned char> bytes;
   {
+    // One read of the known size (this runs for every frame of every trial).
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(path, ec);
     std::ifstream in(path, std::ios::binary);
-    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (!in.good() && !in.eof())
+    if (!ec) bytes.resize(static_cast<std::size_t>(size));
+    if (ec || !in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())))
       throw std::runtime_error(path.string() + ": frame " + std::to_string(index) + " cannot be read");
   }
   if (const std::string problem = PngProblem(bytes); !problem.empty())
