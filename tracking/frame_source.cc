@@ -118,6 +118,18 @@ std::string PngProblem(const std::vector<unsigned char>& bytes) {
   }
 }
 
+/// Why the bytes of a JPEG file would not decode whole, or "". libjpeg decodes a file cut short
+/// without complaint, filling the missing rows with grey, and a tracker then misses its markers
+/// in that frame with no hint why. A JPEG ends with its EOI marker (FF D9); a few bytes of
+/// padding after it are allowed, as some cameras write them.
+std::string JpegProblem(const std::vector<unsigned char>& bytes) {
+  if (bytes.size() < 3 || bytes[0] != 0xff || bytes[1] != 0xd8 || bytes[2] != 0xff) return "";
+  const std::size_t from = bytes.size() > 64 ? bytes.size() - 64 : 2;
+  for (std::size_t at = bytes.size() - 1; at > from; --at)
+    if (bytes[at - 1] == 0xff && bytes[at] == 0xd9) return "";
+  return "is cut short: a JPEG file without its end marker (" + std::to_string(bytes.size()) + " bytes)";
+}
+
 }  // namespace
 
 cv::Mat ImageSequenceSource::Read(int index) {
@@ -126,8 +138,8 @@ cv::Mat ImageSequenceSource::Read(int index) {
   const auto path = PathOf(index);
   if (!std::filesystem::exists(path))
     throw std::runtime_error(path.string() + ": frame " + std::to_string(index) + " is missing");
-  // The file's bytes first: a PNG cut short (a copy that stopped) is named here, before the
-  // decoder sees it and prints libpng's own "Read Error" on stderr.
+  // The file's bytes first: a PNG or JPEG cut short (a copy that stopped) is named here, before
+  // the decoder sees it (libpng prints its own "Read Error"; libjpeg decodes the rest as grey).
   std::vector<unsigned char> bytes;
   {
     // One read of the known size (this runs for every frame of every trial).
@@ -138,7 +150,7 @@ cv::Mat ImageSequenceSource::Read(int index) {
     if (ec || !in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())))
       throw std::runtime_error(path.string() + ": frame " + std::to_string(index) + " cannot be read");
   }
-  if (const std::string problem = PngProblem(bytes); !problem.empty())
+  if (std::string problem = PngProblem(bytes); !problem.empty() || !(problem = JpegProblem(bytes)).empty())
     throw std::runtime_error(path.string() + ": frame " + std::to_string(index) + " " + problem);
   cv::Mat image;
   try {

@@ -101,6 +101,23 @@ TEST(FrameSourceTest, MissingAndCorruptFramesNameTheFile) {
     ExpectError([&] { cut.Read(1); }, "000004.png: frame 1 is damaged: its PNG chunk");
     EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
   }
+  // A JPEG cut short decodes without complaint in libjpeg (the missing rows grey); it is named.
+  // A TIFF cut short does not decode, and is named too, with nothing from libtiff on stderr.
+  for (const std::string ext : {"jpg", "tif"}) {
+    const fs::path good = dir / ("frames/000005." + ext);
+    cv::Mat image(64, 80, CV_8U);
+    cv::RNG(12345).fill(image, cv::RNG::UNIFORM, 0, 255);  // noise: a long file to cut
+    ASSERT_TRUE(cv::imwrite(good.string(), image));
+    std::ifstream in(good, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(dir / ("frames/000006." + ext), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    ImageSequenceSource cut(dir, "frames/%06d." + ext, 5, 2);
+    EXPECT_NO_THROW(cut.Read(0)) << ext;
+    ::testing::internal::CaptureStderr();
+    ExpectError([&] { cut.Read(1); }, "000006." + ext + ": frame 1 " +
+                                          (ext == "jpg" ? "is cut short: a JPEG" : "cannot be decoded"));
+    EXPECT_EQ(::testing::internal::GetCapturedStderr(), "") << ext;
+  }
   EXPECT_THROW(ImageSequenceSource(dir, "frames/x.png", 0, 3), std::invalid_argument);
   EXPECT_THROW(ImageSequenceSource(dir, "frames/%d_%d.png", 0, 3), std::invalid_argument);
 }
