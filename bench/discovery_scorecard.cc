@@ -38,6 +38,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "core/parallel.h"
 #include "discovery/discovery.h"
 #include "io/atomic_file.h"
 #include "pipeline/study_analysis.h"
@@ -822,7 +823,7 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
   }
-  if (jobs == 0) jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  jobs = hoof::core::ResolveJobs(jobs);
 
   // The grid, in a fixed order; every design is checked before any work starts.
   std::vector<StudyPoint> points;

@@ -18,6 +18,7 @@
 
 #include "cli/commands.h"
 #include "cli/trial_output.h"
+#include "core/parallel.h"
 #include "io/atomic_file.h"
 #include "pipeline/study_analysis.h"
 #include "pipeline/study_format.h"
@@ -67,8 +68,7 @@ void Run(AnalyzeArgs& a, RunState& state) {
   a.options.tracker.Validate();
   if (a.jobs < 0)
     throw CLI::ValidationError("--jobs", "must be >= 0, got " + std::to_string(a.jobs));
-  const int jobs =
-      a.jobs > 0 ? a.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int jobs = core::ResolveJobs(a.jobs);
   const pipeline::StudySpec study = pipeline::ReadStudy(a.study_dir);
   if (study.trial_dirs.empty()) throw std::runtime_error(a.study_dir + ": the study has no trials");
   for (const auto& w : study.warnings) std::cerr << "hoofimpact: warning: " << w << "\n";

@@ -19,6 +19,7 @@
 #include "cli/commands.h"
 #include "cli/trial_output.h"
 #include "compare/study_comparison.h"
+#include "core/parallel.h"
 #include "io/atomic_file.h"
 #include "pipeline/study_analysis.h"
 #include "report/comparison_figures.h"
@@ -46,8 +47,7 @@ double Since(std::chrono::steady_clock::time_point t0) {
 
 void Run(RunArgs& a, RunState& state) {
   ApplyMethod(a.method, a.options);
-  const int jobs =
-      a.jobs > 0 ? a.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int jobs = core::ResolveJobs(a.jobs);
   DiscoverSettings discover;
   discover.jobs = jobs;
   discover.figures_dir = (std::filesystem::path(a.output_dir) / "figures").string();

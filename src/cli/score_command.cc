@@ -3,15 +3,14 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
-#include <mutex>
 #include <sstream>
-#include <thread>
 
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
 #include "cli/common_options.h"
 #include "cli/trial_output.h"
+#include "core/parallel.h"
 #include "pipeline/truth_score.h"
 
 namespace hoof::cli {
@@ -42,46 +41,36 @@ void RegisterScore(CLI::App& app, RunState& state) {
     std::vector<nlohmann::json> rows(n);
     std::vector<pipeline::TrialScore> scores(n);
     std::vector<char> ok(n, 0);  // not vector<bool>: its packed bits would be a data race between workers
-    std::size_t next = 0;
-    std::mutex mu;
-    auto worker = [&] {
-      while (true) {
-        std::size_t i;
-        {
-          std::lock_guard<std::mutex> lock(mu);
-          if (next >= n) return;
-          i = next++;
+    core::ParallelFor(n, a.jobs, [&](std::size_t i) {
+      nlohmann::json row = {{"dir", study.trial_dirs[i].string()}};
+      try {
+        const auto spec = pipeline::ReadTrial(study.trial_dirs[i], study);
+        const auto r = pipeline::AnalyzeTrial(spec, a.options);
+        row["id"] = spec.id;
+        row["flags"] = r.flags;
+        if (!r.success) {
+          row["error"] = r.error;
+        } else {
+          const auto truth = pipeline::ReadTruth(study.trial_dirs[i]);
+          const auto s = pipeline::ScoreTrial(r, truth);
+          scores[i] = s;
+          ok[i] = 1;
+          row.update({{"marker_rms_px", s.marker_rms_px},
+                      {"marker_max_px", s.marker_max_px},
+                      {"v_before_rel", s.v_before_rel},
+                      {"v_after_rel", s.v_after_rel},
+                      {"w_before_abs", s.w_before_abs},
+                      {"w_after_abs", s.w_after_abs},
+                      {"e_abs", s.e_abs},
+                      {"mu_eff_abs", JsonNumber(s.mu_eff_abs)},
+                      {"impact_time_abs_s", s.impact_time_abs_s},
+                      {"truth_out_of_plane", truth.out_of_plane}});
         }
-        nlohmann::json row = {{"dir", study.trial_dirs[i].string()}};
-        try {
-          const auto spec = pipeline::ReadTrial(study.trial_dirs[i], study);
-          const auto r = pipeline::AnalyzeTrial(spec, a.options);
-          row["id"] = spec.id;
-          row["flags"] = r.flags;
-          if (!r.success) {
-            row["error"] = r.error;
-          } else {
-            const auto truth = pipeline::ReadTruth(study.trial_dirs[i]);
-            const auto s = pipeline::ScoreTrial(r, truth);
-            scores[i] = s;
-            ok[i] = 1;
-            row.update({{"marker_rms_px", s.marker_rms_px}, {"marker_max_px", s.marker_max_px},
-                        {"v_before_rel", s.v_before_rel}, {"v_after_rel", s.v_after_rel},
-                        {"w_before_abs", s.w_before_abs}, {"w_after_abs", s.w_after_abs},
-                        {"e_abs", s.e_abs}, {"mu_eff_abs", JsonNumber(s.mu_eff_abs)},
-                        {"impact_time_abs_s", s.impact_time_abs_s},
-                        {"truth_out_of_plane", truth.out_of_plane}});
-          }
-        } catch (const std::exception& e) {
-          row["error"] = e.what();
-        }
-        rows[i] = row;
+      } catch (const std::exception& e) {
+        row["error"] = e.what();
       }
-    };
-    const int jobs = a.jobs > 0 ? a.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    std::vector<std::thread> pool;
-    for (int j = 0; j < jobs; ++j) pool.emplace_back(worker);
-    for (auto& t : pool) t.join();
+      rows[i] = row;
+    });
 
     // Summary: pooled marker RMS and the worst of every error.
     double ss = 0, worst_v = 0, worst_w = 0, worst_e = 0, worst_mu = 0, worst_marker = 0;

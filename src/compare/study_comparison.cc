@@ -1,10 +1,11 @@
 #include "compare/study_comparison.h"
 
-#include <atomic>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
-#include <thread>
+
+#include "core/parallel.h"
 
 namespace hoof::compare {
 namespace {
@@ -22,35 +23,28 @@ StudyComparison CompareStudy(const std::vector<pipeline::TrialAnalysis>& trials,
     if (t.success) surfaces.insert(t.spec.surface);
   for (const auto& s : surfaces) out.surfaces[s] = FitSurfaceModel(s, trials);
   out.trials.resize(trials.size());
-  std::atomic<std::size_t> next{0};
-  auto worker = [&] {
-    for (std::size_t i = next++; i < trials.size(); i = next++) {
-      const auto& t = trials[i];
-      if (!t.success) {
-        out.trials[i].message = "not measured: " + t.error;
-        continue;
-      }
-      const SurfaceModel& m = out.surfaces.at(t.spec.surface);
-      if (!m.success) {
-        out.trials[i].message = "no model for " + t.spec.surface + ": " + m.message;
-        continue;
-      }
-      dynamics::ContactParameters c = m.Contact();
-      if (std::isnan(c.mu)) c.mu = 0.0;  // no oblique trials on this surface: frictionless
-      // One trial that cannot be simulated is recorded as such; it never sinks the study (nor,
-      // thrown from a worker, the program).
-      try {
-        out.trials[i] = CompareTrial(t, c, Uncertainty(m));
-      } catch (const std::exception& e) {
-        out.trials[i] = {};
-        out.trials[i].message = std::string("cannot be compared: ") + e.what();
-      }
+  core::ParallelFor(trials.size(), std::max(1, jobs), [&](std::size_t i) {
+    const auto& t = trials[i];
+    if (!t.success) {
+      out.trials[i].message = "not measured: " + t.error;
+      return;
     }
-  };
-  std::vector<std::thread> pool;
-  for (int j = 1; j < std::max(1, jobs); ++j) pool.emplace_back(worker);
-  worker();
-  for (auto& th : pool) th.join();
+    const SurfaceModel& m = out.surfaces.at(t.spec.surface);
+    if (!m.success) {
+      out.trials[i].message = "no model for " + t.spec.surface + ": " + m.message;
+      return;
+    }
+    dynamics::ContactParameters c = m.Contact();
+    if (std::isnan(c.mu)) c.mu = 0.0;  // no oblique trials on this surface: frictionless
+    // One trial that cannot be simulated is recorded as such; it never sinks the study (nor,
+    // thrown from a worker, the program).
+    try {
+      out.trials[i] = CompareTrial(t, c, Uncertainty(m));
+    } catch (const std::exception& e) {
+      out.trials[i] = {};
+      out.trials[i].message = std::string("cannot be compared: ") + e.what();
+    }
+  });
   return out;
 }
 

@@ -2,13 +2,11 @@
 // (docs/discovery.md, "Data and residuals").
 #include <algorithm>
 #include <cmath>
-#include <exception>
-#include <mutex>
 #include <numbers>
 #include <numeric>
-#include <thread>
 
 #include "compare/trial_comparison.h"
+#include "core/parallel.h"
 #include "discovery/internal.h"
 
 namespace hoof::discovery::internal {
@@ -86,29 +84,7 @@ std::vector<Sensitivity> Workspace::Sensitivities(const Model& m, const std::vec
 }
 
 void Workspace::ParallelFor(std::size_t n, const std::function<void(std::size_t)>& f) const {
-  const std::size_t t = std::min<std::size_t>(static_cast<std::size_t>(std::max(1, threads)), n);
-  if (t <= 1) {
-    for (std::size_t i = 0; i < n; ++i) f(i);
-    return;
-  }
-  // The first exception of any worker stops the others and is thrown here, after every worker
-  // has joined (one escaping a thread would be std::terminate).
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  std::vector<std::thread> pool;
-  for (std::size_t w = 0; w < t; ++w)
-    pool.emplace_back([&] {
-      try {
-        for (std::size_t i = next++; i < n; i = next++) f(i);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-        next = n;
-      }
-    });
-  for (auto& th : pool) th.join();
-  if (error) std::rethrow_exception(error);
+  core::ParallelFor(n, threads, f);
 }
 
 std::vector<int> Workspace::All() const {
@@ -121,7 +97,7 @@ void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOp
            Workspace& ws) {
   ws.rtol = options.relative_tolerance;
   ws.measurement_floor = options.measurement_floor;
-  ws.threads = options.jobs > 0 ? options.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  ws.threads = core::ResolveJobs(options.jobs);
   std::map<std::string, int> surface_index, cell_index;
   *skipped = 0;
   std::vector<const pipeline::TrialAnalysis*> used;

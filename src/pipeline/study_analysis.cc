@@ -1,10 +1,10 @@
 #include "pipeline/study_analysis.h"
 
 #include <algorithm>
-#include <atomic>
 #include <map>
 #include <mutex>
-#include <thread>
+
+#include "core/parallel.h"
 
 namespace hoof::pipeline {
 
@@ -26,22 +26,14 @@ std::vector<TrialAnalysis> AnalyzeStudy(const StudySpec& study, const TrialAnaly
                                         int jobs, const std::function<void(std::size_t)>& done) {
   const std::size_t n = study.trial_dirs.size();
   std::vector<TrialAnalysis> results(n);
-  std::atomic<std::size_t> next{0};
   std::size_t finished = 0;
   std::mutex mutex;
-  const auto worker = [&] {
-    for (std::size_t i = next++; i < n; i = next++) {
-      results[i] = AnalyzeTrialFolder(study.trial_dirs[i], study, options);
-      const std::lock_guard<std::mutex> lock(mutex);
-      ++finished;
-      if (done) done(finished);
-    }
-  };
-  const std::size_t threads = std::min<std::size_t>(static_cast<std::size_t>(std::max(jobs, 1)), n);
-  std::vector<std::thread> pool;
-  for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+  core::ParallelFor(n, std::max(jobs, 1), [&](std::size_t i) {
+    results[i] = AnalyzeTrialFolder(study.trial_dirs[i], study, options);
+    const std::lock_guard<std::mutex> lock(mutex);
+    ++finished;
+    if (done) done(finished);
+  });
   // Results are keyed by id: a second trial with an id already taken fails, naming both folders.
   std::map<std::string, std::size_t> first;
   for (std::size_t i = 0; i < n; ++i) {

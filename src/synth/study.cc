@@ -1,7 +1,6 @@
 #include "synth/study.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -9,10 +8,10 @@
 #include <random>
 #include <sstream>
 #include <stdexcept>
-#include <thread>
 
 #include <opencv2/core/utility.hpp>
 
+#include "core/parallel.h"
 #include "io/atomic_file.h"
 #include "synth/projection.h"
 #include "synth/trial_files.h"
@@ -90,36 +89,27 @@ StudyResult RenderStudy(const StudyDesign& design, const SpecimenGeometry& geome
   const SceneAssets assets = BuildSceneAssets(geometry, options, used, design.seed);
 
   const int total = static_cast<int>(result.trials.size());
-  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  threads = std::min(threads, total);
+  threads = std::min(core::ResolveJobs(threads), std::max(total, 1));
   const int cv_threads = cv::getNumThreads();
   cv::setNumThreads(threads > 1 ? 1 : cv_threads);  // parallel across trials, not inside
   // OpenCV makes the operation object of cv::Mat::zeros lazily, unsynchronised (a data race
   // ThreadSanitizer found between two rendering threads): make it here, before the threads.
   (void)cv::Mat(cv::Mat::zeros(1, 1, CV_32FC2));
-  std::atomic<int> next{0}, done{0};
+  int done = 0;
   std::mutex mutex;
-  const auto work = [&] {
-    for (int i = next++; i < total; i = next++) {
-      StudyTrial& st = result.trials[i];
-      try {
-        st.result =
-            RenderTrial(st.spec, geometry, options, assets, study_dir / st.spec.id, overwrite);
-        st.ok = true;
-      } catch (const std::exception& e) {
-        st.error = e.what();
-      }
-      const int n = ++done;
-      if (progress) {
-        const std::lock_guard<std::mutex> lock(mutex);
-        progress(n, total, st.spec.id);
-      }
+  core::ParallelFor(result.trials.size(), threads, [&](std::size_t i) {
+    StudyTrial& st = result.trials[i];
+    try {
+      st.result =
+          RenderTrial(st.spec, geometry, options, assets, study_dir / st.spec.id, overwrite);
+      st.ok = true;
+    } catch (const std::exception& e) {
+      st.error = e.what();
     }
-  };
-  std::vector<std::thread> pool;
-  for (int k = 1; k < threads; ++k) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
+    const std::lock_guard<std::mutex> lock(mutex);
+    ++done;
+    if (progress) progress(done, total, st.spec.id);
+  });
   cv::setNumThreads(cv_threads);
 
   std::vector<std::string> ids;

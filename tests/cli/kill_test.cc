@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -26,7 +27,22 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// Starts hoofimpact with `args` (no shell; output to /dev/null) and returns its pid.
+/// Where the last job started by this test process wrote its stderr (shown when a job fails).
+fs::path StderrLog() {
+  return fs::path(HOOF_BINARY_DIR) / "test-output" /
+         ("kill-test-" + std::to_string(::getpid()) + ".stderr");
+}
+
+/// The stderr of the last job started, to explain a failure.
+std::string LastStderr() {
+  std::ifstream in(StderrLog());
+  std::stringstream text;
+  text << in.rdbuf();
+  return "\nits stderr:\n" + text.str();
+}
+
+/// Starts hoofimpact with `args` (no shell; stdout to /dev/null, stderr to StderrLog()) and
+/// returns its pid.
 pid_t Start(const std::vector<std::string>& args) {
   std::vector<std::string> all = {HOOF_CLI_PATH};
   all.insert(all.end(), args.begin(), args.end());
@@ -36,7 +52,10 @@ pid_t Start(const std::vector<std::string>& args) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  fs::create_directories(StderrLog().parent_path());
+  const std::string log = StderrLog().string();
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, log.c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
   pid_t pid = 0;
   const int rc = posix_spawn(&pid, HOOF_CLI_PATH, &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
@@ -61,8 +80,15 @@ fs::path SmallStudy() {
   fs::create_directories(tmp.parent_path());
   const pid_t pid = Start({"synth", "--study", "-o", tmp.string(), "--surfaces", "steel", "--angles-deg", "0,20",
                            "--speeds", "2,2.7,3.4,4", "--trials-per-cell", "1", "--seed", "13"});
-  EXPECT_EQ(Wait(pid), 0);
+  const int status = Wait(pid);
+  EXPECT_EQ(status, 0) << LastStderr();
   std::error_code ec;
+  if (status != 0) {  // nothing half made takes the study's place
+    fs::remove_all(tmp, ec);
+    return dir;
+  }
+  // A folder without study.json is what a killed earlier run of this test left: not a study.
+  if (!fs::exists(dir / "study.json")) fs::remove_all(dir, ec);
   fs::rename(tmp, dir, ec);  // another test process may have been first
   if (ec) fs::remove_all(tmp, ec);
   return dir;
@@ -111,7 +137,8 @@ struct Jobs {
     run = root / "run";
     small_h5 = root / "small.h5";
     discovered = root / "discovered.h5";
-    EXPECT_EQ(Wait(Start({"analyze", SmallStudy().string(), "-o", small_h5.string()})), 0);
+    EXPECT_EQ(Wait(Start({"analyze", SmallStudy().string(), "-o", small_h5.string()})), 0)
+        << LastStderr();
     args = {{"analyze", study, "-o", analyzed.string(), "--figures", (root / "figures").string()},
             {"run", study, "-o", run.string()},
             {"discover", small_h5.string(), "-o", discovered.string(), "--jobs", "2"},
@@ -119,7 +146,7 @@ struct Jobs {
     // Complete outputs first, and how long each job takes.
     for (const auto& a : args) {
       const auto t0 = std::chrono::steady_clock::now();
-      EXPECT_EQ(Wait(Start(a)), 0);
+      EXPECT_EQ(Wait(Start(a)), 0) << a[0] << LastStderr();
       seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
   }
@@ -158,7 +185,7 @@ TEST(KillTest, AKilledJobLeavesThePreviousOutputsReadableAndTheNextRunCleansUp) 
     jobs.ExpectWhole("kill " + std::to_string(i) + " of " + jobs.args[job][0], small_bytes);
   }
   // The next complete runs leave no temporary behind.
-  for (const auto& a : jobs.args) ASSERT_EQ(Wait(Start(a)), 0) << a[0];
+  for (const auto& a : jobs.args) ASSERT_EQ(Wait(Start(a)), 0) << a[0] << LastStderr();
   for (const fs::path& dir : jobs.Folders())
     for (const auto& t : Temporaries(dir)) ADD_FAILURE() << "left behind: " << t;
 }
@@ -187,7 +214,8 @@ TEST(KillTest, CtrlCEndsAJobWithCode130AndLeavesNoTemporary) {
                              std::to_string(delay) + " s";
     ASSERT_TRUE(WIFEXITED(status)) << what << ": ended by signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
     // 130 = 128 + SIGINT; 0 when the job finished before the signal came.
-    EXPECT_TRUE(WEXITSTATUS(status) == 130 || WEXITSTATUS(status) == 0) << what << ": exit " << WEXITSTATUS(status);
+    EXPECT_TRUE(WEXITSTATUS(status) == 130 || WEXITSTATUS(status) == 0)
+        << what << ": exit " << WEXITSTATUS(status) << LastStderr();
     interrupted += WEXITSTATUS(status) == 130;
     jobs.ExpectWhole(what, small_bytes);
     // No temporary at all, without waiting for a later run to clean up.
