@@ -21,6 +21,7 @@
 #include "discovery/discovery.h"
 #include "discovery/discovery_tables.h"
 #include "io/atomic_file.h"
+#include "io/interrupt.h"
 #include "report/discovery_figures.h"
 #include "report/html_report.h"
 #include "studyfile/study_file.h"
@@ -475,7 +476,10 @@ void Discover(const DiscoverArgs& a, RunState& state) {
   const fs::path temporary = io::TemporaryPathFor(output);
   bool ok = false;
   try {
-    fs::copy_file(a.study_h5, temporary);
+    {
+      const io::CreatingTemporary creating;
+      fs::copy_file(a.study_h5, temporary);
+    }
     DiscoverSettings settings = a.settings;
     settings.shown_as = output.string();
     if (settings.figures_dir.empty()) settings.figures_dir = (output.parent_path() / "figures").string();

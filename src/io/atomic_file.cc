@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -25,6 +26,7 @@ std::filesystem::path TemporaryPathFor(const std::filesystem::path& path) {
 }
 
 void CommitTemporary(const std::filesystem::path& temporary, const std::filesystem::path& path) {
+  const CreatingTemporary creating;  // `path` may itself be a temporary (run's study file)
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
     std::filesystem::remove(temporary, ec);
@@ -43,6 +45,7 @@ void CommitTemporary(const std::filesystem::path& temporary, const std::filesyst
 
 void WriteFileAtomically(const std::filesystem::path& path,
                          const std::function<void(std::ostream&)>& write) {
+  std::optional<CreatingTemporary> creating(std::in_place);  // until the temporary is open
   if (path.has_parent_path()) {
     std::error_code ec;
     std::filesystem::create_directories(path.parent_path(), ec);
@@ -53,6 +56,7 @@ void WriteFileAtomically(const std::filesystem::path& path,
   const std::filesystem::path tmp = TemporaryPathFor(path);
   try {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    creating.reset();
     if (!out) throw std::runtime_error("cannot open " + tmp.string() + " for writing");
     write(out);
     out.flush();

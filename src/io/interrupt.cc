@@ -1,12 +1,15 @@
 #include "io/interrupt.h"
 
 #include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <mutex>
 #include <set>
+#include <shared_mutex>
 #include <string>
 #include <system_error>
 #include <thread>
@@ -15,6 +18,7 @@ namespace hoof::io {
 namespace {
 
 struct Registry {
+  std::shared_mutex creating;  // shared while a temporary is made; the interrupt takes it whole
   std::mutex mutex;
   std::set<std::filesystem::path> temporaries;
   std::set<pid_t> children;
@@ -37,12 +41,27 @@ sigset_t InterruptSignals() {
 [[noreturn]] void OnInterrupt(int signal) {
   Registry& r = TheRegistry();
   std::size_t removed = 0;
+  // Held until the process ends: the temporaries under way are made first, and no more after.
+  r.creating.lock();
   {
     std::lock_guard<std::mutex> lock(r.mutex);
-    for (const pid_t child : r.children) ::kill(child, SIGTERM);
+    // A child (gnuplot) writes temporaries of its own: it is ended, and waited for, first.
+    for (const pid_t child : r.children) {
+      ::kill(child, SIGKILL);
+      while (::waitpid(child, nullptr, 0) < 0 && errno == EINTR) {
+      }  // ECHILD: the thread that started it has waited for it already
+    }
     for (const auto& path : r.temporaries) {
+      // A folder can gain a file from a thread that is writing into it while it is removed;
+      // that file is removed on the next pass (no new one can start once the folder is gone).
       std::error_code ec;
-      if (std::filesystem::remove_all(path, ec) > 0) ++removed;
+      for (int pass = 0; pass < 10; ++pass) {
+        const auto count = std::filesystem::remove_all(path, ec);
+        if (!ec) {
+          removed += count > 0;
+          break;
+        }
+      }
     }
   }
   const std::string message = std::string("\nhoofimpact: interrupted (") + ::strsignal(signal) + "); " +
@@ -53,6 +72,18 @@ sigset_t InterruptSignals() {
 }
 
 }  // namespace
+
+// Re-entrant within a thread (a temporary made while making another): the shared lock is taken
+// once per thread, as taking it twice would be undefined.
+thread_local int creating_depth = 0;
+
+CreatingTemporary::CreatingTemporary() {
+  if (creating_depth++ == 0) TheRegistry().creating.lock_shared();
+}
+
+CreatingTemporary::~CreatingTemporary() {
+  if (--creating_depth == 0) TheRegistry().creating.unlock_shared();
+}
 
 void TrackTemporary(const std::filesystem::path& path) {
   Registry& r = TheRegistry();

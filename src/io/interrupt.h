@@ -19,7 +19,22 @@ void TrackTemporary(const std::filesystem::path& path);
 /// Forgets a temporary: it was committed (renamed into place) or removed.
 void UntrackTemporary(const std::filesystem::path& path);
 
-/// Records a child process an interrupt must end (SIGTERM), and forgets it once it was waited for.
+/// Held while a temporary, or a folder on the way to one, is made: a file opened or copied to, a
+/// folder created, a temporary renamed. An interrupt waits for the ones under way and lets none
+/// start after, so a temporary it removes is not made again before the process ends. Files made
+/// inside a temporary folder need none: once the folder is gone they cannot be made, and one
+/// made while it is being removed is removed on the next pass.
+class CreatingTemporary {
+ public:
+  CreatingTemporary();
+  ~CreatingTemporary();
+  CreatingTemporary(const CreatingTemporary&) = delete;
+  CreatingTemporary& operator=(const CreatingTemporary&) = delete;
+};
+
+/// Records a child process an interrupt must end (SIGKILL, then waited for), and forgets it once
+/// it was waited for. Start and record it while holding a CreatingTemporary, so an interrupt
+/// never misses a child that is about to write a temporary.
 void TrackChild(pid_t pid);
 void UntrackChild(pid_t pid);
 
@@ -29,8 +44,9 @@ void UntrackChild(pid_t pid);
 void ResetChildSignals(posix_spawnattr_t& attributes);
 
 /// Call first in main(), before any other thread starts. SIGINT, SIGTERM and SIGHUP are then
-/// blocked in every thread and taken by one thread of their own, which ends the tracked
-/// children, removes the tracked temporaries, says so on stderr and ends the process with
+/// blocked in every thread and taken by one thread of their own, which waits for the temporaries
+/// being made (CreatingTemporary), ends the tracked children, removes the tracked temporaries,
+/// says so on stderr and ends the process with
 /// exit code 128 + the signal's number (130 for Ctrl-C). Outputs already renamed into place are
 /// complete and stay; no partial output is left.
 void HandleInterrupts();

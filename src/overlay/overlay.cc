@@ -309,7 +309,10 @@ OverlaySummary RenderTrialOverlay(const fs::path& h5, const std::string& id, con
   fs::create_directories(opt.output_dir);
   // ".<group>.tmp-<pid>-<n>": removed by an interrupt, and by a later run if this one is killed.
   const fs::path tmp = io::TemporaryPathFor(opt.output_dir / ("." + group));
-  fs::create_directories(tmp);
+  {
+    const io::CreatingTemporary creating;
+    fs::create_directories(tmp);
+  }
   try {
     std::vector<fs::path> tmp_frames;
     for (int f = 0; f < source->count(); ++f) {

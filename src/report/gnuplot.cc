@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -115,7 +116,10 @@ void Render(const std::filesystem::path& output, const MakeScript& make_script) 
   const std::string err_path = script + ".err";
   for (const auto& t : {tmp_out, script, err_path}) io::TrackTemporary(t);  // an interrupt removes them
   std::error_code ec;
-  if (output.has_parent_path()) std::filesystem::create_directories(output.parent_path(), ec);
+  if (output.has_parent_path()) {
+    const io::CreatingTemporary creating;  // the folder may be a temporary (the report's figures)
+    std::filesystem::create_directories(output.parent_path(), ec);
+  }
   if (ec) throw std::runtime_error(output.string() + ": cannot create its folder: " + ec.message());
   try {
     io::WriteTextAtomically(script, make_script(tmp_out));
@@ -138,11 +142,13 @@ void Render(const std::filesystem::path& output, const MakeScript& make_script) 
     posix_spawnattr_init(&attributes);
     io::ResetChildSignals(attributes);  // Ctrl-C reaches gnuplot too
     pid_t pid = 0;
+    std::optional<io::CreatingTemporary> creating(std::in_place);  // an interrupt sees the child
     const int spawned = posix_spawnp(&pid, "gnuplot", &actions, &attributes, argv, environ);
     posix_spawn_file_actions_destroy(&actions);
     posix_spawnattr_destroy(&attributes);
+    if (spawned == 0) io::TrackChild(pid);
+    creating.reset();
     if (spawned == 0) {
-      io::TrackChild(pid);
       int status = 0;
       while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
       }

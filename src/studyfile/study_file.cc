@@ -15,6 +15,7 @@
 
 #include "io/atomic_file.h"
 #include "io/csv.h"
+#include "io/interrupt.h"
 #include "studyfile/hdf5_util.h"
 
 #ifndef HOOF_VERSION
@@ -58,6 +59,9 @@ void AtomicHdf5(const std::filesystem::path& path,
                 const std::function<void(const std::filesystem::path&)>& prepare,
                 const std::function<void(const std::filesystem::path&)>& write) {
   H5::Exception::dontPrint();
+  // Held while the temporary is made and written (HDF5 creates it inside `write`): an interrupt
+  // waits for it rather than leave one made after its removal.
+  const io::CreatingTemporary creating;
   if (path.has_parent_path()) {
     std::error_code ec;
     std::filesystem::create_directories(path.parent_path(), ec);

@@ -111,6 +111,7 @@ class TemporaryFolder {
     static std::atomic<int> counter{0};
     temp_ = target.parent_path() / ("." + target.filename().string() + ".tmp-" +
                                     std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    const io::CreatingTemporary creating;
     io::TrackTemporary(temp_);  // an interrupt removes it
     std::error_code ec;
     fs::create_directories(temp_ / "frames", ec);
