@@ -47,12 +47,12 @@ const char* ToString(FrictionMode mode) {
 }
 
 ImpactConditions ImpactConditions::Paper(double speed_m_s, double surface_angle_deg) {
-  const double phi = surface_angle_deg * std::numbers::pi / 180.0;
+  const auto R_WS = core::SurfaceRotation::FromDegrees(surface_angle_deg);
   ImpactConditions c;
-  c.surface_angle_rad = phi;
-  c.v_SC_m_s = {speed_m_s * std::sin(phi), -speed_m_s * std::cos(phi)};
+  c.surface_angle_rad = R_WS.phi_rad();
+  c.v_SC_m_s = R_WS.ToS({0.0, -speed_m_s});     // dropped: straight down in W
   c.w_rad_s = 0.0;
-  c.theta_S_rad = phi + 0.5 * std::numbers::pi;
+  c.theta_S_rad = R_WS.AngleToS(0.5 * std::numbers::pi);  // held upright in W
   return c;
 }
 
@@ -82,7 +82,7 @@ void SimulatorOptions::Validate() const {
 }
 
 Eigen::Vector2d GravityInSurfaceFrame(double surface_angle_rad, double gravity_m_s2) {
-  return {gravity_m_s2 * std::sin(surface_angle_rad), -gravity_m_s2 * std::cos(surface_angle_rad)};
+  return core::SurfaceRotation(surface_angle_rad).GravityInS(gravity_m_s2);
 }
 
 BodyState PropagateFlight(const BodyState& state, const Eigen::Vector2d& g_S_m_s2, double t_s) {

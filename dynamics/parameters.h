@@ -6,10 +6,12 @@
 #include <string>
 #include <string_view>
 
+#include "core/frames.h"
+
 namespace hoof::dynamics {
 
 /// Standard gravity used by the paper (m/s^2).
-inline constexpr double kStandardGravity_m_s2 = 9.81;
+inline constexpr double kStandardGravity_m_s2 = core::kStandardGravity_m_s2;
 
 /// Rigid hoof-wall specimen (paper section 2.1). The paper gives m and R; d and I_C are
 /// derived (SCIENCE.md section 3): d is the centre of the 45 mm bar minus R, and

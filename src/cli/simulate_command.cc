@@ -13,6 +13,7 @@
 
 #include "cli/commands.h"
 #include "cli/common_options.h"
+#include "core/frames.h"
 #include "dynamics/impact_simulator.h"
 #include "io/atomic_file.h"
 #include "io/csv.h"
@@ -60,21 +61,21 @@ std::vector<double> SampleTimes(const SimulateArgs& a, double contact_s) {
 void WriteTrajectory(const std::string& path, const std::vector<TrajectorySample>& samples,
                      double phi) {
   // World frame W: origin at the first-touch contact point, x right, y up.
-  const double c = std::cos(phi), s = std::sin(phi);
+  const core::SurfaceRotation R_WS(phi);
   io::WriteFileAtomically(path, [&](std::ostream& out) {
     out << "t_s,phase,friction,p_SC_x_m,p_SC_y_m,theta_S_rad,v_SC_x_m_s,v_SC_y_m_s,w_rad_s,"
            "p_SE_x_m,p_SE_y_m,v_ST_x_m_s,v_ST_y_m_s,delta_m,normal_force_N,friction_force_N,"
            "kinetic_energy_J,potential_energy_J,p_WC_x_m,p_WC_y_m,theta_W_rad\n";
     for (const auto& p : samples) {
       const Eigen::Vector2d& q = p.body.p_SC;
-      const Eigen::Vector2d p_WC{c * q.x() + s * q.y(), -s * q.x() + c * q.y()};
+      const Eigen::Vector2d p_WC = R_WS.ToW(q);
       const double values[] = {p.t_s,          q.x(),         q.y(),
                                p.body.theta_S_rad, p.body.v_SC.x(), p.body.v_SC.y(),
                                p.body.w_rad_s,  p.p_SE.x(),    p.p_SE.y(),
                                p.v_ST.x(),      p.v_ST.y(),    p.delta_m,
                                p.normal_force_N, p.friction_force_N, p.kinetic_energy_J,
                                p.potential_energy_J, p_WC.x(), p_WC.y(),
-                               p.body.theta_S_rad - phi};
+                               R_WS.AngleToW(p.body.theta_S_rad)};
       out << io::CsvNumber(values[0]) << "," << dynamics::ToString(p.phase) << ","
           << dynamics::ToString(p.friction);
       for (std::size_t i = 1; i < std::size(values); ++i) out << "," << io::CsvNumber(values[i]);

@@ -7,6 +7,7 @@
 
 #include <boost/math/tools/minima.hpp>
 
+#include "core/frames.h"
 #include "tracking/pose.h"
 
 namespace hoof::compare {
@@ -15,17 +16,8 @@ namespace {
 constexpr double kG = dynamics::kStandardGravity_m_s2;
 const Eigen::Vector2d kGravity_W{0.0, -kG};
 
-struct Axes {
-  double phi;
-  Eigen::Vector2d x_S, y_S;
-  explicit Axes(double phi_rad)
-      : phi(phi_rad), x_S(std::cos(phi_rad), -std::sin(phi_rad)), y_S(std::sin(phi_rad), std::cos(phi_rad)) {}
-  Eigen::Vector2d ToS(const Eigen::Vector2d& v) const { return {x_S.dot(v), y_S.dot(v)}; }
-  Eigen::Vector2d ToW(const Eigen::Vector2d& v) const { return x_S * v.x() + y_S * v.y(); }
-};
-
-Axes SurfaceAxes(const pipeline::TrialAnalysis& t) {
-  return Axes(t.spec.surface_angle_deg * std::numbers::pi / 180.0);
+core::SurfaceRotation SurfaceAxes(const pipeline::TrialAnalysis& t) {
+  return core::SurfaceRotation::FromDegrees(t.spec.surface_angle_deg);
 }
 
 dynamics::SpecimenParameters Specimen(const pipeline::TrialAnalysis& t) {
@@ -73,7 +65,7 @@ double TouchTime(const pipeline::TrialAnalysis& t, const dynamics::ImpactSimulat
   for (int it = 0; it < 3; ++it) {
     const auto r = sim.Simulate(MeasuredConditions(t, t_touch));
     if (!r.success) break;
-    t_touch = t_star - SimulatedMeetingTime(r, SurfaceAxes(t).phi, sim.specimen());
+    t_touch = t_star - SimulatedMeetingTime(r, SurfaceAxes(t).phi_rad(), sim.specimen());
   }
   return t_touch;
 }
@@ -81,7 +73,7 @@ double TouchTime(const pipeline::TrialAnalysis& t, const dynamics::ImpactSimulat
 /// Simulated velocity of C in S and spin after the impact, carried to the measured impact time.
 std::pair<Eigen::Vector2d, double> AfterAtImpactTime(const pipeline::TrialAnalysis& t,
                                                      const dynamics::ImpactResult& r, double t_touch) {
-  const Eigen::Vector2d g_S = dynamics::GravityInSurfaceFrame(SurfaceAxes(t).phi, kG);
+  const Eigen::Vector2d g_S = dynamics::GravityInSurfaceFrame(SurfaceAxes(t).phi_rad(), kG);
   const double dt = t.impact.impact_time_s - (t_touch + r.t_separation_s);
   return {r.at_separation.v_SC + g_S * dt, r.at_separation.w_rad_s};
 }
@@ -98,14 +90,14 @@ tracking::ImageToWorld Camera(const pipeline::TrialAnalysis& t) {
 }  // namespace
 
 dynamics::ImpactConditions MeasuredConditions(const pipeline::TrialAnalysis& t, double t_touch_s) {
-  const Axes S = SurfaceAxes(t);
+  const core::SurfaceRotation S = SurfaceAxes(t);
   const auto& b = t.impact.before;
   const double dt = t_touch_s - t.impact.impact_time_s;
   dynamics::ImpactConditions c;
-  c.surface_angle_rad = S.phi;
+  c.surface_angle_rad = S.phi_rad();
   c.v_SC_m_s = S.ToS(b.v_WC + kGravity_W * dt);
   c.w_rad_s = b.w_rad_s;
-  c.theta_S_rad = b.theta_W_rad + b.w_rad_s * dt + S.phi;
+  c.theta_S_rad = S.AngleToS(b.theta_W_rad + b.w_rad_s * dt);
   return c;
 }
 
@@ -126,7 +118,7 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& t, const dynamics::C
   try {
     const dynamics::ImpactSimulator sim = Simulator(t, contact);
     const dynamics::SpecimenParameters& sp = sim.specimen();
-    const Axes S = SurfaceAxes(t);
+    const core::SurfaceRotation S = SurfaceAxes(t);
     out.t_touch_s = TouchTime(t, sim);
     const dynamics::ImpactConditions ic = MeasuredConditions(t, out.t_touch_s);
 
@@ -149,7 +141,7 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& t, const dynamics::C
     const double dt = out.t_touch_s - t.impact.impact_time_s;
     const Eigen::Vector2d p_WC_touch = b.p_WC + b.v_WC * dt + 0.5 * kGravity_W * dt * dt;
     const double theta_touch = b.theta_W_rad + b.w_rad_s * dt;
-    const Eigen::Vector2d p_WT = p_WC_touch - sp.d_EC_m * Dir(theta_touch) - sp.end_radius_m * S.y_S;
+    const Eigen::Vector2d p_WT = p_WC_touch - sp.d_EC_m * Dir(theta_touch) - sp.end_radius_m * S.y_S();
 
     const tracking::ImageToWorld cam = Camera(t);
     for (std::size_t f = 0; f < frames; ++f) {
@@ -157,7 +149,7 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& t, const dynamics::C
       FrameComparison fc;
       fc.t_s = static_cast<double>(f) / t.spec.fps;
       fc.p_WC_sim = p_WT + S.ToW(s.body.p_SC);
-      fc.theta_W_sim_rad = s.body.theta_S_rad - S.phi;
+      fc.theta_W_sim_rad = S.AngleToW(s.body.theta_S_rad);
       fc.kinetic_energy_sim_J = s.kinetic_energy_J;
       const Eigen::Vector2d p_WE_sim = fc.p_WC_sim - sp.d_EC_m * Dir(fc.theta_W_sim_rad);
       const Eigen::Matrix2d R{{std::cos(fc.theta_W_sim_rad), -std::sin(fc.theta_W_sim_rad)},

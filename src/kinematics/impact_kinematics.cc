@@ -9,15 +9,11 @@
 #include <Eigen/Dense>
 #include <boost/math/distributions/students_t.hpp>
 
+#include "core/frames.h"
+
 namespace hoof::kinematics {
 namespace {
 
-/// Unit axes of the surface frame S in W for a surface at angle phi (descending toward +x).
-struct SurfaceAxes {
-  Eigen::Vector2d x_S, y_S;
-  explicit SurfaceAxes(double phi) : x_S(std::cos(phi), -std::sin(phi)), y_S(std::sin(phi), std::cos(phi)) {}
-  Eigen::Vector2d ToS(const Eigen::Vector2d& v_W) const { return {x_S.dot(v_W), y_S.dot(v_W)}; }
-};
 
 Eigen::Vector2d CentreOfMass(const PoseSample& p, double d) {
   return p.p_WE + d * Eigen::Vector2d(std::cos(p.theta_W_rad), std::sin(p.theta_W_rad));
@@ -92,29 +88,29 @@ FlightFit Shift(FlightFit f, double dt, double g) {
 
 /// Height of the contact point T above a surface through the origin, along y_S, at time t
 /// (relative to the fit's reference time) for a flight fit.
-double HeightOfT(const FlightFit& f, double t, const SurfaceAxes& S, const BodyGeometry& body,
+double HeightOfT(const FlightFit& f, double t, const core::SurfaceRotation& S, const BodyGeometry& body,
                  double g) {
   const Eigen::Vector2d c = f.p_WC + f.v_WC * t + Eigen::Vector2d(0, -0.5 * g * t * t);
   const double th = f.theta_W_rad + f.w_rad_s * t;
   const Eigen::Vector2d e = c - body.d_EC_m * Eigen::Vector2d(std::cos(th), std::sin(th));
-  return S.y_S.dot(e) - body.end_radius_m;
+  return S.y_S().dot(e) - body.end_radius_m;
 }
 
 /// Velocity of the body point at T: v_C + w x (p_T - p_C), with p_T = p_E - R y_S.
 Eigen::Vector2d ContactPointVelocity(const Eigen::Vector2d& v_WC, double w, double theta,
-                                     const SurfaceAxes& S, const BodyGeometry& body) {
+                                     const core::SurfaceRotation& S, const BodyGeometry& body) {
   const Eigen::Vector2d r = -body.d_EC_m * Eigen::Vector2d(std::cos(theta), std::sin(theta)) -
-                            body.end_radius_m * S.y_S;
+                            body.end_radius_m * S.y_S();
   return v_WC + w * Eigen::Vector2d(-r.y(), r.x());
 }
 
 /// (e, mu_eff) from the parameters (vb_x, vb_y, wb, thb, va_x, va_y, wa, tha) in W.
-Eigen::Vector2d Measures(const Eigen::Matrix<double, 8, 1>& q, const SurfaceAxes& S,
+Eigen::Vector2d Measures(const Eigen::Matrix<double, 8, 1>& q, const core::SurfaceRotation& S,
                          const BodyGeometry& body) {
   const Eigen::Vector2d vb{q(0), q(1)}, va{q(4), q(5)};
   const Eigen::Vector2d tb = ContactPointVelocity(vb, q(2), q(3), S, body);
   const Eigen::Vector2d ta = ContactPointVelocity(va, q(6), q(7), S, body);
-  const double e = std::abs(S.y_S.dot(ta) / S.y_S.dot(tb));
+  const double e = std::abs(S.y_S().dot(ta) / S.y_S().dot(tb));
   const Eigen::Vector2d dv = S.ToS(va - vb);
   return {e, std::abs(dv.x() / dv.y())};
 }
@@ -140,7 +136,7 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
   options.Validate();
   if (!(fps > 0)) throw std::invalid_argument("fps must be > 0");
   ImpactKinematics k;
-  const SurfaceAxes S(surface_angle_deg * std::numbers::pi / 180.0);
+  const auto S = core::SurfaceRotation::FromDegrees(surface_angle_deg);
   const double g = options.gravity_m_s2;
   const double dt = 1.0 / fps;
   const double exposure = options.exposure_s < 0 ? dt : options.exposure_s;
@@ -153,7 +149,7 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
     k.message = "too few frames with a body pose (" + std::to_string(valid.size()) + ")";
     return k;
   }
-  auto height = [&](int i) { return S.y_S.dot(poses[static_cast<std::size_t>(i)].p_WE); };
+  auto height = [&](int i) { return S.y_S().dot(poses[static_cast<std::size_t>(i)].p_WE); };
   std::size_t lowest = 0;
   for (std::size_t j = 1; j < valid.size(); ++j)
     if (height(valid[j]) < height(valid[lowest])) lowest = j;
@@ -240,8 +236,7 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
   k.impact_frame = static_cast<int>(std::floor(t_imp * fps));
 
   // Results in S.
-  Eigen::Matrix2d R_SW;
-  R_SW << S.x_S.transpose(), S.y_S.transpose();
+  const Eigen::Matrix2d R_SW = S.R_SW();
   k.v_SC_before = S.ToS(k.before.v_WC);
   k.v_SC_after = S.ToS(k.after.v_WC);
   const Eigen::Matrix2d cb = R_SW * k.before.cov_v_WC * R_SW.transpose();

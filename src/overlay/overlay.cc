@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "core/frames.h"
 #include "io/atomic_file.h"
 #include "io/interrupt.h"
 #include "studyfile/study_file.h"
@@ -141,12 +142,12 @@ FrameOverlay BuildFrame(const TrialData& d, std::size_t f) {
   }
   const Eigen::Vector2d p_WC{Numbers(d.frames, "p_WC_sim_x_m")[f], Numbers(d.frames, "p_WC_sim_y_m")[f]};
   o.outline_sim_px = OutlineToImage(sp, p_WC, Numbers(d.frames, "theta_W_sim_rad")[f], d.camera);
-  // Contact point T at first touch: the round end's lowest point along the surface normal y_S
-  // (SCIENCE.md: x_S = (cos phi, -sin phi) down-slope, y_S = (sin phi, cos phi) in W).
+  // Contact point T at first touch: the round end's lowest point along the surface normal y_S.
   if (std::isfinite(d.t_touch_s)) {
     const auto [p_WC_touch, theta_touch] = SimPoseAt(d, d.t_touch_s);
-    const double phi = d.spec.surface_angle_deg * kPi / 180.0;
-    const Eigen::Vector2d x_S{std::cos(phi), -std::sin(phi)}, y_S{std::sin(phi), std::cos(phi)};
+    const auto R_WS = core::SurfaceRotation::FromDegrees(d.spec.surface_angle_deg);
+    const Eigen::Vector2d& x_S = R_WS.x_S();
+    const Eigen::Vector2d& y_S = R_WS.y_S();
     const Eigen::Vector2d p_WT = p_WC_touch - sp.d_EC_m * Dir(theta_touch) - sp.end_radius_m * y_S;
     const double half = std::max(sp.length_m, 4 * sp.end_radius_m);
     o.has_contact = true;

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "core/frames.h"
 #include "report/gnuplot.h"
 
 namespace hoof::report {
@@ -95,7 +96,8 @@ DisplacementCurves ComputeDisplacementCurves(const pipeline::TrialAnalysis& tria
   DisplacementCurves c;
   const auto& k = trial.impact;
   c.has_fit = k.success;
-  FigureFrame frame{{0, 0}, {std::cos(phi), -std::sin(phi)}, {std::sin(phi), std::cos(phi)}};
+  const auto R_WS = core::SurfaceRotation(phi);
+  FigureFrame frame{{0, 0}, R_WS.x_S(), R_WS.y_S()};
   if (c.has_fit) {
     frame.origin_W = k.before.p_WC;
   } else {

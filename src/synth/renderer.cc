@@ -12,6 +12,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "core/frames.h"
 #include "io/atomic_file.h"
 #include "io/interrupt.h"
 #include "synth/camera_model.h"
@@ -61,11 +62,10 @@ std::vector<double> ExposureOffsets(const CameraEffects& cam) {
 }
 
 BodyPose ToPose(const dynamics::TrajectorySample& s, double phi, const OutOfPlane& oop) {
-  const double c = std::cos(phi), sn = std::sin(phi);
+  const core::SurfaceRotation R_WS(phi);
   BodyPose p;
-  // p_W = x x_S + y y_S with x_S = (cos phi, -sin phi), y_S = (sin phi, cos phi).
-  p.p_WE = {c * s.p_SE.x() + sn * s.p_SE.y(), -sn * s.p_SE.x() + c * s.p_SE.y()};
-  p.theta_W_rad = s.body.theta_S_rad - phi;
+  p.p_WE = R_WS.ToW(s.p_SE);
+  p.theta_W_rad = R_WS.AngleToW(s.body.theta_S_rad);
   p.tilt_rad = (oop.tilt_deg + oop.tilt_rate_deg_s * s.t_s) * kDegToRad;
   p.roll_rad = (oop.roll_deg + oop.roll_rate_deg_s * s.t_s) * kDegToRad;
   return p;
@@ -234,8 +234,7 @@ TrialTruth PlanTrial(const TrialSpec& spec, const SpecimenGeometry& geometry,
     f.capture_index = schedule.capture[j];
     f.t_s = schedule.capture[j] / options.fps;
     f.pose = centres[j];
-    f.p_WC = {std::cos(phi) * s.body.p_SC.x() + std::sin(phi) * s.body.p_SC.y(),
-              -std::sin(phi) * s.body.p_SC.x() + std::cos(phi) * s.body.p_SC.y()};
+    f.p_WC = core::SurfaceRotation(phi).ToW(s.body.p_SC);
     f.phase = dynamics::ToString(s.phase);
     f.defect = schedule.defect[j];
     for (const Marker& m : geometry.markers) {
