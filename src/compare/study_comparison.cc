@@ -5,12 +5,13 @@
 #include <limits>
 #include <set>
 
+#include "core/frames.h"
 #include "core/parallel.h"
 
 namespace hoof::compare {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using core::kNaN;
 using studyfile::Column;
 using studyfile::Table;
 

@@ -27,6 +27,7 @@
 
 #include <Eigen/Core>
 
+#include "core/frames.h"
 #include "discovery/discovery.h"
 #include "dynamics/impact_simulator.h"
 #include "pipeline/out_of_plane.h"
@@ -34,7 +35,7 @@
 
 namespace hoof::discovery::internal {
 
-inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using core::kNaN;
 inline constexpr int kComponents = 3;  // v_x, v_y, w d
 inline constexpr const char* kComponentName[kComponents] = {"v_x", "v_y", "w"};
 

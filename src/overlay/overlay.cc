@@ -23,7 +23,7 @@ namespace hoof::overlay {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using core::kNaN;
 constexpr double kPi = std::numbers::pi;
 
 Eigen::Vector2d Dir(double a) { return {std::cos(a), std::sin(a)}; }

@@ -54,8 +54,6 @@ void WriteOutOfPlaneFigure(const pipeline::TrialAnalysis& trial, double threshol
 
 namespace {
 
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
-
 /// Converts C's position in W to the figure's units and frame.
 struct FigureFrame {
   Eigen::Vector2d origin_W, x_S, y_S;
@@ -64,7 +62,7 @@ struct FigureFrame {
     s.t_ms.push_back(1e3 * t_s);
     s.x_S_mm.push_back(1e3 * x_S.dot(r));
     s.y_S_mm.push_back(1e3 * y_S.dot(r));
-    s.theta_deg.push_back(kDegPerRad * theta_rad);
+    s.theta_deg.push_back(core::RadToDeg(theta_rad));
   }
 };
 
@@ -87,7 +85,7 @@ DisplacementCurves ComputeDisplacementCurves(const pipeline::TrialAnalysis& tria
                                              int samples_per_fit, double gravity_m_s2) {
   if (samples_per_fit < 2)
     throw std::invalid_argument("samples_per_fit must be >= 2, got " + std::to_string(samples_per_fit));
-  const double phi = trial.spec.surface_angle_deg / kDegPerRad;
+  const double phi = core::DegToRad(trial.spec.surface_angle_deg);
   const double d = trial.spec.specimen.d_EC_m;
   const double fps = trial.spec.fps;
   const auto com = [d](const tracking::BodyPose& p) {

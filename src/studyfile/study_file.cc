@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "core/frames.h"
 #include "io/atomic_file.h"
 #include "io/csv.h"
 #include "io/interrupt.h"
@@ -25,8 +26,7 @@
 namespace hoof::studyfile {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
+using core::kNaN;
 
 std::string Join(const std::vector<std::string>& parts, const std::string& separator) {
   std::string out;

@@ -23,7 +23,7 @@ namespace hoof::synth {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr double kDegToRad = M_PI / 180.0;
+using core::kRadPerDeg;
 
 /// Which capture each written frame shows, and its defect.
 struct CaptureSchedule {
@@ -66,8 +66,8 @@ BodyPose ToPose(const dynamics::TrajectorySample& s, double phi, const OutOfPlan
   BodyPose p;
   p.p_WE = R_WS.ToW(s.p_SE);
   p.theta_W_rad = R_WS.AngleToW(s.body.theta_S_rad);
-  p.tilt_rad = (oop.tilt_deg + oop.tilt_rate_deg_s * s.t_s) * kDegToRad;
-  p.roll_rad = (oop.roll_deg + oop.roll_rate_deg_s * s.t_s) * kDegToRad;
+  p.tilt_rad = (oop.tilt_deg + oop.tilt_rate_deg_s * s.t_s) * kRadPerDeg;
+  p.roll_rad = (oop.roll_deg + oop.roll_rate_deg_s * s.t_s) * kRadPerDeg;
   return p;
 }
 
@@ -215,7 +215,7 @@ TrialTruth PlanTrial(const TrialSpec& spec, const SpecimenGeometry& geometry,
   for (int j = 0; j < count; ++j)
     for (double o : offsets) times.push_back(times[j] + o);
   const dynamics::ImpactSimulator sim(geometry.dynamics, t.draw.contact);
-  const double phi = spec.angle_deg * kDegToRad;
+  const double phi = spec.angle_deg * kRadPerDeg;
   t.impact = sim.Simulate(dynamics::ImpactConditions::Paper(spec.speed_m_s, spec.angle_deg), times);
   if (!t.impact.success)
     throw std::runtime_error("trial " + spec.id + ": simulation failed: " + t.impact.message);
