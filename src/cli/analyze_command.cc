@@ -110,8 +110,8 @@ void Run(AnalyzeArgs& a, RunState& state) {
   if (!a.figures_dir.empty()) {
     std::size_t figure_count = 0;
     for (const auto& r : results)
-      figure_count += WriteTrialFigures(r, a.options, a.figures_dir, /*always=*/false,
-                                        /*displacement=*/a.figures_all)
+      figure_count += report::WriteTrialFigures(r, a.options, a.figures_dir, /*always=*/false,
+                                                /*displacement=*/a.figures_all)
                           .size();
     // The study figures come from the file just written, as `hoofimpact figures` draws them.
     figure_count += report::WriteStudyFigures(studyfile::ReadStudyResults(a.output), a.figures_dir).size();

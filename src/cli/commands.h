@@ -11,6 +11,13 @@
 namespace hoof::pipeline {
 struct TrialAnalysis;
 }  // namespace hoof::pipeline
+namespace hoof::study {
+struct StudyStatistics;
+struct DiscoveryStep;
+}  // namespace hoof::study
+namespace hoof::discovery {
+struct DiscoveryOptions;
+}  // namespace hoof::discovery
 
 namespace hoof::cli {
 
@@ -40,10 +47,9 @@ void RegisterReport(CLI::App& app, RunState& state);
 void RegisterOverlay(CLI::App& app, RunState& state);
 void RegisterDiscover(CLI::App& app, RunState& state);
 
-/// The study statistics of `stats STUDY_H5` (stored under /stats, printed, and written to
-/// `out_csv` when not empty); `run` uses it too.
-void RunStudyStatistics(const std::string& study_h5, double alpha, const std::string& out_csv,
-                        const std::string& shown_as = "");
+/// Prints the study statistics as `stats STUDY_H5` does (`run` prints them too), and where the
+/// tables went.
+void PrintStudyStatistics(const study::StudyStatistics& statistics, const std::string& out_csv);
 
 /// Settings of the discovery step (`discover`, and `run --discover`).
 struct DiscoverSettings {
@@ -78,5 +84,12 @@ void CheckDiscoverSettings(const DiscoverSettings& settings);
 bool RunStudyDiscovery(const std::string& study_h5,
                        const std::vector<pipeline::TrialAnalysis>& trials,
                        const DiscoverSettings& settings);
+
+/// The discovery options that `settings` stand for.
+discovery::DiscoveryOptions DiscoveryOptionsOf(const DiscoverSettings& settings);
+
+/// Prints a discovery step as `discover` does (text, or JSON with `settings.json`), naming the
+/// study file `settings.shown_as`, and returns whether the workflow ran (why not on stderr).
+bool PrintDiscoveryStep(const study::DiscoveryStep& step, const DiscoverSettings& settings);
 
 }  // namespace hoof::cli

@@ -24,6 +24,7 @@
 #include "io/interrupt.h"
 #include "report/discovery_figures.h"
 #include "report/html_report.h"
+#include "study/discovery_step.h"
 #include "studyfile/study_file.h"
 
 namespace hoof::cli {
@@ -523,9 +524,7 @@ void CheckDiscoverSettings(const DiscoverSettings& s) {
                                "must be in [0, 0.1), got " + Num(s.measurement_floor));
 }
 
-bool RunStudyDiscovery(const std::string& study_h5,
-                       const std::vector<pipeline::TrialAnalysis>& trials,
-                       const DiscoverSettings& s) {
+discovery::DiscoveryOptions DiscoveryOptionsOf(const DiscoverSettings& s) {
   discovery::DiscoveryOptions options;
   options.alpha = s.alpha;
   options.folds = s.folds;
@@ -534,46 +533,43 @@ bool RunStudyDiscovery(const std::string& study_h5,
   options.candidates = s.candidates;
   options.per_surface = s.per_surface;
   options.measurement_floor = s.measurement_floor;
-  try {
-    options.kinematics = studyfile::ReadKinematicsOptions(study_h5);
-  } catch (const std::exception& e) {
-    // Only a re-measurement with a rotation rate needs them; the defaults are `analyze`'s.
-    std::cerr << "hoofimpact: warning: " << e.what()
-              << "; trials re-measured with an out-of-plane rotation use the default kinematics options\n";
-  }
-  try {
-    options.Validate();
-  } catch (const std::invalid_argument& e) {
-    throw CLI::ValidationError("discover", e.what());
-  }
-  discovery::DiscoveryResult result;
-  try {
-    result = discovery::Discover(trials, options, [](const std::string& line) {
-      std::cerr << "  discover: " << line << std::endl;
-    });
-  } catch (const std::invalid_argument& e) {  // e.g. an unknown candidate key
-    throw CLI::ValidationError("discover", e.what());
-  }
-  std::vector<studyfile::Table> tables = discovery::DiscoveryTables(result);
-  tables.push_back(discovery::DiscoveryOptionsTable(options));
-  studyfile::WriteTables(study_h5, discovery::kDiscoveryGroup, "discovery (hoofimpact discover)",
-                         tables);
-  const fs::path dir = s.figures_dir.empty() ? fs::path(study_h5).parent_path() / "figures"
-                                             : fs::path(s.figures_dir);
+  return options;
+}
+
+bool PrintDiscoveryStep(const study::DiscoveryStep& step, const DiscoverSettings& s) {
+  for (const auto& w : step.warnings) std::cerr << "hoofimpact: warning: " << w << "\n";
+  const discovery::DiscoveryResult& result = step.result;
   std::vector<std::string> figures;
-  for (const auto& f : report::WriteDiscoveryFigures(result, dir)) figures.push_back(f.string());
-  const std::string& shown = s.shown_as.empty() ? study_h5 : s.shown_as;
+  for (const auto& f : step.figures) figures.push_back(f.string());
+  const std::string& shown = s.shown_as;
   if (s.json) {
     std::cout << ResultJson(result, shown, s, figures).dump(2) << "\n";
   } else {
     PrintText(std::cout, result, shown);
     std::cout << "\nStored in " << shown << " under /discovery; " << figures.size()
-              << " figure file(s)" << (figures.empty() ? "" : " in " + dir.string()) << "\n";
+              << " figure file(s)" << (figures.empty() ? "" : " in " + step.figures_dir.string())
+              << "\n";
   }
   if (!result.success)
     std::cerr << "hoofimpact: error: " << shown
               << ": the discovery workflow could not run: " << result.message << "\n";
   return result.success;
+}
+
+bool RunStudyDiscovery(const std::string& study_h5,
+                       const std::vector<pipeline::TrialAnalysis>& trials,
+                       const DiscoverSettings& s) {
+  study::DiscoveryStep step;
+  try {
+    step = study::DiscoverAndStore(
+        study_h5, trials, DiscoveryOptionsOf(s), s.figures_dir,
+        [](const std::string& line) { std::cerr << "  discover: " << line << std::endl; });
+  } catch (const std::invalid_argument& e) {  // options out of range, an unknown candidate key
+    throw CLI::ValidationError("discover", e.what());
+  }
+  DiscoverSettings shown = s;
+  if (shown.shown_as.empty()) shown.shown_as = study_h5;
+  return PrintDiscoveryStep(step, shown);
 }
 
 void RegisterDiscover(CLI::App& app, RunState& state) {

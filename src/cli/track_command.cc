@@ -13,6 +13,7 @@
 #include "cli/trial_output.h"
 #include "io/atomic_file.h"
 #include "pipeline/trial_analysis.h"
+#include "report/figures.h"
 
 namespace hoof::cli {
 
@@ -55,8 +56,8 @@ void RegisterTrack(CLI::App& app, RunState& state) {
     });
     if (tty) std::cerr << "\n";
     if (!a.tracks_csv.empty()) io::WriteTextAtomically(a.tracks_csv, TracksCsv(r));
-    const auto figures = WriteTrialFigures(r, a.options, a.figures_dir, /*always=*/true,
-                                           /*displacement=*/true);
+    const auto figures = report::WriteTrialFigures(r, a.options, a.figures_dir, /*always=*/true,
+                                                   /*displacement=*/true);
     if (a.json) {
       std::cout << TrialJson(r).dump(2) << "\n";
     } else {

@@ -156,32 +156,3 @@ std::string TracksCsv(const pipeline::TrialAnalysis& r) {
 }
 
 }  // namespace hoof::cli
-
-namespace hoof::cli {
-
-std::vector<std::string> WriteTrialFigures(const pipeline::TrialAnalysis& r,
-                                           const pipeline::TrialAnalysisOptions& options,
-                                           const std::string& dir, bool always,
-                                           bool displacement) {
-  std::vector<std::string> written;
-  if (dir.empty()) return written;
-  const bool flagged = std::find(r.flags.begin(), r.flags.end(), "out_of_plane") != r.flags.end();
-  const bool any_pose = std::any_of(r.poses.begin(), r.poses.end(),
-                                    [](const tracking::BodyPose& p) { return p.valid; });
-  for (const char* ext : {".png", ".svg"}) {
-    const std::filesystem::path base(dir);
-    if (!r.marker_distance_ratio.empty() && (flagged || always)) {
-      const std::string path = (base / (r.spec.id + "_out_of_plane" + ext)).string();
-      report::WriteOutOfPlaneFigure(r, options.out_of_plane_threshold, path);
-      written.push_back(path);
-    }
-    if (displacement && any_pose) {
-      const std::string path = (base / (r.spec.id + "_displacement" + ext)).string();
-      report::WriteDisplacementFigure(r, path);
-      written.push_back(path);
-    }
-  }
-  return written;
-}
-
-}  // namespace hoof::cli

@@ -26,14 +26,4 @@ std::string TrialText(const pipeline::TrialAnalysis& r);
 /// Per frame: marker centres (px), status and quality, pose (m, rad).
 std::string TracksCsv(const pipeline::TrialAnalysis& r);
 
-/// Writes into `dir` (nothing when `dir` is empty): `<id>_out_of_plane.png` and `.svg` (the
-/// out-of-plane check) when the trial is flagged, or always with `always`; and, with
-/// `displacement`, `<id>_displacement.png` and `.svg` (the paper's Figure 3: C's displacement
-/// in S and the angle against time with the fits) when the trial has a valid pose. Returns the
-/// files written.
-std::vector<std::string> WriteTrialFigures(const pipeline::TrialAnalysis& r,
-                                           const pipeline::TrialAnalysisOptions& options,
-                                           const std::string& dir, bool always,
-                                           bool displacement);
-
 }  // namespace hoof::cli

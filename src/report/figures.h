@@ -97,4 +97,13 @@ bool WriteStudyFigure(const studyfile::StudyResults& study, StudyQuantity quanti
 std::vector<std::filesystem::path> WriteStudyFigures(const studyfile::StudyResults& study,
                                                      const std::filesystem::path& dir);
 
+/// Writes into `dir` (nothing when `dir` is empty): `<id>_out_of_plane.png` and `.svg` (the
+/// out-of-plane check) when the trial is flagged, or always with `always`; and, with
+/// `displacement`, `<id>_displacement.png` and `.svg` (the paper's Figure 3: C's displacement
+/// in S and the angle against time with the fits) when the trial has a valid pose. Returns the
+/// files written.
+std::vector<std::string> WriteTrialFigures(const pipeline::TrialAnalysis& r,
+                                           const pipeline::TrialAnalysisOptions& options,
+                                           const std::string& dir, bool always, bool displacement);
+
 }  // namespace hoof::report

@@ -1,0 +1,159 @@
+#include "study/study_job.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "core/parallel.h"
+#include "io/atomic_file.h"
+#include "pipeline/study_analysis.h"
+#include "report/comparison_figures.h"
+#include "report/figures.h"
+#include "studyfile/study_file.h"
+
+namespace hoof::study {
+namespace {
+
+namespace fs = std::filesystem;
+
+double Since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Removes what a killed earlier job left beside the outputs: only the temporaries of the job's
+/// own outputs, as the output folder may hold other files.
+int RemoveStaleOutputs(const fs::path& out) {
+  const auto own = [](const std::string& name) {
+    for (const char* prefix :
+         {"study.h5.tmp-", "results.csv.tmp-", "stats.csv.tmp-", "report.html.tmp-"})
+      if (name.rfind(prefix, 0) == 0) return true;
+    return false;
+  };
+  const auto figure = [](const std::string& name) {
+    return name.find(".png.tmp-") != std::string::npos ||
+           name.find(".svg.tmp-") != std::string::npos;
+  };
+  return io::RemoveStaleTemporaries(out, own) + io::RemoveStaleTemporaries(out / "figures", figure);
+}
+
+/// The comparison's headline numbers: the worst disagreement after impact, in standard errors
+/// and in pixels.
+void SummarizeComparison(StudyJobSummary& s) {
+  for (std::size_t i = 0; i < s.trials.size(); ++i) {
+    const auto& c = s.comparison.trials[i];
+    if (!c.success) continue;
+    ++s.compared;
+    const double z = std::max(
+        {std::abs(c.v_SC_after_z.x()), std::abs(c.v_SC_after_z.y()), std::abs(c.w_after_z)});
+    if (z > s.worst_z) {
+      s.worst_z = z;
+      s.worst_z_id = s.trials[i].spec.id;
+    }
+    const int first_after = static_cast<int>(std::ceil(c.t_touch_s * s.trials[i].spec.fps));
+    for (int f = first_after; f < first_after + 20 && f < static_cast<int>(c.frames.size()); ++f)
+      for (double r : c.frames[static_cast<std::size_t>(f)].marker_residual_px)
+        if (std::isfinite(r)) s.worst_marker_px = std::max(s.worst_marker_px, r);
+  }
+}
+
+}  // namespace
+
+bool StudyJobSummary::Complete() const {
+  return measured == trials.size() && (!discovery || discovery->result.success);
+}
+
+StudyJobSummary RunStudyJob(const StudyJobOptions& options, StudyJobObserver* observer) {
+  StudyJobObserver silent;
+  StudyJobObserver& tell = observer ? *observer : silent;
+  const auto t0 = std::chrono::steady_clock::now();
+  StudyJobSummary s;
+  s.jobs = core::ResolveJobs(options.jobs);
+  s.study = pipeline::ReadStudy(options.study_dir);
+  if (s.study.trial_dirs.empty())
+    throw std::runtime_error(options.study_dir.string() + ": the study has no trials");
+  const fs::path& out = options.output_dir;
+  s.output_dir = out;
+  s.study_h5 = out / "study.h5";
+  s.results_csv = out / "results.csv";
+  s.stats_csv = out / "stats.csv";
+  s.figures_dir = out / "figures";
+  s.report_html = out / "report.html";
+  fs::create_directories(s.figures_dir);
+  s.stale_removed = RemoveStaleOutputs(out);
+  // The study file is built under a temporary name and committed once, complete (measurements,
+  // comparison, statistics, discovery): a job killed on the way leaves the previous study.h5.
+  const fs::path h5 = io::TemporaryPathFor(s.study_h5);
+  struct RemoveUncommitted {
+    fs::path path;
+    ~RemoveUncommitted() {
+      std::error_code ec;
+      fs::remove(path, ec);
+    }
+  } remove_uncommitted{h5};
+
+  // 1. Measure.
+  tell.StepStarted(StudyJobStep::kMeasure, s);
+  s.trials = pipeline::AnalyzeStudy(s.study, options.analysis, s.jobs, [&](std::size_t done) {
+    tell.TrialsMeasured(done, s.study.trial_dirs.size());
+  });
+  for (const auto& t : s.trials) s.measured += t.success ? 1 : 0;
+  s.measure_seconds = Since(t0);
+  studyfile::StudyInfo info;
+  info.name = s.study.name;
+  info.study_dir = fs::absolute(s.study.dir);
+  info.specimens = s.study.specimens;
+  info.options = options.analysis;
+  info.warnings = s.study.warnings;
+  info.command_line = options.command_line;
+  studyfile::WriteStudyFile(h5, info, s.trials);
+  studyfile::WriteResultsCsv(s.results_csv, s.trials);
+  tell.StepDone(StudyJobStep::kMeasure, s);
+
+  // 2. Simulation against measurement.
+  tell.StepStarted(StudyJobStep::kCompare, s);
+  s.comparison = compare::CompareStudy(s.trials, s.jobs);
+  studyfile::WriteTables(h5, "/comparison", "simulation against measurement (hoofimpact run)",
+                         compare::ComparisonTables(s.trials, s.comparison), {},
+                         compare::ComparisonLinks(s.trials, s.comparison));
+  SummarizeComparison(s);
+  tell.StepDone(StudyJobStep::kCompare, s);
+
+  // 3. Statistics.
+  tell.StepStarted(StudyJobStep::kStatistics, s);
+  s.statistics = StoreStatistics(h5, options.statistics, s.stats_csv, s.study_h5.string());
+  tell.StepDone(StudyJobStep::kStatistics, s);
+
+  // 4. Discovery: where model and measurement disagree, and which effect explains it.
+  if (options.discovery) {
+    tell.StepStarted(StudyJobStep::kDiscover, s);
+    discovery::DiscoveryOptions d = *options.discovery;
+    d.jobs = s.jobs;
+    s.discovery = DiscoverAndStore(h5, s.trials, d, s.figures_dir,
+                                   [&](const std::string& line) { tell.DiscoveryProgress(line); });
+    tell.StepDone(StudyJobStep::kDiscover, s);
+  }
+
+  io::CommitTemporary(h5, s.study_h5);
+
+  // Figures, from the committed study file.
+  tell.StepStarted(StudyJobStep::kFigures, s);
+  const auto results = studyfile::ReadStudyResults(s.study_h5);
+  s.figures = report::WriteStudyFigures(results, s.figures_dir);
+  for (const auto& f : report::WriteComparisonFigures(s.study_h5, s.figures_dir))
+    s.figures.push_back(f);
+  for (const auto& t : s.trials)
+    for (const auto& f : report::WriteTrialFigures(t, options.analysis, s.figures_dir.string(),
+                                                   /*always=*/false, options.trial_figures))
+      s.figures.emplace_back(f);
+  tell.StepDone(StudyJobStep::kFigures, s);
+
+  // The report.
+  tell.StepStarted(StudyJobStep::kReport, s);
+  s.report = report::WriteHtmlReport(s.study_h5, s.report_html);
+  s.seconds = Since(t0);
+  tell.StepDone(StudyJobStep::kReport, s);
+  return s;
+}
+
+}  // namespace hoof::study
