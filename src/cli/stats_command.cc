@@ -424,7 +424,7 @@ void RunCsv(const StatsArgs& a) {
 }
 
 // ----------------------------------------------------------------------------------------
-// Study mode: the paper's tables (SCIENCE.md section 6) from a study file.
+// Study mode: the paper's tables (docs/statistics.md, "The command") from a study file.
 // ----------------------------------------------------------------------------------------
 
 using studyfile::Column;
