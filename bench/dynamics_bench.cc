@@ -18,7 +18,7 @@ ImpactSimulator Make(Surface surface, double mu, double rtol = 1e-8) {
   return ImpactSimulator(SpecimenParameters{}, c, o);
 }
 
-// The benchmark: steel, 20 deg, 3.28 m/s, mu = 0.12, rtol 1e-8.
+// The paper's oblique reference impact: steel, 20 deg, 3.28 m/s, mu = 0.12, rtol 1e-8.
 void BM_ObliqueImpact(benchmark::State& state) {
   const ImpactSimulator sim = Make(Surface::kSteel, 0.12);
   const ImpactConditions ic = ImpactConditions::Paper(3.28, 20.0);
@@ -48,7 +48,7 @@ void BM_StickImpact(benchmark::State& state) {
 }
 BENCHMARK(BM_StickImpact);
 
-// The impact with an effect of ContactExtensions on, which runs the general equations
+// The same impact with an effect of ContactExtensions on, which runs the general equations
 // (Hunt-Crossley damping; 6 states) or the tangential spring (7 states). Discovery fits these.
 void ObliqueImpactWith(benchmark::State& state, const ContactExtensions& extensions) {
   ContactParameters c = PaperContact(Surface::kSteel);

@@ -1,6 +1,7 @@
 #pragma once
 /// @file
-/// Fitting the two-phase contact law to normal impacts, honestly (SCIENCE.md section 4).
+/// Fitting the two-phase contact law to normal impacts, honestly (docs/science.md, "What
+/// velocities can and cannot tell").
 ///
 /// The paper varied k in [1e5, 1e9] N/m and b in [0, 2000] N s/m to minimise the mean
 /// percentage error (MPE) of the post-impact velocity. But velocities determine only the
@@ -82,7 +83,8 @@ struct ContactFitSummary {
   std::string Explanation() const;
 };
 
-/// Fits zeta to normal impacts of `specimen` (paper section 2.2 and SCIENCE.md section 4).
+/// Fits zeta to normal impacts of `specimen` (paper section 2.2 and docs/science.md, "What
+/// velocities can and cannot tell").
 /// Throws std::invalid_argument for invalid options or impacts (naming the field or index);
 /// solver trouble is reported in the summary.
 ContactFitSummary FitNormalContact(const std::vector<NormalImpact>& impacts,

@@ -1,7 +1,7 @@
 #pragma once
 /// @file
-/// The equations of motion of the planar impact model (SCIENCE.md section 2) for the
-/// integrator in impact_simulator.cc, with the effects of ContactExtensions. Internal to
+/// The equations of motion of the planar impact model (docs/science.md, "The rigid-body model") for
+/// the integrator in impact_simulator.cc, with the effects of ContactExtensions. Internal to
 /// hoof::dynamics: ImpactSimulator is the public face.
 ///
 /// Generalized state x = (q1, q2, q3, q1', q2', q3'[, u]): T = (q1, q2) in S, delta = q2,
@@ -156,7 +156,8 @@ struct Model {
     return StickFriction(s, c, x[5], P);
   }
 
-  /// Mass matrix of SCIENCE.md section 2 is upper triangular: solve from the bottom row.
+  /// The mass matrix (docs/science.md, "The rigid-body model") is upper triangular: solve from
+  /// the bottom row.
   void operator()(const State& x, State& dxdt, double /*t*/) const {
     double s, c;
     trig.Eval(x[2], s, c);

@@ -32,7 +32,8 @@ namespace hoof::dynamics::internal {
 
 namespace odeint = boost::numeric::odeint;
 
-/// Events are bracketed to this width: a hundredth of the 1e-12 s the issue asks for.
+/// Events are bracketed to this width: a hundredth of the 1e-12 s to which the tests hold the
+/// event times (docs/science.md, "Numbers the tests hold the simulator to").
 inline constexpr double kEventTimeTolerance_s = 1e-14;
 
 /// Step-size control for Odeint's controlled stepper (its StepAdjuster concept): the standard

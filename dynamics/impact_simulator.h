@@ -1,9 +1,10 @@
 #pragma once
 /// @file
 /// The planar two-phase impact model of the seed paper (section 2.2), written out in
-/// SCIENCE.md section 2, integrated with Boost.Odeint's dense-output Dormand-Prince 5(4)
-/// stepper. Phase changes (maximum compression, separation) and stick/slip switches are
-/// located as events on the dense output. Free flight before and after contact is analytic.
+/// docs/science.md, "The rigid-body model", integrated with Boost.Odeint's dense-output
+/// Dormand-Prince 5(4) stepper. Phase changes (maximum compression, separation) and stick/slip
+/// switches are located as events on the dense output. Free flight before and after contact is
+/// analytic.
 ///
 /// Frames: S is the surface frame (origin at the contact point at first touch, x_S down-slope
 /// along the surface, y_S the outward normal). Time 0 is first touch.
@@ -94,7 +95,7 @@ struct TrajectorySample {
   FrictionMode friction = FrictionMode::kNone;
 };
 
-/// Everything one impact gives (SCIENCE.md section 2 for the definitions).
+/// Everything one impact gives (docs/science.md, "The rigid-body model", for the definitions).
 struct ImpactResult {
   bool success = false;  ///< False when the integration failed; see message.
   std::string message;   ///< Why it failed, or empty.

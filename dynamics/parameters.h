@@ -1,6 +1,7 @@
 #pragma once
 /// @file
-/// Specimen and contact parameters of the planar impact model (SCIENCE.md sections 2-4).
+/// Specimen and contact parameters of the planar impact model (docs/science.md, "The rigid-body
+/// model" and "Specimen defaults").
 /// Plain option structs with documented SI units, paper defaults and Validate().
 
 #include <string>
@@ -14,7 +15,7 @@ namespace hoof::dynamics {
 inline constexpr double kStandardGravity_m_s2 = core::kStandardGravity_m_s2;
 
 /// Rigid hoof-wall specimen (paper section 2.1). The paper gives m and R; d and I_C are
-/// derived (SCIENCE.md section 3): d is the centre of the 45 mm bar minus R, and
+/// derived (docs/science.md, "Specimen defaults"): d is the centre of the 45 mm bar minus R, and
 /// I_C = m (L^2 + W^2) / 12 for the 45 x 16 mm bar.
 struct SpecimenParameters {
   double mass_kg = 0.008;            ///< m, in kg; > 0.
@@ -35,9 +36,9 @@ Surface ParseSurface(std::string_view name);
 /// Lower-case name of a surface.
 std::string SurfaceName(Surface surface);
 
-/// Physical effects the paper's model lacks (SCIENCE.md section 7). Each is a nested extension
-/// with one parameter whose default 0 gives back the baseline exactly. The renderer hides them
-/// in synthetic trials; the discovery workflow names them.
+/// Physical effects the paper's model lacks (docs/science.md, "Effects the model lacks"). Each is a
+/// nested extension with one parameter whose default 0 gives back the baseline exactly. The
+/// renderer hides them in synthetic trials; the discovery workflow names them.
 struct ContactExtensions {
   /// Hunt-Crossley (velocity-dependent) damping in compression: P gains -c |delta| delta'
   /// (c in N s/m^2; >= 0). Dissipation grows with impact speed, so e falls as v rises.
@@ -96,7 +97,8 @@ struct ContactParameters {
 /// 0.34), where the contact point slides for the whole contact, so mu_eff equals mu.
 ContactParameters PaperContact(Surface surface);
 
-/// Damping ratio zeta = b / (2 sqrt(k m)) of the compression phase (SCIENCE.md section 4).
+/// Damping ratio zeta = b / (2 sqrt(k m)) of the compression phase (docs/science.md, "Specimen
+/// defaults").
 double DampingRatio(double k_N_m, double b_N_s_m, double mass_kg);
 
 /// Damping b (N s/m) that gives damping ratio zeta for stiffness k and mass m.
@@ -104,8 +106,8 @@ double DampingForRatio(double zeta, double k_N_m, double mass_kg);
 
 /// Closed-form coefficient of restitution of the two-phase law for a normal impact without
 /// gravity: e = exp(-zeta / sqrt(1 - zeta^2) * atan(sqrt(1 - zeta^2) / zeta)).
-/// It depends on zeta alone (SCIENCE.md section 4). Valid for 0 <= zeta < 1; throws
-/// std::invalid_argument naming "zeta" otherwise. e(0) = 1.
+/// It depends on zeta alone (docs/science.md, "What velocities can and cannot tell"). Valid
+/// for 0 <= zeta < 1; throws std::invalid_argument naming "zeta" otherwise. e(0) = 1.
 double RestitutionFromDampingRatio(double zeta);
 
 /// Coefficient of restitution of the two-phase law for a normal impact without gravity, for

@@ -425,7 +425,8 @@ void RunCsv(const StatsArgs& a) {
 }
 
 // ----------------------------------------------------------------------------------------
-// Study mode: the paper's tables of a study file (computed and stored by hoof::study), shown.
+// Study mode: the paper's tables (docs/statistics.md, "The command") of a study file, computed
+// and stored by hoof::study, shown here.
 // ----------------------------------------------------------------------------------------
 
 json StudyJson(const study::StudyStatistics& s) {

@@ -1,9 +1,9 @@
 #pragma once
 /// @file
-/// Simulation meets measurement (SCIENCE.md sections 2 and 5): the contact law fitted per
-/// surface to the measured trials, every trial simulated from its measured state before the
-/// impact, sampled at the frame times and compared frame by frame and in its velocities after
-/// the impact.
+/// Simulation meets measurement (docs/science.md, "The rigid-body model"; docs/tracking.md,
+/// "4. Kinematics"): the contact law fitted per surface to the measured trials, every trial
+/// simulated from its measured state before the impact, sampled at the frame times and compared
+/// frame by frame and in its velocities after the impact.
 
 #include <string>
 #include <utility>

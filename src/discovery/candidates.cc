@@ -1,4 +1,4 @@
-// One round of the discovery workflow (docs/discovery.md, "Candidates" and "Decision"): every
+// One round of the discovery workflow (docs/discovery.md, "Candidates and the decision"): every
 // candidate of the library fitted against the current model, shared or per surface, tested by
 // its likelihood ratio under the noise model, cross-validated, probed for identifiability, and
 // judged; the strongest significant one is added.

@@ -1,6 +1,7 @@
-// Held-out errors of the discovery workflow (docs/discovery.md, "Cross-validation"): each fold
-// of trials predicted by a model fitted without it, in units of the variance the current
-// model's noise model predicts for each trial, so that every model is judged on one scale.
+// Held-out errors of the discovery workflow (docs/discovery.md, "Candidates and the decision",
+// step 5): each fold of trials predicted by a model fitted without it, in units of the variance
+// the current model's noise model predicts for each trial, so that every model is judged on one
+// scale.
 #include <cmath>
 #include <numeric>
 

@@ -37,8 +37,8 @@
 
 namespace hoof::discovery {
 
-/// One effect of the candidate library (SCIENCE.md section 7): a nested extension whose
-/// parameter gives back the baseline at 0.
+/// One effect of the candidate library (docs/science.md, "Effects the model lacks"): a nested
+/// extension whose parameter gives back the baseline at 0.
 struct LibraryEntry {
   std::string key;        ///< "hunt_crossley", "hertz_stiffness", "plastic_unloading",
                           ///< "static_friction", "tangential_compliance", "rolling_resistance",

@@ -1,10 +1,10 @@
-// The naming level of the discovery workflow (docs/discovery.md, "Decision"): the level at which
-// the smallest likelihood-ratio p of all the hypotheses a round tries stays below it with
-// probability alpha when the current model is right. Bonferroni's alpha / hypotheses treats the
-// hypotheses as unrelated, but the candidates' changes overlap (Hunt-Crossley, Hertzian
-// stiffness and plastic unloading all bend e with speed), and the shared and per-surface forms
-// of one candidate are nearly the same test; the min-P level (Westfall and Young) counts them as
-// the fewer tests they are.
+// The naming level of the discovery workflow (docs/discovery.md, "Candidates and the decision"):
+// the level at which the smallest likelihood-ratio p of all the hypotheses a round tries stays
+// below it with probability alpha when the current model is right. Bonferroni's alpha / hypotheses
+// treats the hypotheses as unrelated, but the candidates' changes overlap (Hunt-Crossley, Hertzian
+// stiffness and plastic unloading all bend e with speed), and the shared and per-surface forms of
+// one candidate are nearly the same test; the min-P level (Westfall and Young) counts them as the
+// fewer tests they are.
 //
 // Under the linearised noise model the whitened residuals are standard normal, so the scores of
 // the candidates' changes, after zeta and mu per surface are projected out, are jointly normal

@@ -1,5 +1,5 @@
-// Out-of-plane rotation that grows in time (docs/discovery.md, "Out-of-plane rotation"): a tilt
-// or roll rate of the specimen, judged by two kinds of evidence at once.
+// Out-of-plane rotation that grows in time (docs/discovery.md, "Out-of-plane rotation that grows"):
+// a tilt or roll rate of the specimen, judged by two kinds of evidence at once.
 //  - The marker distance per frame: a rotation at a steady rate makes it dip toward the impact
 //    time and recover after it. Each trial's distance keeps its own scale (so a scale
 //    calibration error cannot pass for a rotation); only the shape in time counts.

@@ -1,7 +1,7 @@
 #pragma once
 /// @file
-/// From body poses to impact physics (SCIENCE.md section 5): gravity-aware fits of the free
-/// flight before and after the impact, a sub-frame impact time where the fits meet, and the
+/// From body poses to impact physics (docs/tracking.md, "4. Kinematics"): gravity-aware fits of the
+/// free flight before and after the impact, a sub-frame impact time where the fits meet, and the
 /// velocities, spin, e and mu_eff with standard errors propagated from the fit residuals.
 ///
 /// Free flight is a parabola, not a line: the centre of mass C follows

@@ -1,7 +1,7 @@
 #pragma once
 /// @file
-/// Replay and overlay (issue 6): a trial's measured frames drawn over with what was measured
-/// and what the contact model simulated, so that a reader can see where the two part.
+/// Replay and overlay: a trial's measured frames drawn over with what was measured and what
+/// the contact model simulated, so that a reader can see where the two part.
 ///
 /// On each frame: the tracked marker centres (green crosses), the simulated marker centres (red
 /// circles), the simulated specimen outline (red; the bar with its round end), the surface line

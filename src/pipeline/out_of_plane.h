@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// Out-of-plane rotation of the specimen, and a trial re-measured with it (docs/tracking.md,
-/// "Out-of-plane rotation").
+/// "5. Out-of-plane rotation").
 ///
 /// A specimen that turns out of the plane of motion is seen foreshortened: its markers close up
 /// (the projected marker distance falls), and markers on the face toward the camera, which lies

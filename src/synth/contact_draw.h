@@ -1,7 +1,8 @@
 #pragma once
 /// @file
 /// Per-trial contact coefficients: e and mu drawn around the surface's mean with the paper's
-/// spread (SCIENCE.md section 4), turned into the two-phase law's (k, b, mu).
+/// spread (docs/synthetic-trials.md, "What is drawn"), turned into the two-phase law's
+/// (k, b, mu).
 
 #include <algorithm>
 #include <random>

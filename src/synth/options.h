@@ -74,10 +74,10 @@ struct CameraEffects {
   void Validate() const;
 };
 
-/// Out-of-plane rotation of the specimen (SCIENCE.md section 5, the paper's named error
-/// source). The body is rotated about C by roll about its long axis x_B and then by tilt about
-/// its transverse axis y_B (which turns the long axis out of the image plane); the camera
-/// projects orthographically. Angles at first touch plus constant rates.
+/// Out-of-plane rotation of the specimen (the paper's named error source; docs/tracking.md,
+/// "5. Out-of-plane rotation"). The body is rotated about C by roll about its long axis x_B and
+/// then by tilt about its transverse axis y_B (which turns the long axis out of the image
+/// plane); the camera projects orthographically. Angles at first touch plus constant rates.
 struct OutOfPlane {
   double tilt_deg = 0.0;         ///< Tilt at first touch (deg); |tilt| < 60.
   double roll_deg = 0.0;         ///< Roll at first touch (deg); |roll| < 60.
@@ -124,8 +124,8 @@ struct TrialSpec {
   double angle_deg = 0.0;  ///< Surface angle phi (deg); in [0, 60].
   double speed_m_s = 3.0;  ///< Vertical speed at first touch (m/s); in (0, 20].
   std::uint64_t seed = 1;  ///< Seeds every draw of the trial (std::mt19937_64).
-  /// Draw e and mu per trial with the paper's spread (SCIENCE.md section 4). When false, the
-  /// paper's model coefficients are used as they are.
+  /// Draw e and mu per trial with the paper's spread (docs/synthetic-trials.md, "What is
+  /// drawn"). When false, the paper's model coefficients are used as they are.
   bool scatter_parameters = true;
   /// Multiplies both spreads of those draws (RestitutionSpread and kFrictionSpread): 1 is the
   /// paper's, 0.5 half of it, 0 the same as no scatter. Dimensionless; in [0, 4].
@@ -138,7 +138,8 @@ struct TrialSpec {
   void Validate() const;
 };
 
-/// Spread of the per-trial coefficient draws (SCIENCE.md section 4, the paper's s.d.).
+/// Spread of the per-trial coefficient draws (the paper's s.d.; docs/synthetic-trials.md,
+/// "What is drawn").
 double RestitutionSpread(dynamics::Surface surface);
 /// Standard deviation of the per-trial friction draw (about 0.04 on every surface).
 inline constexpr double kFrictionSpread = 0.04;

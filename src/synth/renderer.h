@@ -2,7 +2,7 @@
 /// @file
 /// The synthetic high-speed trial renderer (docs/synthetic-trials.md). It samples the dynamics
 /// library's ImpactSimulator at the frame and exposure sub-sample times, draws each frame as a
-/// camera would record it, and writes a trial folder per docs FORMAT.md: trial.json,
+/// camera would record it, and writes a trial folder per docs/format.md: trial.json,
 /// frames/%06d.png and truth.json. It draws; it never detects.
 
 #include <array>

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// The JSON documents of a synthetic trial and study, exactly per docs FORMAT.md
+/// The JSON documents of a synthetic trial and study, exactly per docs/format.md
 /// (hoofimpact-trial/1, hoofimpact-truth/1, hoofimpact-study/1). Extra knowledge of the
 /// renderer goes into truth.json only, so trial.json and study.json stay plain inputs.
 
@@ -22,7 +22,7 @@ nlohmann::json SpecimenJson(const SpecimenGeometry& geometry);
 /// surface_line_px, nominal_speed_m_s and notes.
 nlohmann::json TrialJson(const TrialTruth& truth, const RenderOptions& options);
 
-/// truth.json: FORMAT.md's fields plus markers_px_undistorted, p_WC_m, out-of-plane angles,
+/// truth.json: docs/format.md's fields plus markers_px_undistorted, p_WC_m, out-of-plane angles,
 /// model (k, b, mu, zeta, the drawn e, the scatter switch and scale, hidden_effects), camera
 /// effects, frame defects.
 nlohmann::json TruthJson(const TrialTruth& truth, const SpecimenGeometry& geometry,

@@ -1,5 +1,5 @@
 // A video file that no backend reads: one message naming the file, nothing of OpenCV's or
-// GStreamer's own on stderr (issue 13).
+// GStreamer's own on stderr.
 #include <filesystem>
 #include <fstream>
 #include <random>

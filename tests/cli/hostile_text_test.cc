@@ -1,6 +1,6 @@
 // Shell and gnuplot metacharacters in every text field of study.json and trial.json: every
 // command that draws, reports or replays must run none of them and still show the text as
-// written (issue 13). The fields: the study's name, the specimen's id, the marker names, the
+// written. The fields: the study's name, the specimen's id, the marker names, the
 // trial's id, surface and notes.
 #include <filesystem>
 #include <fstream>

@@ -1,4 +1,5 @@
-// End-to-end tests of `hoofimpact simulate`, against SCIENCE.md's independent reference results.
+// End-to-end tests of `hoofimpact simulate`, against the independent reference results
+// (kReference in tests/dynamics/impact_simulator_test.cc).
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -19,7 +20,8 @@ TEST(SimulateCommandTest, JsonMatchesThePapersObliqueReferenceCase) {
       "simulate --surface steel --angle-deg 20 --speed-m-s 3.28 --mu 0.12 --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
-  // SCIENCE.md section 4: v_C = (0.4706, 2.3451), w = 57.56, e 0.8472, dKE 17.630 mJ, 9.86 us.
+  // The reference oblique case (kReference in tests/dynamics/impact_simulator_test.cc):
+  // v_C = (0.4706, 2.3451), w = 57.56, e 0.8472, dKE 17.630 mJ, 9.86 us.
   EXPECT_NEAR(j["v_SC_after_m_s"][0].get<double>(), 0.4706, 1e-3 * 2.39);
   EXPECT_NEAR(j["v_SC_after_m_s"][1].get<double>(), 2.3451, 1e-3 * 2.39);
   EXPECT_NEAR(j["w_after_rad_s"].get<double>(), 57.56, 0.06);

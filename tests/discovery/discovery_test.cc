@@ -135,7 +135,7 @@ void PrintTo(const HiddenEffect& h, std::ostream* os) { *os << h.key << " = " <<
 
 class HiddenEffectTest : public ::testing::TestWithParam<HiddenEffect> {};
 
-// The first target: each effect hidden at a realistic size is named, its parameter
+// The first target: each effect hidden at a realistic size is named, its parameter
 // comes back within 20 % of the truth, and adding it shrinks the held-out gap by half or more.
 TEST_P(HiddenEffectTest, IsNamedWithItsParameterAndShrinksTheHeldOutGap) {
   const HiddenEffect& h = GetParam();
@@ -169,7 +169,7 @@ INSTANTIATE_TEST_SUITE_P(
                       HiddenEffect{"rolling_resistance", "--rolling-resistance-m", 5e-4, 12}),
     [](const auto& p) { return p.param.key; });
 
-// The second target: with nothing hidden, nothing is named in at least 19 of 20 seeds.
+// The second target: with nothing hidden, nothing is named in at least 19 of 20 seeds.
 TEST(DiscoveryTest, NamesNothingInStudiesWithoutAHiddenEffect) {
   int clean = 0;
   for (int seed = 1; seed <= 20; ++seed) {

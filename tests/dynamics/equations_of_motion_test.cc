@@ -1,5 +1,6 @@
-// The effects beyond the paper's model (ContactExtensions, SCIENCE.md section 7), tested through
-// ImpactSimulator against closed forms, conservation and their physical signatures.
+// The effects beyond the paper's model (ContactExtensions; docs/science.md, "Effects the model
+// lacks"), tested through ImpactSimulator against closed forms, conservation and their physical
+// signatures.
 #include "dynamics/equations_of_motion.h"
 
 #include <cmath>

@@ -31,7 +31,8 @@ using testing::Linspace;
 // --- Closed forms -------------------------------------------------------------------------
 
 TEST(ImpactSimulatorTest, NormalImpactWithoutGravityMatchesClosedFormRestitution) {
-  // SCIENCE.md section 4: e = exp(-zeta/sqrt(1-zeta^2) atan(sqrt(1-zeta^2)/zeta)).
+  // docs/science.md, "What velocities can and cannot tell":
+  // e = exp(-zeta/sqrt(1-zeta^2) atan(sqrt(1-zeta^2)/zeta)).
   const SpecimenParameters specimen;
   SimulatorOptions options;
   options.gravity_m_s2 = 0.0;
@@ -88,7 +89,7 @@ TEST(ImpactSimulatorTest, PhaseEventsMatchTheDampedOscillatorWithin1e12Seconds) 
   }
 }
 
-// --- The paper's numbers (SCIENCE.md section 4) -----------------------------------------
+// --- The paper's numbers (docs/science.md, "Specimen defaults") -------------------------
 
 TEST(ImpactSimulatorTest, PaperSurfacesGiveTheTabulatedRestitutionWithGravity) {
   const double expected[] = {0.8502, 0.7089, 0.4984};
@@ -107,7 +108,8 @@ struct ReferenceCase {
 };
 
 // The independent reference implementation's results (SciPy RK45 and GNU Octave ode45 agree
-// to 4e-4), copied from SCIENCE.md section 4.
+// to 4e-4), as the project was handed them; this table is their record in the repository
+// (docs/science.md, "Numbers the tests hold the simulator to").
 const ReferenceCase kReference[] = {
     {Surface::kSteel, 0, 3.0, 0, 0.0000, 2.5506, 0.00, 0.8502, NAN, 9.977, 10.11},
     {Surface::kConcrete, 0, 3.0, 0, 0.0000, 2.1268, 0.00, 0.7089, NAN, 17.907, 12.73},
@@ -246,7 +248,7 @@ TEST(ImpactSimulatorTest, DefaultToleranceGivesVelocitiesWithin1e8OfTheImpactSpe
   }
 }
 
-// --- Identifiability (SCIENCE.md section 4) ---------------------------------------------
+// --- Identifiability (docs/science.md, "What velocities can and cannot tell") ------------
 
 TEST(ImpactSimulatorTest, AtFixedZetaStiffnessBarelyChangesVelocities) {
   const SpecimenParameters specimen;

@@ -21,9 +21,9 @@ void ExpectInvalid(Fn fn, const std::string& field) {
 }
 
 TEST(ParametersTest, PaperSurfacesGiveThePapersDampingRatios) {
-  // SCIENCE.md section 4: zeta = b / (2 sqrt(k m)) with m = 0.008 kg, tabulated as 0.1105,
-  // 0.2531, 0.6009. The paper's asphalt k and b give 0.60084, so the table's last digit is
-  // off by 6e-5; the tolerance of 5e-4 covers it.
+  // docs/science.md, "Specimen defaults": zeta = b / (2 sqrt(k m)) with m = 0.008 kg; the
+  // reference table we were handed prints 0.1105, 0.2531, 0.6009. The paper's asphalt k and b
+  // give 0.60084, so that table's last digit is off by 6e-5; a tolerance of 5e-4 covers it.
   const SpecimenParameters specimen;
   const ContactParameters steel = PaperContact(Surface::kSteel);
   const ContactParameters concrete = PaperContact(Surface::kConcrete);
@@ -34,8 +34,8 @@ TEST(ParametersTest, PaperSurfacesGiveThePapersDampingRatios) {
 }
 
 TEST(ParametersTest, ClosedFormRestitutionMatchesTheTable) {
-  // SCIENCE.md section 4, "model e, normal" (simulated with gravity at 3 m/s, which lowers e
-  // by under 1e-4 from the gravity-free closed form).
+  // docs/science.md, "Specimen defaults", column "e, normal, 3 m/s" (simulated with gravity
+  // at 3 m/s, which lowers e by under 1e-4 from the gravity-free closed form).
   EXPECT_NEAR(RestitutionFromDampingRatio(0.110454), 0.8502, 1e-4);
   EXPECT_NEAR(RestitutionFromDampingRatio(0.253114), 0.7089, 1e-4);
   EXPECT_NEAR(RestitutionFromDampingRatio(0.600842), 0.4984, 1e-4);

@@ -34,8 +34,8 @@ inline void WriteFile(const std::filesystem::path& path, const std::uint8_t* dat
   out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
 }
 
-/// The rule of the input boundary (docs/fuzzing.md): a rejected input's message names the file.
-/// A message that does not is a finding, so it aborts with the message.
+/// The rule of the input boundary (docs/testing.md, "Fuzzing"): a rejected input's message names
+/// the file. A message that does not is a finding, so it aborts with the message.
 inline void RequireNamed(std::string_view message, const std::string& file) {
   if (message.find(file) == std::string_view::npos) {
     std::fprintf(stderr, "error message does not name %s:\n%.*s\n", file.c_str(),

@@ -69,8 +69,9 @@ std::vector<TrialAnalysis> AnalyzeAll(const StudySpec& study) {
   return out;
 }
 
-// The targets, on every trial of the paper-sized study (3 surfaces x 4 angles x
-// 4 speeds x 3 repetitions) at the renderer's default realism.
+// The accuracy targets (docs/tracking.md, "Accuracy on rendered trials"), on every trial of the
+// paper-sized study (3 surfaces x 4 angles x 4 speeds x 3 repetitions) at the renderer's default
+// realism.
 TEST(TrialAnalysisTest, EveryTrialOfAFullStudyMeetsTheAccuracyTargets) {
   const fs::path dir = RenderStudy("full_study", "--seed 2026");
   const StudySpec study = ReadStudy(dir);

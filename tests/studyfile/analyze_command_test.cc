@@ -60,8 +60,8 @@ class AnalyzeCommandTest : public ::testing::Test {
     return nlohmann::json::parse(in);
   }
 
-  /// e within 0.005 and v_SC before and after within 0.3 % of the truth (SCIENCE.md section 5:
-  /// 0.05 px centroid noise gives about 0.3 % over 20 frames).
+  /// e within 0.005 and v_SC before and after within 0.3 % of the truth (docs/tracking.md,
+  /// "Accuracy on rendered trials"; 0.05 px centroid noise gives about 0.3 % over 20 frames).
   static void ExpectMatchesTruth(const studyfile::TrialResult& t, const fs::path& trial_dir) {
     const nlohmann::json truth = Truth(trial_dir);
     EXPECT_NEAR(t.e, truth["e"].get<double>(), 0.005) << t.id;

@@ -1,7 +1,7 @@
 #pragma once
 /// @file
-/// The paper's specimen as a study's specimen record (SCIENCE.md section 3), for tests that build
-/// trials by hand.
+/// The paper's specimen as a study's specimen record (docs/science.md, "Specimen defaults"), for
+/// tests that build trials by hand.
 
 #include "pipeline/study_format.h"
 

@@ -1,5 +1,6 @@
-// The per-trial draws of e and mu have the paper's means and spreads (SCIENCE.md section 4),
-// and the drawn e becomes the (k, b) that gives it, by the closed form written out here.
+// The per-trial draws of e and mu have the paper's means and spreads (docs/synthetic-trials.md,
+// "What is drawn"), and the drawn e becomes the (k, b) that gives it, by the closed form
+// written out here.
 #include "synth/contact_draw.h"
 
 #include <algorithm>
@@ -20,7 +21,7 @@ namespace {
 
 struct Case {
   dynamics::Surface surface;
-  double e_mean;   // closed-form e of the paper's (k, b): SCIENCE.md section 4's table
+  double e_mean;   // closed-form e of the paper's (k, b): docs/science.md, "Specimen defaults"
   double e_sd;     // the paper's measured s.d.
   double mu_mean;  // the paper's mu_eff at 30 deg
 };

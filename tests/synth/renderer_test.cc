@@ -111,7 +111,8 @@ TEST(RendererTest, TruthVelocitiesMatchAnIndependentSimulation) {
   EXPECT_NEAR(t["mu_eff"].get<double>(), ref.mu_eff, 1e-12);
   // The vertical drop of the paper: v_C before is (v sin phi, -v cos phi) in S.
   EXPECT_NEAR(t["v_SC_before_m_s"][0].get<double>(), 3.17 * std::sin(20 * kPi / 180), 1e-12);
-  // zeta and b agree with the SCIENCE.md definition zeta = b / (2 sqrt(k m)).
+  // zeta and b agree with the definition zeta = b / (2 sqrt(k m)) (docs/science.md, "Specimen
+  // defaults").
   EXPECT_NEAR(m["zeta"].get<double>(),
               m["b_N_s_m"].get<double>() / (2 * std::sqrt(m["k_N_m"].get<double>() * 0.008)),
               1e-12);

@@ -1,4 +1,4 @@
-// A small study: FORMAT.md compliance of study.json, trial.json and truth.json, and identical
+// A small study: docs/format.md compliance of study.json, trial.json and truth.json, and identical
 // bytes for the same seed whatever the number of threads.
 #include "synth/study.h"
 
