@@ -45,6 +45,7 @@ fs::path RenderStudy(const std::string& name, const std::string& options) {
 
 /// One surface, normal and oblique impacts at three speeds, two repetitions, the paper's
 /// contact law in every trial (no per-trial scatter) and every camera effect on.
+/// (bench/discovery_explore uses the same design by default: keep the two alike.)
 const char* kDesign = "--surfaces steel --angles-deg 0,10,20,30 --speeds 1.5,2.75,4 --trials-per-cell 2 --no-scatter";
 
 std::vector<hoof::pipeline::TrialAnalysis> MeasureStudy(const std::string& name, const std::string& options) {
@@ -110,17 +111,6 @@ int Confident(const DiscoveryResult& r) {
   int n = 0;
   for (const auto& f : r.findings) n += f.status == FindingStatus::kNamed || f.status == FindingStatus::kTentative ? 1 : 0;
   return n;
-}
-
-/// Set HOOF_EXPLORE=<name> (and HOOF_EXPLORE_ARGS, HOOF_EXPLORE_DESIGN) to run the workflow on
-/// any rendered study and print everything; skipped otherwise.
-TEST(DiscoveryExplore, Run) {
-  const char* which = std::getenv("HOOF_EXPLORE");
-  if (!which) GTEST_SKIP();
-  const std::string w = which;
-  std::string extra = std::getenv("HOOF_EXPLORE_ARGS") ? std::getenv("HOOF_EXPLORE_ARGS") : "";
-  const char* design = std::getenv("HOOF_EXPLORE_DESIGN");
-  Print(DiscoverStudy(w, std::string(design ? design : kDesign) + " " + extra));
 }
 
 struct HiddenEffect {
