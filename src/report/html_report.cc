@@ -28,6 +28,7 @@
 #include "report/comparison_figures.h"
 #include "report/discovery_figures.h"
 #include "report/figures.h"
+#include "report/report_assets.h"
 #include "studyfile/study_file.h"
 #include "tracking/frame_source.h"
 
@@ -804,99 +805,8 @@ std::string ReplaySection(const studyfile::StudyResults& study, const fs::path& 
   return h.str();
 }
 
-constexpr const char* kCss = R"css(
-*{box-sizing:border-box}
-body{margin:0;font:14px/1.45 system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;color:#1d2330;background:#f4f6f9}
-header{background:#1f3a5f;color:#fff;padding:18px 32px}
-header h1{margin:0;font-size:22px}
-header p{margin:4px 0 0;opacity:.8}
-nav{background:#28486f;padding:6px 32px}
-nav a{color:#dbe7ff;margin-right:18px;text-decoration:none;font-weight:600}
-main{max-width:1240px;margin:0 auto;padding:8px 24px 40px}
-section{background:#fff;border-radius:8px;box-shadow:0 1px 3px rgba(0,0,0,.12);padding:14px 22px;margin:18px 0}
-h2{margin:0 0 10px;font-size:18px;color:#1f3a5f;border-bottom:2px solid #e3e8ef;padding-bottom:4px}
-h3{font-size:15px;margin:14px 0 6px}
-dl.facts{display:grid;grid-template-columns:130px 1fr;gap:3px 12px;margin:0}
-dl.facts dt{font-weight:600;color:#55607a}dl.facts dd{margin:0}
-code{font-size:12px;background:#eef1f5;padding:1px 4px;border-radius:3px;word-break:break-all}
-table.data{border-collapse:collapse;margin:6px 14px 12px 0;font-size:13px}
-table.data caption{text-align:left;font-weight:600;padding:2px 0 4px;color:#344}
-table.data th{background:#e8edf4;text-align:left;padding:4px 8px;font-weight:600}
-table.data td{padding:3px 8px;border-top:1px solid #e5e8ee}
-table.data tbody tr:nth-child(even){background:#f8f9fb}
-td.num{text-align:right;font-variant-numeric:tabular-nums;white-space:nowrap}
-.sig{font-weight:700;color:#a3223a}
-.ok{color:#1b7a3a;font-weight:600}.bad{color:#b3261e;font-weight:600}
-.note{color:#55607a;margin:4px 0 10px}
-.tables{display:flex;flex-wrap:wrap;align-items:flex-start}
-.figures{display:grid;grid-template-columns:repeat(auto-fill,minmax(540px,1fr));gap:12px}
-figure{margin:0}figure img{width:100%;border:1px solid #e3e8ef;border-radius:4px}
-figcaption{text-align:center;color:#55607a;font-size:12px}
-.flag{display:inline-block;background:#fff1d6;color:#7a4b00;border-radius:3px;padding:0 5px;font-size:12px}
-.frames-store{display:none}
-.replay-controls{display:flex;flex-wrap:wrap;gap:10px;align-items:center;margin-bottom:8px}
-#replay-frame{width:320px}
-#replay-info{font-variant-numeric:tabular-nums;color:#344}
-#replay-canvas{display:block;width:min(100%,720px);background:#000;border-radius:4px}
-.key{display:inline-block;font-weight:700;margin-right:10px}.key.meas{color:#00a152}.key.sim{color:#e0157f}
-tr.failed{background:#fdecea!important}
-.verdict{border-left:4px solid #1b7a3a;background:#f1f8f3;padding:6px 14px;margin:8px 0 12px}
-.verdict.unexplained{border-left-color:#b3261e;background:#fdf1f0}
-.verdict .headline{font-weight:700}
-tr.accepted td{font-weight:600}
-)css";
 
-/// Installed first: a script error or console.error marks the page (title and an attribute),
-/// which a test reads back from the DOM.
-constexpr const char* kErrorJs = R"js(
-(function(){
-  function mark(m){document.title='JS-ERROR: '+m;document.documentElement.setAttribute('data-js-error',String(m));}
-  window.onerror=function(m,s,l){mark(m+' (line '+l+')');};
-  window.addEventListener('unhandledrejection',function(e){mark('unhandled rejection: '+e.reason);});
-  var ce=console.error;console.error=function(){mark('console.error: '+Array.prototype.join.call(arguments,' '));ce.apply(console,arguments);};
-})();
-)js";
 
-constexpr const char* kReplayJs = R"js(
-(function(){
-  var data=JSON.parse(document.getElementById('replay-data').textContent);
-  if(!data.length) return;
-  var sel=document.getElementById('replay-trial'),slider=document.getElementById('replay-frame'),
-      ov=document.getElementById('replay-overlay'),canvas=document.getElementById('replay-canvas'),
-      info=document.getElementById('replay-info'),ctx=canvas.getContext('2d'),cur=0;
-  data.forEach(function(r,i){var o=document.createElement('option');o.value=String(i);
-    o.textContent=r.id+' ('+r.surface+')';sel.appendChild(o);});
-  function ok(p){return p[0]!==null&&p[1]!==null;}
-  function draw(){
-    var r=data[cur],k=Number(slider.value),f=r.frames[k],im=document.getElementById('f'+cur+'_'+k),z=1.5;
-    canvas.width=Math.round(im.naturalWidth*z);canvas.height=Math.round(im.naturalHeight*z);
-    ctx.drawImage(im,0,0,canvas.width,canvas.height);
-    if(ov.checked){
-      var s=r.scale*z;ctx.lineWidth=2;
-      ctx.strokeStyle='#00e676';
-      f.meas.forEach(function(p){if(!ok(p))return;ctx.beginPath();ctx.arc(p[0]*s,p[1]*s,7,0,2*Math.PI);ctx.stroke();});
-      ctx.strokeStyle='#ff2d95';
-      f.sim.forEach(function(p){if(!ok(p))return;var x=p[0]*s,y=p[1]*s;ctx.beginPath();
-        ctx.moveTo(x-8,y);ctx.lineTo(x+8,y);ctx.moveTo(x,y-8);ctx.lineTo(x,y+8);ctx.stroke();});
-    }
-    var d=f.frame-r.impact;
-    info.textContent='frame '+f.frame+' ('+(d>=0?'+':'')+d+' from impact), t = '+
-      (f.t_ms===null?'?':f.t_ms.toFixed(3))+' ms';
-    canvas.setAttribute('data-drawn-frame',String(f.frame));
-    document.body.setAttribute('data-replay-drawn',r.id);
-  }
-  function select(i){cur=i;var r=data[i];slider.max=String(r.frames.length-1);
-    var k=0;r.frames.forEach(function(f,j){if(f.frame<=r.impact)k=j;});slider.value=String(k);draw();}
-  function step(d){slider.value=String(Math.min(Number(slider.max),Math.max(0,Number(slider.value)+d)));draw();}
-  sel.addEventListener('change',function(){select(Number(sel.value));});
-  slider.addEventListener('input',draw);ov.addEventListener('change',draw);
-  document.getElementById('replay-prev').addEventListener('click',function(){step(-1);});
-  document.getElementById('replay-next').addEventListener('click',function(){step(1);});
-  document.addEventListener('keydown',function(e){if(e.key==='ArrowLeft')step(-1);if(e.key==='ArrowRight')step(1);});
-  if(location.hash.indexOf('overlay=off')>=0)ov.checked=false;
-  if(document.readyState==='complete')select(0);else window.addEventListener('load',function(){select(0);});
-})();
-)js";
 
 }  // namespace
 
@@ -974,7 +884,7 @@ HtmlReportSummary WriteHtmlReport(const fs::path& study_h5, const fs::path& outp
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
     << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
     << "<title>hoofimpact report: " << HtmlEscape(study.name) << "</title>"
-    << "<script>" << kErrorJs << "</script><style>" << kCss << "</style></head><body>"
+    << "<script>" << assets::kErrorJs << "</script><style>" << assets::kReportCss << "</style></head><body>"
     << "<header><h1>hoofimpact report: " << HtmlEscape(study.name) << "</h1><p>"
     << study.trials.size() << " trials &middot; " << HtmlEscape(study.created_utc)
     << "</p></header><nav><a href=\"#summary\">Study</a><a href=\"#model\">Contact model</a>"
@@ -985,7 +895,7 @@ HtmlReportSummary WriteHtmlReport(const fs::path& study_h5, const fs::path& outp
     << ReplaySection(study, study_h5, options, summary)
     << FiguresSection(study, study_h5, summary.figures) << discovery_section
     << TrialsSection(study, *cmp)
-    << StatsSection(study_h5) << "</main><script>" << kReplayJs << "</script></body></html>\n";
+    << StatsSection(study_h5) << "</main><script>" << assets::kReplayJs << "</script></body></html>\n";
   summary.figures += discovery_figures;
   const std::string page = h.str();
   io::WriteTextAtomically(output, page);
