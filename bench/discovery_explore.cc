@@ -36,7 +36,8 @@ using hoof::discovery::DiscoveryResult;
 /// The design of tests/discovery/discovery_test.cc (kDesign): one surface, normal and oblique
 /// impacts at three speeds, two repetitions, the paper's contact law in every trial (no
 /// per-trial scatter) and every camera effect on.
-const char* kDesign = "--surfaces steel --angles-deg 0,10,20,30 --speeds 1.5,2.75,4 --trials-per-cell 2 --no-scatter";
+const char* kDesign =
+    "--surfaces steel --angles-deg 0,10,20,30 --speeds 1.5,2.75,4 --trials-per-cell 2 --no-scatter";
 
 std::string Env(const char* name) {
   const char* v = std::getenv(name);
@@ -54,7 +55,8 @@ fs::path RenderStudy(const std::string& name, const std::string& options) {
   fs::remove_all(tmp);
   fs::create_directories(tmp.parent_path());
   // What the renderer prints goes to stderr with the progress; stdout is the result alone.
-  const std::string cmd = std::string(HOOF_CLI_PATH) + " synth --study -o " + tmp.string() + " " + options + " 1>&2";
+  const std::string cmd =
+      std::string(HOOF_CLI_PATH) + " synth --study -o " + tmp.string() + " " + options + " 1>&2";
   std::cerr << "rendering: " << cmd << "\n";
   if (std::system(cmd.c_str()) != 0) {
     fs::remove_all(tmp);
@@ -69,10 +71,12 @@ void Print(const DiscoveryResult& r) {
   for (const auto& rd : r.rounds) {
     std::cout << "round " << rd.index << ": " << rd.decision << "\n";
     for (const auto& c : rd.candidates)
-      std::cout << "   " << c.rank << " " << c.key << " " << c.estimate << " +- " << c.se << " LR " << c.lr_statistic
-                << " p " << c.p_value << " held-out " << c.cv_error_current << " -> " << c.cv_error << " ("
-                << ToString(c.identifiability) << ", " << ToString(c.form) << ", " << ToString(c.outcome)
-                << ", per-surface p " << c.p_per_surface << ", limit " << c.detection_limit << ")" << (c.significant ? " *" : "") << "\n";
+      std::cout << "   " << c.rank << " " << c.key << " " << c.estimate << " +- " << c.se << " LR "
+                << c.lr_statistic << " p " << c.p_value << " held-out " << c.cv_error_current
+                << " -> " << c.cv_error << " (" << ToString(c.identifiability) << ", "
+                << ToString(c.form) << ", " << ToString(c.outcome) << ", per-surface p "
+                << c.p_per_surface << ", limit " << c.detection_limit << ")"
+                << (c.significant ? " *" : "") << "\n";
   }
   std::cout << r.seconds << " s, " << r.simulations << " simulations\n";
 }
@@ -80,12 +84,16 @@ void Print(const DiscoveryResult& r) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Renders (or reuses) a study, measures it, runs discovery on it and prints every round."};
+  CLI::App app{
+      "Renders (or reuses) a study, measures it, runs discovery on it and prints every round."};
   std::string name = Env("HOOF_EXPLORE");
   std::string design = Env("HOOF_EXPLORE_DESIGN");
   std::string extra = Env("HOOF_EXPLORE_ARGS");
-  app.add_option("name", name, "Study name: folder under build/test-output/discovery (default $HOOF_EXPLORE)");
-  app.add_option("--design", design, "Synth options of the design (default $HOOF_EXPLORE_DESIGN, else the tests' design)");
+  app.add_option("name", name,
+                 "Study name: folder under build/test-output/discovery (default $HOOF_EXPLORE)");
+  app.add_option(
+      "--design", design,
+      "Synth options of the design (default $HOOF_EXPLORE_DESIGN, else the tests' design)");
   app.add_option("--args", extra, "Synth options added to the design (default $HOOF_EXPLORE_ARGS)");
   CLI11_PARSE(app, argc, argv);
   if (name.empty()) {
@@ -93,9 +101,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    const fs::path dir = RenderStudy(name, (design.empty() ? std::string(kDesign) : design) + " " + extra);
+    const fs::path dir =
+        RenderStudy(name, (design.empty() ? std::string(kDesign) : design) + " " + extra);
     const auto trials = hoof::pipeline::AnalyzeStudy(hoof::pipeline::ReadStudy(dir), {}, 2);
-    Print(hoof::discovery::Discover(trials, {}, [](const std::string& s) { std::cerr << s << "\n"; }));
+    Print(hoof::discovery::Discover(trials, {},
+                                    [](const std::string& s) { std::cerr << s << "\n"; }));
   } catch (const std::exception& e) {
     std::cerr << "discovery_explore: " << e.what() << "\n";
     return 1;

@@ -628,8 +628,9 @@ void PrintReport(const std::vector<Row>& rows, const std::vector<std::string>& d
       head.push_back("all");
       std::vector<std::vector<std::string>> bins;
       for (std::size_t b = 0; b + 1 < edges.size(); ++b) {
-        std::vector<std::string> cells = {b + 2 < edges.size() ? Num(edges[b]) + " - " + Num(edges[b + 1])
-                                                               : ">= " + Num(edges[b])};
+        std::vector<std::string> cells = {b + 2 < edges.size()
+                                              ? Num(edges[b]) + " - " + Num(edges[b + 1])
+                                              : ">= " + Num(edges[b])};
         int all_k = 0, all_n = 0;
         for (std::size_t j = 0; j <= effects.size(); ++j) {
           int k = 0, n = 0;
@@ -642,11 +643,14 @@ void PrintReport(const std::vector<Row>& rows, const std::vector<std::string>& d
             k += Detected(r) ? 1 : 0;
           }
           if (j == effects.size()) all_k = k, all_n = n;
-          cells.push_back(j == effects.size() ? Rate(all_k, all_n) : (n ? std::to_string(k) + "/" + std::to_string(n) : "-"));
+          cells.push_back(j == effects.size()
+                              ? Rate(all_k, all_n)
+                              : (n ? std::to_string(k) + "/" + std::to_string(n) : "-"));
         }
         bins.push_back(cells);
       }
-      std::cout << "### Power against the printed detection limit (hidden effect named; size over the limit "
+      std::cout << "### Power against the printed detection limit (hidden effect named; size over "
+                   "the limit "
                    "discovery printed for that study in round 1)\n\n";
       PrintTable(head, bins);
     }
@@ -737,7 +741,8 @@ nlohmann::json RowJson(const Row& r) {
           {"detected", Detected(r)},
           {"detection_limit", num(r.limit)},
           {"size_over_limit", num(r.point.size / r.limit)},
-          {"detection_limits", [&] {
+          {"detection_limits",
+           [&] {
              nlohmann::json j = nlohmann::json::object();
              for (const auto& [k, v] : r.limits) j[k] = num(v);
              return j;

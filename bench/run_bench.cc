@@ -29,8 +29,8 @@ const fs::path& Study() {
 
 void BM_RunPaperStudy(benchmark::State& state) {
   const fs::path out = fs::temp_directory_path() / "hoofimpact-run-bench-out";
-  const std::string cmd =
-      std::string(HOOF_CLI_PATH) + " run " + Study().string() + " -o " + out.string() + " > /dev/null";
+  const std::string cmd = std::string(HOOF_CLI_PATH) + " run " + Study().string() + " -o " +
+                          out.string() + " > /dev/null";
   for (auto _ : state) {
     if (std::system(cmd.c_str()) != 0) state.SkipWithError("hoofimpact run failed");
   }

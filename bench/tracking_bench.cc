@@ -32,12 +32,16 @@ cv::Mat DrawFrame(int i, std::mt19937& rng) {
   cv::GaussianBlur(img, img, cv::Size(0, 0), 3.0);
   const double y = 100.0 + 40.0 * std::sin(0.05 * i), x = 256.3;  // up to 2 px per frame
   // The specimen: a grey bar; the markers: black patches with white disks (16x supersampled).
-  cv::rectangle(img, cv::Rect(static_cast<int>(x) - 40, static_cast<int>(y) - 10, 80, 225), cv::Scalar(0.5), cv::FILLED);
+  cv::rectangle(img, cv::Rect(static_cast<int>(x) - 40, static_cast<int>(y) - 10, 80, 225),
+                cv::Scalar(0.5), cv::FILLED);
   for (double dy : {0.0, 90.0}) {
     const double cy = y + 170 - dy;
-    cv::rectangle(img, cv::Rect(static_cast<int>(x) - 15, static_cast<int>(cy) - 15, 31, 31), cv::Scalar(0.04), cv::FILLED);
+    cv::rectangle(img, cv::Rect(static_cast<int>(x) - 15, static_cast<int>(cy) - 15, 31, 31),
+                  cv::Scalar(0.04), cv::FILLED);
     cv::Mat big(31 * 16, 31 * 16, CV_32F, cv::Scalar(0.04));
-    cv::circle(big, cv::Point2d((x - (static_cast<int>(x) - 15) + 0.5) * 16 - 8, (cy - (static_cast<int>(cy) - 15) + 0.5) * 16 - 8),
+    cv::circle(big,
+               cv::Point2d((x - (static_cast<int>(x) - 15) + 0.5) * 16 - 8,
+                           (cy - (static_cast<int>(cy) - 15) + 0.5) * 16 - 8),
                7.5 * 16, cv::Scalar(0.9), cv::FILLED, cv::LINE_8);
     cv::Mat small;
     cv::resize(big, small, cv::Size(31, 31), 0, 0, cv::INTER_AREA);
@@ -107,14 +111,29 @@ void BM_DecodeAndTrack(benchmark::State& state, const std::string& ext) {
   });
 }
 
-BENCHMARK_CAPTURE(BM_DecodeOnly, png, std::string(".png"))->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_DecodeAndTrack, png, std::string(".png"))->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_DecodeOnly, pgm, std::string(".pgm"))->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_DecodeAndTrack, pgm, std::string(".pgm"))->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_DecodeOnly, png, std::string(".png"))
+    ->Arg(1)
+    ->Arg(2)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_DecodeAndTrack, png, std::string(".png"))
+    ->Arg(1)
+    ->Arg(2)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_DecodeOnly, pgm, std::string(".pgm"))
+    ->Arg(1)
+    ->Arg(2)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_DecodeAndTrack, pgm, std::string(".pgm"))
+    ->Arg(1)
+    ->Arg(2)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace hoof::tracking
-
 
 namespace hoof::tracking {
 namespace {

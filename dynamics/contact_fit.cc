@@ -7,8 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <boost/math/distributions/students_t.hpp>
 #include <ceres/ceres.h>
+#include <boost/math/distributions/students_t.hpp>
 
 #include "dynamics/impact_simulator.h"
 
@@ -76,8 +76,8 @@ struct ZetaFit {
   bool ok = false;
   std::string message;
   double zeta = 0.0;
-  double jtj = 0.0;    // J^T J of the percentage residuals w.r.t. zeta
-  double ssr = 0.0;    // sum of squared percentage residuals
+  double jtj = 0.0;  // J^T J of the percentage residuals w.r.t. zeta
+  double ssr = 0.0;  // sum of squared percentage residuals
 };
 
 /// Least-squares fit of zeta at fixed k with Ceres, starting from the closed form of the mean
@@ -147,7 +147,8 @@ void ContactFitOptions::Validate() const {
     ThrowField("b_max_N_s_m", b_max_N_s_m, "must be finite and > b_min_N_s_m");
   if (!(k_reference_N_m > 0 && std::isfinite(k_reference_N_m)))
     ThrowField("k_reference_N_m", k_reference_N_m, "must be finite and > 0");
-  if (!(confidence > 0 && confidence < 1)) ThrowField("confidence", confidence, "must be in (0, 1)");
+  if (!(confidence > 0 && confidence < 1))
+    ThrowField("confidence", confidence, "must be in (0, 1)");
   if (valley_points < 2) ThrowField("valley_points", valley_points, "must be >= 2");
   if (map_points_k == 1 || map_points_k < 0)
     ThrowField("map_points_k", map_points_k, "must be 0 or >= 2");
@@ -167,8 +168,9 @@ ContactFitSummary FitNormalContact(const std::vector<NormalImpact>& impacts,
     if (!(imp.v_before_m_s > 0 && std::isfinite(imp.v_before_m_s)) ||
         !(imp.v_after_m_s > 0 && std::isfinite(imp.v_after_m_s))) {
       std::ostringstream os;
-      os << "normal impact " << i << ": speeds must be finite and > 0 (v_before_m_s = "
-         << imp.v_before_m_s << ", v_after_m_s = " << imp.v_after_m_s << ")";
+      os << "normal impact " << i
+         << ": speeds must be finite and > 0 (v_before_m_s = " << imp.v_before_m_s
+         << ", v_after_m_s = " << imp.v_after_m_s << ")";
       throw std::invalid_argument(os.str());
     }
   }
@@ -190,14 +192,16 @@ ContactFitSummary FitNormalContact(const std::vector<NormalImpact>& impacts,
   s.zeta = ref.zeta;
   s.e_normal = s.zeta < 1.0 ? RestitutionFromDampingRatio(s.zeta) : 0.0;
   const double b_ref = DampingForRatio(s.zeta, options.k_reference_N_m, m);
-  const std::vector<double> errs = PercentErrors(impacts, specimen, options.k_reference_N_m, b_ref, g);
+  const std::vector<double> errs =
+      PercentErrors(impacts, specimen, options.k_reference_N_m, b_ref, g);
   s.mpe_percent = MeanAbs(errs);
   s.rms_percent = std::sqrt(ref.ssr / s.n);
   if (s.n >= 2 && ref.jtj > 0) {
     const int dof = s.n - 1;
     s.zeta_se = std::sqrt(ref.ssr / dof / ref.jtj);
     const boost::math::students_t t_dist(dof);
-    const double t = boost::math::quantile(boost::math::complement(t_dist, (1 - options.confidence) / 2));
+    const double t =
+        boost::math::quantile(boost::math::complement(t_dist, (1 - options.confidence) / 2));
     s.zeta_ci_low = std::max(0.0, s.zeta - t * s.zeta_se);
     s.zeta_ci_high = s.zeta + t * s.zeta_se;
   } else {
@@ -245,9 +249,9 @@ ContactFitSummary FitNormalContact(const std::vector<NormalImpact>& impacts,
     s.map_mpe_percent.resize(options.map_points_k, options.map_points_b);
     for (int i = 0; i < options.map_points_k; ++i)
       for (int j = 0; j < options.map_points_b; ++j)
-        s.map_mpe_percent(i, j) = MeanAbs(PercentErrors(
-            impacts, specimen, s.map_k_N_m[static_cast<std::size_t>(i)],
-            s.map_b_N_s_m[static_cast<std::size_t>(j)], g));
+        s.map_mpe_percent(i, j) =
+            MeanAbs(PercentErrors(impacts, specimen, s.map_k_N_m[static_cast<std::size_t>(i)],
+                                  s.map_b_N_s_m[static_cast<std::size_t>(j)], g));
   }
   s.success = true;
   return s;
@@ -269,8 +273,8 @@ std::string ContactFitSummary::Explanation() const {
      << "). k sets only the contact duration";
   if (!valley.empty())
     os << " (" << valley.back().contact_duration_s * 1e6 << " us at k = " << valley.back().k_N_m
-       << " N/m to " << valley.front().contact_duration_s * 1e6 << " us at k = "
-       << valley.front().k_N_m << " N/m)";
+       << " N/m to " << valley.front().contact_duration_s * 1e6
+       << " us at k = " << valley.front().k_N_m << " N/m)";
   os << ", and a contact shorter than a frame period (125 us at 8000 fps) cannot be seen in "
      << "the frames; measuring k needs the contact time (force plate, accelerometer, "
      << "oscilloscope). Any single (k, b) printed from this fit is one point of the valley, "

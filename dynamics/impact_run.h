@@ -366,9 +366,11 @@ ImpactResult Run(const SpecimenParameters& specimen, const ContactParameters& co
   while (!separated) {
     if (++result.steps > options.max_steps) {
       std::ostringstream os;
-      os << "the contact did not end within " << options.max_steps << " integration steps (t = "
-         << stepper.current_time() << " s into it, against a natural period of " << 2 * M_PI / omega_n
-         << " s): the contact law is too stiff, too soft or too damped for this specimen's mass and "
+      os << "the contact did not end within " << options.max_steps
+         << " integration steps (t = " << stepper.current_time()
+         << " s into it, against a natural period of " << 2 * M_PI / omega_n
+         << " s): the contact law is too stiff, too soft or too damped for this specimen's mass "
+            "and "
             "inertia (options.max_steps)";
       result.message = os.str();
       return result;

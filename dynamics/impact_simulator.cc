@@ -50,7 +50,7 @@ ImpactConditions ImpactConditions::Paper(double speed_m_s, double surface_angle_
   const auto R_WS = core::SurfaceRotation::FromDegrees(surface_angle_deg);
   ImpactConditions c;
   c.surface_angle_rad = R_WS.phi_rad();
-  c.v_SC_m_s = R_WS.ToS({0.0, -speed_m_s});     // dropped: straight down in W
+  c.v_SC_m_s = R_WS.ToS({0.0, -speed_m_s});  // dropped: straight down in W
   c.w_rad_s = 0.0;
   c.theta_S_rad = R_WS.AngleToS(0.5 * std::numbers::pi);  // held upright in W
   return c;

@@ -100,18 +100,24 @@ Surface ParseSurface(std::string_view name) {
 
 std::string SurfaceName(Surface surface) {
   switch (surface) {
-    case Surface::kSteel: return "steel";
-    case Surface::kConcrete: return "concrete";
-    case Surface::kAsphalt: return "asphalt";
+    case Surface::kSteel:
+      return "steel";
+    case Surface::kConcrete:
+      return "concrete";
+    case Surface::kAsphalt:
+      return "asphalt";
   }
   return "unknown";
 }
 
 ContactParameters PaperContact(Surface surface) {
   switch (surface) {
-    case Surface::kSteel: return {7.24e8, 531.65, 0.19};
-    case Surface::kConcrete: return {4.24e8, 932.20, 0.30};
-    case Surface::kAsphalt: return {5.86e7, 822.78, 0.34};
+    case Surface::kSteel:
+      return {7.24e8, 531.65, 0.19};
+    case Surface::kConcrete:
+      return {4.24e8, 932.20, 0.30};
+    case Surface::kAsphalt:
+      return {5.86e7, 822.78, 0.34};
   }
   return {};
 }

@@ -83,9 +83,9 @@ struct ContactParameters {
   /// The baseline law with stiffness k (N/m), damping b (N s/m) and friction mu.
   ContactParameters(double k, double b, double friction) : k_N_m(k), b_N_s_m(b), mu(friction) {}
 
-  double k_N_m = 7.24e8;     ///< k, normal stiffness in N/m; > 0.
-  double b_N_s_m = 531.65;   ///< b, normal damping in compression, in N s/m; >= 0.
-  double mu = 0.19;          ///< Coulomb (kinetic = static) friction coefficient; >= 0.
+  double k_N_m = 7.24e8;         ///< k, normal stiffness in N/m; > 0.
+  double b_N_s_m = 531.65;       ///< b, normal damping in compression, in N s/m; >= 0.
+  double mu = 0.19;              ///< Coulomb (kinetic = static) friction coefficient; >= 0.
   ContactExtensions extensions;  ///< Effects beyond the paper's model; all off by default.
 
   /// Throws std::invalid_argument naming the first invalid field and its value.

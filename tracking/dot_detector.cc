@@ -58,7 +58,8 @@ bool Sample(const cv::Mat& img, double x, double y, double& value) {
   const double fx = x - x0, fy = y - y0;
   const float* r0 = img.ptr<float>(y0);
   const float* r1 = img.ptr<float>(y0 + 1);
-  value = (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) + fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
+  value =
+      (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) + fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
   return true;
 }
 
@@ -76,8 +77,10 @@ bool MeasureLevels(const cv::Mat& win, const Eigen::Vector2d& c, double r, Dot& 
     const double dy2 = (y - c.y()) * (y - c.y());
     for (int x = std::max(0, cx - R); x <= std::min(win.cols - 1, cx + R); ++x) {
       const double d2 = (x - c.x()) * (x - c.x()) + dy2;
-      if (d2 <= in2) inner.push_back(row[x]);
-      else if (d2 >= lo2 && d2 <= hi2) ring.push_back(row[x]);
+      if (d2 <= in2)
+        inner.push_back(row[x]);
+      else if (d2 >= lo2 && d2 <= hi2)
+        ring.push_back(row[x]);
     }
   }
   if (inner.size() < 3 || ring.size() < 8) return false;
@@ -151,7 +154,8 @@ bool EllipseCentre(const cv::Mat& win, Dot& dot) {
   const cv::RotatedRect e = cv::fitEllipseDirect(edge);
   const Eigen::Vector2d centre{e.center.x, e.center.y};
   // Residual: distance of edge points to the fitted ellipse (approximate, radial).
-  const double c = std::cos(e.angle * std::numbers::pi / 180), s = std::sin(e.angle * std::numbers::pi / 180);
+  const double c = std::cos(e.angle * std::numbers::pi / 180),
+               s = std::sin(e.angle * std::numbers::pi / 180);
   const double A = 0.5 * e.size.width, B = 0.5 * e.size.height;
   double ss = 0;
   for (const auto& p : edge) {
@@ -195,7 +199,8 @@ void DotDetectorOptions::Validate() const {
   if (centroid_iterations < 1)
     throw std::invalid_argument("dot detector centroid_iterations must be >= 1");
   if (!(min_radius_px > 1 && max_radius_px > min_radius_px))
-    throw std::invalid_argument("dot detector radii must satisfy 1 < min_radius_px < max_radius_px");
+    throw std::invalid_argument(
+        "dot detector radii must satisfy 1 < min_radius_px < max_radius_px");
 }
 
 double EstimateNoise(const cv::Mat& unit_float) {
@@ -225,7 +230,8 @@ std::vector<Dot> FindDots(const cv::Mat& grey, int count, const DotDetectorOptio
   cv::Mat integral;
   cv::integral(search, integral, CV_64F);
   // Best contrast over scales at each pixel.
-  cv::Mat best(search.size(), CV_32F, cv::Scalar(-1.0f)), best_r(search.size(), CV_32F, cv::Scalar(0));
+  cv::Mat best(search.size(), CV_32F, cv::Scalar(-1.0f)),
+      best_r(search.size(), CV_32F, cv::Scalar(0));
   for (double r = options.min_radius_px; r <= options.max_radius_px; r *= 1.5) {
     const cv::Mat c = RingContrast(integral, search.cols, search.rows, r / to_full);
     for (int y = 0; y < search.rows; ++y) {
@@ -242,7 +248,10 @@ std::vector<Dot> FindDots(const cv::Mat& grey, int count, const DotDetectorOptio
   // Local maxima, strongest first, in full-resolution coordinates.
   cv::Mat dilated;
   cv::dilate(best, dilated, cv::Mat::ones(5, 5, CV_8U));
-  struct Peak { float v; double x, y; };
+  struct Peak {
+    float v;
+    double x, y;
+  };
   std::vector<Peak> peaks;
   for (int y = 0; y < search.rows; ++y)
     for (int x = 0; x < search.cols; ++x) {
@@ -258,7 +267,8 @@ std::vector<Dot> FindDots(const cv::Mat& grey, int count, const DotDetectorOptio
   int attempts = 0;
   for (const Peak& p : peaks) {
     if (static_cast<int>(dots.size()) >= count || p.v < floor || ++attempts > 16 * count) break;
-    const double r = best_r.at<float>(static_cast<int>(p.y / to_full), static_cast<int>(p.x / to_full));
+    const double r =
+        best_r.at<float>(static_cast<int>(p.y / to_full), static_cast<int>(p.x / to_full));
     bool near = false;
     for (const Dot& d : dots)
       near = near || (d.p_I - Eigen::Vector2d(p.x, p.y)).norm() < 2.5 * std::max(r, d.radius_px);

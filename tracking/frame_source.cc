@@ -1,8 +1,8 @@
 #include "tracking/frame_source.h"
 
 #include <algorithm>
-#include <cstdint>
 #include <cctype>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <limits>
@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
+#include <zlib.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
-#include <zlib.h>
 
 namespace hoof::tracking {
 
@@ -23,7 +23,8 @@ cv::Mat ToGrey(const cv::Mat& image, const std::string& what) {
   if (depth != CV_8U && depth != CV_16U && depth != CV_32F && depth != CV_64F)
     throw std::runtime_error(what + ": unsupported pixel depth");
   switch (image.channels()) {
-    case 1: return image;
+    case 1:
+      return image;
     case 3: {
       cv::Mat grey;
       cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
@@ -43,9 +44,15 @@ cv::Mat ToGrey(const cv::Mat& image, const std::string& what) {
 cv::Mat ToUnitFloat(const cv::Mat& grey) {
   cv::Mat out;
   switch (grey.depth()) {
-    case CV_8U: grey.convertTo(out, CV_32F, 1.0 / 255.0); break;
-    case CV_16U: grey.convertTo(out, CV_32F, 1.0 / 65535.0); break;
-    default: grey.convertTo(out, CV_32F); break;
+    case CV_8U:
+      grey.convertTo(out, CV_32F, 1.0 / 255.0);
+      break;
+    case CV_16U:
+      grey.convertTo(out, CV_32F, 1.0 / 65535.0);
+      break;
+    default:
+      grey.convertTo(out, CV_32F);
+      break;
   }
   return out;
 }
@@ -71,8 +78,8 @@ bool IsFramePattern(const std::string& pattern) {
   return conversions == 1;
 }
 
-ImageSequenceSource::ImageSequenceSource(std::filesystem::path dir, std::string pattern,
-                                         int first, int count)
+ImageSequenceSource::ImageSequenceSource(std::filesystem::path dir, std::string pattern, int first,
+                                         int count)
     : dir_(std::move(dir)), pattern_(std::move(pattern)), first_(first), count_(count) {
   if (!IsFramePattern(pattern_))
     throw std::invalid_argument("frames.pattern \"" + pattern_ +
@@ -108,11 +115,15 @@ std::string PngProblem(const std::vector<unsigned char>& bytes) {
   for (std::size_t at = 8;;) {
     if (bytes.size() - at < 12) return "is cut short: a PNG file without its end chunk" + size;
     const std::uint32_t length = be32(at);
-    if (length > bytes.size() - at - 12) return "is cut short: a PNG chunk runs past the end of the file" + size;
-    const std::string type(bytes.begin() + static_cast<std::ptrdiff_t>(at + 4), bytes.begin() + static_cast<std::ptrdiff_t>(at + 8));
-    const uLong crc = crc32(crc32(0L, Z_NULL, 0), bytes.data() + at + 4, static_cast<uInt>(length + 4));
+    if (length > bytes.size() - at - 12)
+      return "is cut short: a PNG chunk runs past the end of the file" + size;
+    const std::string type(bytes.begin() + static_cast<std::ptrdiff_t>(at + 4),
+                           bytes.begin() + static_cast<std::ptrdiff_t>(at + 8));
+    const uLong crc =
+        crc32(crc32(0L, Z_NULL, 0), bytes.data() + at + 4, static_cast<uInt>(length + 4));
     if (crc != be32(at + 8 + length))
-      return "is damaged: its PNG chunk " + type + " at byte " + std::to_string(at) + " fails its CRC check" + size;
+      return "is damaged: its PNG chunk " + type + " at byte " + std::to_string(at) +
+             " fails its CRC check" + size;
     if (type == "IEND") return "";
     at += 12 + length;
   }
@@ -127,7 +138,8 @@ std::string JpegProblem(const std::vector<unsigned char>& bytes) {
   const std::size_t from = bytes.size() > 64 ? bytes.size() - 64 : 2;
   for (std::size_t at = bytes.size() - 1; at > from; --at)
     if (bytes[at - 1] == 0xff && bytes[at] == 0xd9) return "";
-  return "is cut short: a JPEG file without its end marker (" + std::to_string(bytes.size()) + " bytes)";
+  return "is cut short: a JPEG file without its end marker (" + std::to_string(bytes.size()) +
+         " bytes)";
 }
 
 }  // namespace
@@ -147,19 +159,23 @@ cv::Mat ImageSequenceSource::Read(int index) {
     const auto size = std::filesystem::file_size(path, ec);
     std::ifstream in(path, std::ios::binary);
     if (!ec) bytes.resize(static_cast<std::size_t>(size));
-    if (ec || !in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())))
-      throw std::runtime_error(path.string() + ": frame " + std::to_string(index) + " cannot be read");
+    if (ec ||
+        !in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())))
+      throw std::runtime_error(path.string() + ": frame " + std::to_string(index) +
+                               " cannot be read");
   }
-  if (std::string problem = PngProblem(bytes); !problem.empty() || !(problem = JpegProblem(bytes)).empty())
+  if (std::string problem = PngProblem(bytes);
+      !problem.empty() || !(problem = JpegProblem(bytes)).empty())
     throw std::runtime_error(path.string() + ": frame " + std::to_string(index) + " " + problem);
   cv::Mat image;
   try {
     image = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
   } catch (const cv::Exception& e) {  // e.g. an image beyond OpenCV's pixel limit
     const bool too_large = e.msg.find("CV_IO_MAX_IMAGE_PIXELS") != std::string::npos;
-    throw std::runtime_error(path.string() + ": frame " + std::to_string(index) +
-                             (too_large ? " has more pixels than OpenCV decodes (2^30; CV_IO_MAX_IMAGE_PIXELS)"
-                                        : " cannot be decoded: " + e.msg));
+    throw std::runtime_error(
+        path.string() + ": frame " + std::to_string(index) +
+        (too_large ? " has more pixels than OpenCV decodes (2^30; CV_IO_MAX_IMAGE_PIXELS)"
+                   : " cannot be decoded: " + e.msg));
   }
   if (image.empty())
     throw std::runtime_error(path.string() + ": frame " + std::to_string(index) +
@@ -181,7 +197,8 @@ void VideoSource::Open() {
   // FFmpeg first; the other backends only if it cannot (hoofimpact silences OpenCV's log, so a
   // file that no backend reads gets only our message naming it).
   capture_ = std::make_unique<cv::VideoCapture>(path_.string(), cv::CAP_FFMPEG);
-  if (!capture_->isOpened()) capture_ = std::make_unique<cv::VideoCapture>(path_.string(), cv::CAP_ANY);
+  if (!capture_->isOpened())
+    capture_ = std::make_unique<cv::VideoCapture>(path_.string(), cv::CAP_ANY);
   if (!capture_->isOpened())
     throw std::runtime_error(path_.string() + ": cannot open video (unsupported codec?)");
   next_ = 0;
@@ -197,8 +214,7 @@ cv::Mat VideoSource::Read(int index) {
   if (index < next_) Open();
   cv::Mat frame;
   while (next_ <= index) {
-    if (!capture_->read(frame))
-      throw std::runtime_error(Describe(next_) + ": cannot be decoded");
+    if (!capture_->read(frame)) throw std::runtime_error(Describe(next_) + ": cannot be decoded");
     ++next_;
   }
   return ToGrey(frame, Describe(index));

@@ -26,7 +26,8 @@ std::vector<int> AssignIdentities(const std::vector<Dot>& dots,
   double scale_at_best = 1.0;
   do {
     std::vector<Eigen::Vector2d> measured;
-    for (int i = 0; i < n; ++i) measured.push_back(dots[static_cast<std::size_t>(perm[static_cast<std::size_t>(i)])].p_I);
+    for (int i = 0; i < n; ++i)
+      measured.push_back(dots[static_cast<std::size_t>(perm[static_cast<std::size_t>(i)])].p_I);
     const RigidFit fit = FitRigid2D(layout_px, measured, /*allow_scale=*/true);
     // Image frame has y down: the body x axis in the image is the fit's rotation of (1, 0).
     const Eigen::Vector2d x_axis_I = fit.rotation.col(0);
@@ -38,7 +39,8 @@ std::vector<int> AssignIdentities(const std::vector<Dot>& dots,
     }
   } while (std::next_permutation(perm.begin(), perm.end()));
   if (best_perm.empty())
-    throw std::runtime_error(where + ": cannot match the markers to the layout (no assignment "
+    throw std::runtime_error(where +
+                             ": cannot match the markers to the layout (no assignment "
                              "puts the round end below the centre of mass)");
   // Compare distances: the scale of the best similarity fit says how well m_per_px and the
   // layout agree with what is seen.
@@ -73,8 +75,7 @@ void TrackerOptions::Validate() const {
 MarkerTracks TrackMarkers(FrameSource& source,
                           const std::vector<std::pair<std::string, Eigen::Vector2d>>& layout_B_m,
                           double m_per_px, const Eigen::Vector2d& gravity_I,
-                          const TrackerOptions& options,
-                          const std::function<void(int)>& progress) {
+                          const TrackerOptions& options, const std::function<void(int)>& progress) {
   options.Validate();
   const int n = static_cast<int>(layout_B_m.size());
   if (n < 2) throw std::invalid_argument("the marker layout needs two or more markers");
@@ -100,11 +101,13 @@ MarkerTracks TrackMarkers(FrameSource& source,
   std::vector<Dot> candidates(found.begin(), found.begin() + n);
   std::vector<int> ids;
   try {
-    ids = AssignIdentities(candidates, layout_px, up_I, options.layout_tolerance, source.Describe(0));
+    ids =
+        AssignIdentities(candidates, layout_px, up_I, options.layout_tolerance, source.Describe(0));
   } catch (const std::runtime_error&) {
     if (static_cast<int>(found.size()) == n) throw;
     candidates = found;
-    ids = AssignIdentities(candidates, layout_px, up_I, options.layout_tolerance, source.Describe(0));
+    ids =
+        AssignIdentities(candidates, layout_px, up_I, options.layout_tolerance, source.Describe(0));
   }
 
   std::vector<std::vector<Eigen::Vector2d>> history(static_cast<std::size_t>(n));
@@ -140,16 +143,17 @@ MarkerTracks TrackMarkers(FrameSource& source,
       Eigen::Vector2d step = Eigen::Vector2d::Zero();
       if (k >= 2) step = h[k - 1] - h[k - 2];
       predicted += gap * step;
-      const double search = options.search_radius_px > 0
-                                ? options.search_radius_px
-                                : std::max(6.0, 0.5 * radius[static_cast<std::size_t>(m)] +
-                                                    3.0 * step.norm() * gap);
+      const double search =
+          options.search_radius_px > 0
+              ? options.search_radius_px
+              : std::max(6.0, 0.5 * radius[static_cast<std::size_t>(m)] + 3.0 * step.norm() * gap);
       const auto dot = FindDotNear(frame, predicted, search, radius[static_cast<std::size_t>(m)],
                                    options.detector);
       if (!dot) {
         obs.status = "lost";
         ++misses[static_cast<std::size_t>(m)];
-        tracks.warnings.push_back(source.Describe(f) + ": marker " + tracks.names[static_cast<std::size_t>(m)] +
+        tracks.warnings.push_back(source.Describe(f) + ": marker " +
+                                  tracks.names[static_cast<std::size_t>(m)] +
                                   " not found near its predicted position");
         continue;
       }
@@ -162,13 +166,15 @@ MarkerTracks TrackMarkers(FrameSource& source,
       for (int b = a + 1; b < n; ++b) {
         auto& oa = row[static_cast<std::size_t>(a)];
         auto& ob = row[static_cast<std::size_t>(b)];
-        if (oa.found && ob.found && (oa.p_I - ob.p_I).norm() < 0.5 * (oa.radius_px + ob.radius_px)) {
+        if (oa.found && ob.found &&
+            (oa.p_I - ob.p_I).norm() < 0.5 * (oa.radius_px + ob.radius_px)) {
           oa.found = ob.found = false;
           oa.status = ob.status = "merged";
           history[static_cast<std::size_t>(a)].pop_back();
           history[static_cast<std::size_t>(b)].pop_back();
-          tracks.warnings.push_back(source.Describe(f) + ": markers " + tracks.names[static_cast<std::size_t>(a)] +
-                                    " and " + tracks.names[static_cast<std::size_t>(b)] + " merged");
+          tracks.warnings.push_back(source.Describe(f) + ": markers " +
+                                    tracks.names[static_cast<std::size_t>(a)] + " and " +
+                                    tracks.names[static_cast<std::size_t>(b)] + " merged");
         }
       }
     if (progress) progress(f);

@@ -38,14 +38,14 @@ struct MarkerObservation {
   Eigen::Vector2d p_I{0.0, 0.0};  ///< Sub-pixel centre (px), when found.
   double quality = 0.0;           ///< Significance (contrast / noise); 0 when not found.
   double radius_px = 0.0;
-  std::string status;             ///< "ok", "lost", "merged", "lost_for_good"
+  std::string status;  ///< "ok", "lost", "merged", "lost_for_good"
 };
 
 /// Marker tracks of one sequence.
 struct MarkerTracks {
-  std::vector<std::string> names;                       ///< Marker names, layout order.
-  std::vector<std::vector<MarkerObservation>> frames;   ///< [frame][marker]
-  std::vector<std::string> warnings;                    ///< Lost or merged markers, per frame.
+  std::vector<std::string> names;                      ///< Marker names, layout order.
+  std::vector<std::vector<MarkerObservation>> frames;  ///< [frame][marker]
+  std::vector<std::string> warnings;                   ///< Lost or merged markers, per frame.
   int frame_count() const { return static_cast<int>(frames.size()); }
 };
 

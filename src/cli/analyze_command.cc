@@ -78,13 +78,16 @@ void Run(AnalyzeArgs& a, RunState& state) {
     // these folders may hold anyone's files.
     const std::filesystem::path output = std::filesystem::absolute(a.output);
     const std::string study_tmp = output.filename().string() + ".tmp-";
-    int stale = io::RemoveStaleTemporaries(output.parent_path(),
-                                           [&](const std::string& name) { return name.rfind(study_tmp, 0) == 0; });
+    int stale = io::RemoveStaleTemporaries(output.parent_path(), [&](const std::string& name) {
+      return name.rfind(study_tmp, 0) == 0;
+    });
     if (!a.figures_dir.empty())
       stale += io::RemoveStaleTemporaries(a.figures_dir, [](const std::string& name) {
-        return name.find(".png.tmp-") != std::string::npos || name.find(".svg.tmp-") != std::string::npos;
+        return name.find(".png.tmp-") != std::string::npos ||
+               name.find(".svg.tmp-") != std::string::npos;
       });
-    if (stale > 0) std::cerr << "hoofimpact: removed " << stale << " temporary file(s) a killed run left\n";
+    if (stale > 0)
+      std::cerr << "hoofimpact: removed " << stale << " temporary file(s) a killed run left\n";
   }
 
   const bool tty = ::isatty(STDERR_FILENO) != 0;
@@ -114,7 +117,8 @@ void Run(AnalyzeArgs& a, RunState& state) {
                                                 /*displacement=*/a.figures_all)
                           .size();
     // The study figures come from the file just written, as `hoofimpact figures` draws them.
-    figure_count += report::WriteStudyFigures(studyfile::ReadStudyResults(a.output), a.figures_dir).size();
+    figure_count +=
+        report::WriteStudyFigures(studyfile::ReadStudyResults(a.output), a.figures_dir).size();
     std::cerr << "Figures: " << figure_count << " file(s) in " << a.figures_dir << "\n";
   }
 

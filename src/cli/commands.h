@@ -23,10 +23,10 @@ namespace hoof::cli {
 
 /// Exit codes shared by all subcommands.
 enum ExitCode : int {
-  kExitOk = 0,           ///< Everything succeeded.
-  kExitFailure = 1,      ///< Bad input data or a failed computation; the message says which.
-  kExitUsage = 2,        ///< Bad command line.
-  kExitPartial = 3,      ///< A study ran, but some trials failed (each recorded with a reason).
+  kExitOk = 0,       ///< Everything succeeded.
+  kExitFailure = 1,  ///< Bad input data or a failed computation; the message says which.
+  kExitUsage = 2,    ///< Bad command line.
+  kExitPartial = 3,  ///< A study ran, but some trials failed (each recorded with a reason).
 };
 
 /// Holds the exit code a subcommand's callback sets.
@@ -53,10 +53,10 @@ void PrintStudyStatistics(const study::StudyStatistics& statistics, const std::s
 
 /// Settings of the discovery step (`discover`, and `run --discover`).
 struct DiscoverSettings {
-  double alpha = 0.01;  ///< family-wise level (discovery::DiscoveryOptions::alpha)
-  int folds = 3;        ///< leave-trials-out folds
-  int rounds = 3;       ///< effects added at most
-  int jobs = 0;         ///< threads (0 = all cores)
+  double alpha = 0.01;                  ///< family-wise level (discovery::DiscoveryOptions::alpha)
+  int folds = 3;                        ///< leave-trials-out folds
+  int rounds = 3;                       ///< effects added at most
+  int jobs = 0;                         ///< threads (0 = all cores)
   std::vector<std::string> candidates;  ///< library keys to try; empty = all
   /// Let a contact effect take its own value on each surface (`--shared-only` turns it off;
   /// discovery::DiscoveryOptions::per_surface).
@@ -68,7 +68,7 @@ struct DiscoverSettings {
   /// The study file's name in messages, when the file discovery writes to is a temporary that
   /// will be renamed to it (`run`); empty = the file's own name.
   std::string shown_as;
-  bool json = false;        ///< print one JSON object instead of the text
+  bool json = false;  ///< print one JSON object instead of the text
 };
 
 /// Throws CLI::ValidationError naming the option (--alpha, --folds, --rounds, --jobs,

@@ -16,7 +16,8 @@ void AddSpecimenOptions(CLI::App* app, dynamics::SpecimenParameters& specimen) {
                   "Moment of inertia I_C about the centre of mass (kg m^2; 1e-10 to 1e3)")
       ->check(CLI::Range(1e-10, 1e3))
       ->capture_default_str();
-  app->add_option("--end-radius-m", specimen.end_radius_m, "Radius R of the round end (m; 1e-4 to 1)")
+  app->add_option("--end-radius-m", specimen.end_radius_m,
+                  "Radius R of the round end (m; 1e-4 to 1)")
       ->check(CLI::Range(1e-4, 1.0))
       ->capture_default_str();
   app->add_option("--d-ec-m", specimen.d_EC_m,
@@ -29,8 +30,9 @@ void AddExtensionOptions(CLI::App* app, dynamics::ContactExtensions& ext) {
   // Each bound is far beyond what a hoof, a ball or a specimen shows, and inside what the
   // integrator finishes; a value outside is a command-line error (exit 2).
   const std::string group = "Effects beyond the paper's model (0 = off)";
-  app->add_option("--hunt-crossley-n-s-m2", ext.hunt_crossley_N_s_m2,
-                  "Hunt-Crossley damping c: P gains -c |delta| delta' in compression (N s/m^2; 0 to 1e11)")
+  app->add_option(
+         "--hunt-crossley-n-s-m2", ext.hunt_crossley_N_s_m2,
+         "Hunt-Crossley damping c: P gains -c |delta| delta' in compression (N s/m^2; 0 to 1e11)")
       ->check(CLI::Range(0.0, 1e11))
       ->group(group);
   app->add_option("--stiffness-exponent-extra", ext.stiffness_exponent_extra,
@@ -58,8 +60,9 @@ void AddExtensionOptions(CLI::App* app, dynamics::ContactExtensions& ext) {
                   "rho: rolling-resistance torque -rho P w / (|w| + 1 rad/s) (m; 0 to 1)")
       ->check(CLI::Range(0.0, 1.0))
       ->group(group);
-  app->add_option("--friction-speed-slope-s-m", ext.friction_speed_slope_s_m,
-                  "s: sliding friction mu (1 + s |v_T|) P (s/m; 0 to 100); not in the discovery library")
+  app->add_option(
+         "--friction-speed-slope-s-m", ext.friction_speed_slope_s_m,
+         "s: sliding friction mu (1 + s |v_T|) P (s/m; 0 to 100); not in the discovery library")
       ->check(CLI::Range(0.0, 100.0))
       ->group(group);
 }
@@ -87,21 +90,27 @@ void ValidateOptions(const CLI::App* cmd, const std::function<void()>& validate)
   } catch (const std::invalid_argument& e) {
     const std::string what = e.what();
     const auto is_word = [&](std::size_t at, std::size_t size) {
-      const auto part = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
-      return (at == 0 || !part(what[at - 1])) && (at + size == what.size() || !part(what[at + size]));
+      const auto part = [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+      };
+      return (at == 0 || !part(what[at - 1])) &&
+             (at + size == what.size() || !part(what[at + size]));
     };
     for (const CLI::Option* option : cmd->get_options()) {
       for (const std::string& name : option->get_lnames()) {
-        for (std::size_t at = what.find("--" + name); at != std::string::npos; at = what.find("--" + name, at + 1)) {
+        for (std::size_t at = what.find("--" + name); at != std::string::npos;
+             at = what.find("--" + name, at + 1)) {
           const std::size_t after = at + 2 + name.size();
-          if (after == what.size() || (!std::isalnum(static_cast<unsigned char>(what[after])) && what[after] != '_' &&
-                                       what[after] != '-'))
+          if (after == what.size() || (!std::isalnum(static_cast<unsigned char>(what[after])) &&
+                                       what[after] != '_' && what[after] != '-'))
             throw CLI::ValidationError("--" + name, what);
         }
         std::string field = name;
         std::replace(field.begin(), field.end(), '-', '_');
-        for (std::size_t at = what.find(field); at != std::string::npos; at = what.find(field, at + 1))
-          if (field.size() > 1 && is_word(at, field.size())) throw CLI::ValidationError("--" + name, what);
+        for (std::size_t at = what.find(field); at != std::string::npos;
+             at = what.find(field, at + 1))
+          if (field.size() > 1 && is_word(at, field.size()))
+            throw CLI::ValidationError("--" + name, what);
       }
     }
     throw CLI::ValidationError(cmd->get_name(), what);

@@ -29,8 +29,9 @@ nlohmann::json ExtensionsJson(const dynamics::ContactExtensions& ext);
 inline const CLI::Validator kNotNegative(
     [](std::string& text) {
       const auto first = text.find_first_not_of(" \t");
-      return first != std::string::npos && text[first] == '-' ? std::string("must not be negative, got " + text)
-                                                                : std::string();
+      return first != std::string::npos && text[first] == '-'
+                 ? std::string("must not be negative, got " + text)
+                 : std::string();
     },
     "NOT NEGATIVE");
 
@@ -40,8 +41,9 @@ inline const CLI::Validator kFinite(
     [](std::string& text) {
       char* end = nullptr;
       const double value = std::strtod(text.c_str(), &end);
-      return end != text.c_str() && !std::isfinite(value) ? std::string("must be a finite number, got " + text)
-                                                         : std::string();
+      return end != text.c_str() && !std::isfinite(value)
+                 ? std::string("must be a finite number, got " + text)
+                 : std::string();
     },
     "FINITE");
 

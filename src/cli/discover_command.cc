@@ -241,7 +241,8 @@ bool SaysWhy(const discovery::CandidateResult& c) {
   return c.significant || c.outcome == CandidateOutcome::kAdded ||
          c.outcome == CandidateOutcome::kIndistinguishable ||
          c.outcome == CandidateOutcome::kWeakerThanAdded ||
-         c.outcome == CandidateOutcome::kWorseHeldOut || c.outcome == CandidateOutcome::kBelowResolution;
+         c.outcome == CandidateOutcome::kWorseHeldOut ||
+         c.outcome == CandidateOutcome::kBelowResolution;
 }
 
 void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std::string& h5) {
@@ -258,11 +259,11 @@ void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std:
     os << (line.empty() ? "" : "  ") << line << "\n";
   using discovery::CandidateOutcome;
   using discovery::Identifiability;
-  const int outcome_width =
-      TextWidth({CandidateOutcome::kAdded, CandidateOutcome::kIndistinguishable,
-                 CandidateOutcome::kWeakerThanAdded, CandidateOutcome::kNotSignificant,
-                 CandidateOutcome::kWorseHeldOut, CandidateOutcome::kBelowResolution, CandidateOutcome::kNotTested,
-                 CandidateOutcome::kConfounded, CandidateOutcome::kNotFitted});
+  const int outcome_width = TextWidth(
+      {CandidateOutcome::kAdded, CandidateOutcome::kIndistinguishable,
+       CandidateOutcome::kWeakerThanAdded, CandidateOutcome::kNotSignificant,
+       CandidateOutcome::kWorseHeldOut, CandidateOutcome::kBelowResolution,
+       CandidateOutcome::kNotTested, CandidateOutcome::kConfounded, CandidateOutcome::kNotFitted});
   const int identifiability_width = TextWidth(
       {Identifiability::kIdentified, Identifiability::kNotTested, Identifiability::kConfounded});
   const int form_width =
@@ -295,10 +296,10 @@ void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std:
               : c.parameter;
       os << std::setw(form_width) << discovery::ToString(c.form) << std::setw(30)
          << Estimate(c.estimate, c.se, parameter, c.unit) << std::right << std::setw(10)
-         << (c.p_value > 0 ? Num(c.p_value, 3) : std::string("<1e-300")) << std::setw(11) << Num(c.delta_aic, 3) << std::setw(11)
-         << Num(c.delta_bic, 3) << "  " << std::left << std::setw(outcome_width)
-         << discovery::ToString(c.outcome) << std::setw(identifiability_width)
-         << discovery::ToString(c.identifiability) << std::right
+         << (c.p_value > 0 ? Num(c.p_value, 3) : std::string("<1e-300")) << std::setw(11)
+         << Num(c.delta_aic, 3) << std::setw(11) << Num(c.delta_bic, 3) << "  " << std::left
+         << std::setw(outcome_width) << discovery::ToString(c.outcome)
+         << std::setw(identifiability_width) << discovery::ToString(c.identifiability) << std::right
          << (Num(c.cv_error, 3) + " (" + Num(c.cv_error_current, 3) + ")") << "\n";
     }
     for (const auto& c : round.candidates) {
@@ -374,7 +375,8 @@ std::pair<std::string, double> ParsePlan(const std::string& text) {
     used = 0;
   }
   if (eq == std::string::npos || eq == 0 || used == 0 || used != text.size() - eq - 1)
-    throw CLI::ValidationError("--plan", "expected KEY=SIZE (e.g. hunt_crossley=2e7), got '" + text + "'");
+    throw CLI::ValidationError("--plan",
+                               "expected KEY=SIZE (e.g. hunt_crossley=2e7), got '" + text + "'");
   return {text.substr(0, eq), size};
 }
 
@@ -415,19 +417,25 @@ void PrintPlans(const DiscoverArgs& a, const std::vector<pipeline::TrialAnalysis
                    {"conditions", conditions}});
     if (a.settings.json) continue;
     const std::string unit = p.unit == "1" ? "" : " " + p.unit;
-    std::cout << "Plan for " << p.name << " at " << p.parameter << " = " << Num(p.size, 3) << unit << " ("
-              << a.study_h5 << ", " << p.trials << " trials, naming level " << Num(p.level, 2) << "):\n"
-              << "  this study detects " << p.parameter << " >= " << Num(p.detection_limit, 2) << unit
-              << " with 80 % power; its power at " << Num(p.size, 3) << unit << " is " << Percent(p.power) << "\n"
-              << "  80 % power at " << Num(p.size, 3) << unit << " needs about " << Num(p.trials_needed, 6)
+    std::cout << "Plan for " << p.name << " at " << p.parameter << " = " << Num(p.size, 3) << unit
+              << " (" << a.study_h5 << ", " << p.trials << " trials, naming level "
+              << Num(p.level, 2) << "):\n"
+              << "  this study detects " << p.parameter << " >= " << Num(p.detection_limit, 2)
+              << unit << " with 80 % power; its power at " << Num(p.size, 3) << unit << " is "
+              << Percent(p.power) << "\n"
+              << "  80 % power at " << Num(p.size, 3) << unit << " needs about "
+              << Num(p.trials_needed, 6)
               << " trials of this design (its conditions in the same proportions)\n"
-              << "  information per trial, most informative condition first (zeta and mu profiled out):\n";
+              << "  information per trial, most informative condition first (zeta and mu profiled "
+                 "out):\n";
     for (const auto& c : p.conditions)
       std::cout << "    " << std::left << std::setw(10) << c.surface << std::right << std::setw(5)
-                << Num(c.angle_deg, 3) << " deg  " << Num(c.speed_low_m_s, 3) << "-" << Num(c.speed_high_m_s, 3)
-                << " m/s  " << std::setw(3) << c.trials << " trials  " << std::setw(10)
-                << Num(c.information_per_trial, 3) << " per trial  (" << Percent(c.share) << " of the study's)\n";
-    std::cout << "  (Wald approximation from the baseline fitted with its noise model; docs/discovery.md)\n";
+                << Num(c.angle_deg, 3) << " deg  " << Num(c.speed_low_m_s, 3) << "-"
+                << Num(c.speed_high_m_s, 3) << " m/s  " << std::setw(3) << c.trials << " trials  "
+                << std::setw(10) << Num(c.information_per_trial, 3) << " per trial  ("
+                << Percent(c.share) << " of the study's)\n";
+    std::cout << "  (Wald approximation from the baseline fitted with its noise model; "
+                 "docs/discovery.md)\n";
   }
   if (a.settings.json) std::cout << all.dump(2) << "\n";
 }
@@ -435,7 +443,8 @@ void PrintPlans(const DiscoverArgs& a, const std::vector<pipeline::TrialAnalysis
 /// `S.h5` -> `S-discovery.h5` beside it.
 fs::path DefaultDiscoveryOutput(const std::string& study_h5) {
   const fs::path in(study_h5);
-  return in.parent_path() / (in.stem().string() + "-discovery" + (in.has_extension() ? in.extension().string() : ".h5"));
+  return in.parent_path() / (in.stem().string() + "-discovery" +
+                             (in.has_extension() ? in.extension().string() : ".h5"));
 }
 
 /// The study's trials; errors name the file.
@@ -455,13 +464,16 @@ void Discover(const DiscoverArgs& a, RunState& state) {
   for (const auto& text : a.plans) ParsePlan(text);  // a bad one is a command-line error first
   // The input is never modified: the result goes into a copy, written beside the output as a
   // temporary and renamed over it only when the workflow ran.
-  const fs::path output = a.output.empty() ? DefaultDiscoveryOutput(a.study_h5) : fs::path(a.output);
+  const fs::path output =
+      a.output.empty() ? DefaultDiscoveryOutput(a.study_h5) : fs::path(a.output);
   std::error_code ec;
   if (fs::exists(output, ec) && fs::equivalent(output, a.study_h5, ec))
-    throw CLI::ValidationError("-o", output.string() + " is the input study file; discover never modifies its "
-                                     "input: name another file");
+    throw CLI::ValidationError("-o", output.string() +
+                                         " is the input study file; discover never modifies its "
+                                         "input: name another file");
   if (fs::is_directory(output, ec))
-    throw CLI::ValidationError("-o", output.string() + " is a folder; name the study file to write");
+    throw CLI::ValidationError("-o",
+                               output.string() + " is a folder; name the study file to write");
   const auto trials = ReadTrials(a.study_h5);
   if (!a.plans.empty()) {
     PrintPlans(a, trials);
@@ -471,7 +483,8 @@ void Discover(const DiscoverArgs& a, RunState& state) {
   if (!output.parent_path().empty()) fs::create_directories(output.parent_path());
   const std::string own = output.filename().string() + ".tmp-";
   if (const int stale = io::RemoveStaleTemporaries(
-          fs::absolute(output).parent_path(), [&](const std::string& name) { return name.rfind(own, 0) == 0; });
+          fs::absolute(output).parent_path(),
+          [&](const std::string& name) { return name.rfind(own, 0) == 0; });
       stale > 0)
     std::cerr << "hoofimpact: removed " << stale << " temporary file(s) a killed run left\n";
   const fs::path temporary = io::TemporaryPathFor(output);
@@ -483,7 +496,8 @@ void Discover(const DiscoverArgs& a, RunState& state) {
     }
     DiscoverSettings settings = a.settings;
     settings.shown_as = output.string();
-    if (settings.figures_dir.empty()) settings.figures_dir = (output.parent_path() / "figures").string();
+    if (settings.figures_dir.empty())
+      settings.figures_dir = (output.parent_path() / "figures").string();
     ok = RunStudyDiscovery(temporary.string(), trials, settings);
     if (ok) io::CommitTemporary(temporary, output);
   } catch (...) {
@@ -602,19 +616,21 @@ void RegisterDiscover(CLI::App& app, RunState& state) {
       "--shared-only", [args] { args->settings.per_surface = false; },
       "Give every contact effect one value shared by all surfaces (default: a per-surface "
       "form too, chosen by a likelihood-ratio test)");
-  cmd->add_option("-o,--output", args->output,
-                  "Study file to write: a copy of STUDY_H5 with the result under /discovery (default: "
-                  "STUDY-discovery.h5 beside it); the input is never modified");
+  cmd->add_option(
+      "-o,--output", args->output,
+      "Study file to write: a copy of STUDY_H5 with the result under /discovery (default: "
+      "STUDY-discovery.h5 beside it); the input is never modified");
   cmd->add_option("--figures", s.figures_dir,
                   "Folder for the figures (default: figures/ beside the output file)");
   cmd->add_option("--report", args->report,
                   "Also write the HTML report of the output file to this file (only when the "
                   "workflow ran)");
   cmd->add_flag("--json", s.json, "Print the whole result as one JSON object");
-  cmd->add_option("--plan", args->plans,
-                  "KEY=SIZE: instead of the workflow, how many trials of this design would detect the "
-                  "effect at that size (library unit) with 80 % power, and which conditions tell most "
-                  "(repeatable)");
+  cmd->add_option(
+      "--plan", args->plans,
+      "KEY=SIZE: instead of the workflow, how many trials of this design would detect the "
+      "effect at that size (library unit) with 80 % power, and which conditions tell most "
+      "(repeatable)");
   cmd->callback([args, &state] { Discover(*args, state); });
 }
 

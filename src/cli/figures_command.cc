@@ -33,8 +33,7 @@ void RegisterFigures(CLI::App& app, RunState& state) {
     const auto written = report::WriteStudyFigures(study, args->output_dir);
     for (const auto& f : written) std::cout << "figure: " << f.string() << "\n";
     if (written.empty()) {
-      std::cerr << "hoofimpact: error: " << args->study_file
-                << ": no successful trial to draw\n";
+      std::cerr << "hoofimpact: error: " << args->study_file << ": no successful trial to draw\n";
       state.exit_code = kExitFailure;
     }
   });

@@ -1,9 +1,9 @@
 // hoofimpact fit: the contact law from normal-impact velocities, reported as what velocities
 // can identify (zeta, with an interval) and what they cannot (k), with the valley shown.
 #include <cmath>
+#include <cstdlib>
 #include <iomanip>
 #include <iostream>
-#include <cstdlib>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -81,15 +81,15 @@ void PrintText(const std::string& group, const ContactFitSummary& s, double mass
   }
   os << "  zeta = " << s.zeta;
   if (std::isfinite(s.zeta_se))
-    os << "  (s.e. " << s.zeta_se << "; 95 % interval " << s.zeta_ci_low << " .. "
-       << s.zeta_ci_high << ")";
+    os << "  (s.e. " << s.zeta_se << "; 95 % interval " << s.zeta_ci_low << " .. " << s.zeta_ci_high
+       << ")";
   os << "\n  e (normal, closed form) = " << s.e_normal << "; mean |error| of rebound speed "
      << s.mpe_percent << " %, rms " << s.rms_percent << " %\n\n";
   os << "  The valley (best b for each k; every row fits the data about equally well):\n";
   os << "        k (N/m)      b (N s/m)     zeta     MPE (%)   contact (us)  in paper's box\n";
   for (const auto& p : s.valley) {
-    os << "    " << std::scientific << std::setprecision(3) << std::setw(11) << p.k_N_m
-       << "  " << std::fixed << std::setprecision(2) << std::setw(11) << p.b_N_s_m << "  "
+    os << "    " << std::scientific << std::setprecision(3) << std::setw(11) << p.k_N_m << "  "
+       << std::fixed << std::setprecision(2) << std::setw(11) << p.b_N_s_m << "  "
        << std::setprecision(5) << std::setw(8) << p.zeta << "  " << std::setprecision(4)
        << std::setw(8) << p.mpe_percent << "  " << std::setprecision(2) << std::setw(10)
        << p.contact_duration_s * 1e6 << "    " << (p.within_bounds ? "yes" : "no (b > max)")
@@ -177,7 +177,8 @@ void RegisterFit(CLI::App& app, RunState& state) {
         const std::string& text = table.Text(r, col);
         char* end = nullptr;
         const double x = std::strtod(text.c_str(), &end), y = std::strtod(value.c_str(), &end);
-        const bool numeric = !text.empty() && !value.empty() && std::isfinite(x) && std::isfinite(y);
+        const bool numeric =
+            !text.empty() && !value.empty() && std::isfinite(x) && std::isfinite(y);
         if (text != value && !(numeric && x == y)) return false;
       }
       return true;
@@ -203,9 +204,10 @@ void RegisterFit(CLI::App& app, RunState& state) {
     // A rebound faster than the approach (e > 1) is no dissipative contact's: say where.
     if (!above_one.empty()) {
       std::ostringstream os;
-      os << a.csv_path << ": e = " << a.after_col << " / " << a.before_col << " > 1 in " << above_one.size()
-         << " row(s), on line(s) ";
-      for (std::size_t i = 0; i < above_one.size() && i < 10; ++i) os << (i ? ", " : "") << above_one[i];
+      os << a.csv_path << ": e = " << a.after_col << " / " << a.before_col << " > 1 in "
+         << above_one.size() << " row(s), on line(s) ";
+      for (std::size_t i = 0; i < above_one.size() && i < 10; ++i)
+        os << (i ? ", " : "") << above_one[i];
       if (above_one.size() > 10) os << ", ...";
       os << ": the contact model dissipates energy and cannot fit them (swapped columns?)";
       throw std::runtime_error(os.str());
@@ -228,11 +230,11 @@ void RegisterFit(CLI::App& app, RunState& state) {
         for (std::size_t j = 0; j < s.map_b_N_s_m.size(); ++j)
           grid << io::CsvEscape(name) << "," << io::CsvNumber(s.map_k_N_m[i]) << ","
                << io::CsvNumber(s.map_b_N_s_m[j]) << ","
-               << io::CsvNumber(dynamics::DampingRatio(s.map_k_N_m[i], s.map_b_N_s_m[j],
-                                                       a.specimen.mass_kg))
+               << io::CsvNumber(
+                      dynamics::DampingRatio(s.map_k_N_m[i], s.map_b_N_s_m[j], a.specimen.mass_kg))
                << ","
-               << io::CsvNumber(s.map_mpe_percent(static_cast<Eigen::Index>(i),
-                                                  static_cast<Eigen::Index>(j)))
+               << io::CsvNumber(
+                      s.map_mpe_percent(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)))
                << ",0\n";
       for (const auto& p : s.valley)
         grid << io::CsvEscape(name) << "," << io::CsvNumber(p.k_N_m) << ","

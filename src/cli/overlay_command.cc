@@ -26,7 +26,8 @@ void RegisterOverlay(CLI::App& app, RunState& state) {
       "simulated outline, the contact point and a time stamp; PNG per frame and a video");
   cmd->add_option("study_h5", args->study_file, "HDF5 study file written by `run`")->required();
   cmd->add_option("trial_id", args->trial_id, "Trial id (the `id` column of /results)")->required();
-  cmd->add_option("-o,--output", args->output_dir, "Output folder; the trial's files go to DIR/<id>/")
+  cmd->add_option("-o,--output", args->output_dir,
+                  "Output folder; the trial's files go to DIR/<id>/")
       ->capture_default_str();
   cmd->add_option("--slow", args->slow, "Show each frame N times in the video (25 fps)")
       ->capture_default_str()
@@ -44,7 +45,8 @@ void RegisterOverlay(CLI::App& app, RunState& state) {
     const auto s = overlay::RenderTrialOverlay(args->study_file, args->trial_id, o);
     std::cout << s.frames << " frame(s) of " << args->trial_id << " rendered in " << s.dir.string()
               << (o.write_frames ? " (frame_NNNNNN.png)" : "") << "\n";
-    if (!s.video.empty()) std::cout << "video: " << s.video.string() << " (" << s.video_format << ")\n";
+    if (!s.video.empty())
+      std::cout << "video: " << s.video.string() << " (" << s.video_format << ")\n";
     for (const auto& w : s.warnings) std::cerr << "hoofimpact: warning: " << w << "\n";
     state.exit_code = kExitOk;
   });

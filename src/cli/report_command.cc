@@ -17,9 +17,10 @@ void RegisterReport(CLI::App& app, RunState& state) {
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
-      "report", "One self-contained HTML page (DIR/report.html, no network needed) of a study "
-                "file written by `run`: summary, contact model, statistics, figures, trials "
-                "and a frame-by-frame replay with the simulation drawn over the frames");
+      "report",
+      "One self-contained HTML page (DIR/report.html, no network needed) of a study "
+      "file written by `run`: summary, contact model, statistics, figures, trials "
+      "and a frame-by-frame replay with the simulation drawn over the frames");
   cmd->add_option("study_h5", args->study_file, "HDF5 study file written by `run`")->required();
   cmd->add_option("-o,--output", args->output_dir, "Folder for report.html (created when missing)")
       ->capture_default_str();
@@ -35,8 +36,8 @@ void RegisterReport(CLI::App& app, RunState& state) {
     const auto summary = report::WriteHtmlReport(
         args->study_file, std::filesystem::path(args->output_dir) / "report.html", args->options);
     std::cout << "report: " << summary.output.string() << " (" << summary.bytes / 1024 << " KiB; "
-              << summary.trials << " trials, " << summary.figures << " figures, "
-              << summary.replays << " replays)\n";
+              << summary.trials << " trials, " << summary.figures << " figures, " << summary.replays
+              << " replays)\n";
     if (!summary.notes.empty()) std::cerr << summary.notes;
     state.exit_code = kExitOk;
   });

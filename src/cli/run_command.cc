@@ -5,8 +5,8 @@
 // starts and ends.
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -182,15 +182,17 @@ void Run(RunArgs& a, RunState& state) {
 
 void RegisterRun(CLI::App& app, RunState& state) {
   auto args = std::make_shared<RunArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "run", "The whole study: measure every trial, fit and compare the contact model, "
-             "statistics and figures");
+  CLI::App* cmd =
+      app.add_subcommand("run",
+                         "The whole study: measure every trial, fit and compare the contact model, "
+                         "statistics and figures");
   cmd->add_option("study_dir", args->study_dir, "Study folder with study.json (docs/format.md)")
       ->required()
       ->check(CLI::ExistingDirectory);
   cmd->add_option("-o,--output", args->output_dir, "Output folder")->capture_default_str();
   cmd->add_option("--jobs", args->jobs, "Threads (0 = all cores)")
-      ->check(CLI::Range(0, 4096))->capture_default_str();
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
   cmd->add_option("--alpha", args->alpha, "Significance level of the statistics, in (0, 0.5)")
       ->check(CLI::Validator(
           [](std::string& text) {

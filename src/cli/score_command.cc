@@ -40,7 +40,8 @@ void RegisterScore(CLI::App& app, RunState& state) {
     const std::size_t n = study.trial_dirs.size();
     std::vector<nlohmann::json> rows(n);
     std::vector<pipeline::TrialScore> scores(n);
-    std::vector<char> ok(n, 0);  // not vector<bool>: its packed bits would be a data race between workers
+    std::vector<char> ok(
+        n, 0);  // not vector<bool>: its packed bits would be a data race between workers
     core::ParallelFor(n, a.jobs, [&](std::size_t i) {
       nlohmann::json row = {{"dir", study.trial_dirs[i].string()}};
       try {
@@ -88,23 +89,30 @@ void RegisterScore(CLI::App& app, RunState& state) {
       worst_e = std::max(worst_e, s.e_abs);
       if (std::isfinite(s.mu_eff_abs)) worst_mu = std::max(worst_mu, s.mu_eff_abs);
     }
-    nlohmann::json summary = {{"trials", n}, {"succeeded", n_ok},
-                              {"marker_rms_px", count ? std::sqrt(ss / static_cast<double>(count)) : 0.0},
-                              {"marker_max_px", worst_marker}, {"v_SC_max_rel", worst_v},
-                              {"w_max_abs_rad_s", worst_w}, {"e_max_abs", worst_e},
-                              {"mu_eff_max_abs", worst_mu}};
+    nlohmann::json summary = {
+        {"trials", n},
+        {"succeeded", n_ok},
+        {"marker_rms_px", count ? std::sqrt(ss / static_cast<double>(count)) : 0.0},
+        {"marker_max_px", worst_marker},
+        {"v_SC_max_rel", worst_v},
+        {"w_max_abs_rad_s", worst_w},
+        {"e_max_abs", worst_e},
+        {"mu_eff_max_abs", worst_mu}};
     if (a.json) {
       std::cout << nlohmann::json({{"trials", rows}, {"summary", summary}}).dump(2) << "\n";
     } else {
       for (const auto& r : rows) {
         if (r.contains("error")) {
-          std::cout << r.value("id", r["dir"].get<std::string>()) << ": FAILED " << r["error"].get<std::string>() << "\n";
+          std::cout << r.value("id", r["dir"].get<std::string>()) << ": FAILED "
+                    << r["error"].get<std::string>() << "\n";
           continue;
         }
-        std::cout << std::left << std::setw(28) << r["id"].get<std::string>() << std::right << std::fixed
-                  << std::setprecision(4) << " marker rms " << r["marker_rms_px"].get<double>()
-                  << " px  v " << 100 * std::max(r["v_before_rel"].get<double>(), r["v_after_rel"].get<double>())
-                  << " %  w " << std::max(r["w_before_abs"].get<double>(), r["w_after_abs"].get<double>())
+        std::cout << std::left << std::setw(28) << r["id"].get<std::string>() << std::right
+                  << std::fixed << std::setprecision(4) << " marker rms "
+                  << r["marker_rms_px"].get<double>() << " px  v "
+                  << 100 * std::max(r["v_before_rel"].get<double>(), r["v_after_rel"].get<double>())
+                  << " %  w "
+                  << std::max(r["w_before_abs"].get<double>(), r["w_after_abs"].get<double>())
                   << "  e " << r["e_abs"].get<double>() << "  mu "
                   << (r["mu_eff_abs"].is_number() ? r["mu_eff_abs"].get<double>() : 0.0) << "\n";
       }

@@ -69,12 +69,24 @@ void WriteTrajectory(const std::string& path, const std::vector<TrajectorySample
     for (const auto& p : samples) {
       const Eigen::Vector2d& q = p.body.p_SC;
       const Eigen::Vector2d p_WC = R_WS.ToW(q);
-      const double values[] = {p.t_s,          q.x(),         q.y(),
-                               p.body.theta_S_rad, p.body.v_SC.x(), p.body.v_SC.y(),
-                               p.body.w_rad_s,  p.p_SE.x(),    p.p_SE.y(),
-                               p.v_ST.x(),      p.v_ST.y(),    p.delta_m,
-                               p.normal_force_N, p.friction_force_N, p.kinetic_energy_J,
-                               p.potential_energy_J, p_WC.x(), p_WC.y(),
+      const double values[] = {p.t_s,
+                               q.x(),
+                               q.y(),
+                               p.body.theta_S_rad,
+                               p.body.v_SC.x(),
+                               p.body.v_SC.y(),
+                               p.body.w_rad_s,
+                               p.p_SE.x(),
+                               p.p_SE.y(),
+                               p.v_ST.x(),
+                               p.v_ST.y(),
+                               p.delta_m,
+                               p.normal_force_N,
+                               p.friction_force_N,
+                               p.kinetic_energy_J,
+                               p.potential_energy_J,
+                               p_WC.x(),
+                               p_WC.y(),
                                R_WS.AngleToW(p.body.theta_S_rad)};
       out << io::CsvNumber(values[0]) << "," << dynamics::ToString(p.phase) << ","
           << dynamics::ToString(p.friction);
@@ -138,8 +150,8 @@ void PrintText(const SimulateArgs& a, const dynamics::ContactParameters& contact
   os << "  w after       " << r.at_separation.w_rad_s << " rad/s\n";
   os << "  e             " << r.e << "\n";
   os << "  mu_eff        " << r.mu_eff << "\n";
-  os << "  energy loss   " << r.energy_loss_J * 1e3 << " mJ (of "
-     << r.kinetic_energy_before_J * 1e3 << " mJ)\n";
+  os << "  energy loss   " << r.energy_loss_J * 1e3 << " mJ (of " << r.kinetic_energy_before_J * 1e3
+     << " mJ)\n";
   os << "  contact       " << r.t_separation_s * 1e6 << " us (max compression at "
      << r.t_max_compression_s * 1e6 << " us, " << r.max_penetration_m * 1e6 << " um)\n";
   os << "  events:";
@@ -160,7 +172,8 @@ void RegisterSimulate(CLI::App& app, RunState& state) {
       ->capture_default_str();
   cmd->add_option("--k", args->k_N_m, "Contact stiffness k (N/m; 1 to 1e12); overrides the surface")
       ->check(CLI::Range(1.0, 1e12));
-  cmd->add_option("--b", args->b_N_s_m, "Compression damping b (N s/m; 0 to 1e9); overrides the surface")
+  cmd->add_option("--b", args->b_N_s_m,
+                  "Compression damping b (N s/m; 0 to 1e9); overrides the surface")
       ->check(CLI::Range(0.0, 1e9));
   cmd->add_option("--zeta", args->zeta, "Damping ratio (0 to 100); sets b = 2 zeta sqrt(k m)")
       ->check(CLI::Range(0.0, 100.0))

@@ -482,7 +482,10 @@ void PrintCells(std::ostream& os, const study::ResponseAnalysis& r) {
         if (c.label == surface + "|" + angle) {
           // The s.d. of a one-trial cell is undefined: print "-", not 0.
           cell << c.mean << " (";
-          if (c.n > 1) cell << c.sd; else cell << "-";
+          if (c.n > 1)
+            cell << c.sd;
+          else
+            cell << "-";
           cell << ", " << c.n << ")";
         }
       os << std::setw(26) << (cell.str().empty() ? "-" : cell.str());

@@ -437,8 +437,8 @@ void RegisterSynth(CLI::App& app, RunState& state) {
   cmd->add_option("--speed-m-s", a.speed_m_s, "Vertical speed at first touch (m/s)")
       ->capture_default_str();
   cmd->add_option(
-      "--seed", a.seed,
-      "Seed of every random draw: of the trial (default 1) or of the study (default 2024)")
+         "--seed", a.seed,
+         "Seed of every random draw: of the trial (default 1) or of the study (default 2024)")
       ->check(kNotNegative);
   cmd->add_option("--id", a.id, "Trial id (default: the output folder's name)");
   cmd->add_option("--e", a.e, "Fix the normal restitution that sets zeta (no draw)");

@@ -5,8 +5,8 @@
 #include <sstream>
 #include <string>
 
-#include <nlohmann/json.hpp>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
 #include "cli/common_options.h"
@@ -37,17 +37,19 @@ void RegisterTrack(CLI::App& app, RunState& state) {
                   "study.json that defines the specimen (default: the one beside the trial)");
   cmd->add_option("--tracks-csv", args->tracks_csv, "Write the marker tracks and poses as CSV");
   cmd->add_flag("--json", args->json, "Print the result as one JSON object");
-  cmd->add_option("--figures", args->figures_dir,
-                  "Write the trial's figures into this folder (PNG and SVG): <id>_displacement (the "
-                  "paper's Figure 3) and <id>_out_of_plane");
+  cmd->add_option(
+      "--figures", args->figures_dir,
+      "Write the trial's figures into this folder (PNG and SVG): <id>_displacement (the "
+      "paper's Figure 3) and <id>_out_of_plane");
   AddAnalysisOptions(cmd, args->options, args->method);
 
   cmd->callback([args, &state] {
     Args& a = *args;
     ApplyMethod(a.method, a.options);
-    const pipeline::TrialSpec spec = a.study_json.empty()
-                                         ? pipeline::ReadTrial(a.trial_dir)
-                                         : pipeline::ReadTrial(a.trial_dir, std::filesystem::path(a.study_json));
+    const pipeline::TrialSpec spec =
+        a.study_json.empty()
+            ? pipeline::ReadTrial(a.trial_dir)
+            : pipeline::ReadTrial(a.trial_dir, std::filesystem::path(a.study_json));
     const bool tty = ::isatty(STDERR_FILENO) != 0;
     const pipeline::TrialAnalysis r = pipeline::AnalyzeTrial(spec, a.options, [&](int f) {
       if (tty && (f % 10 == 0 || f + 1 == spec.frames.count))

@@ -13,7 +13,8 @@
 
 namespace hoof::cli {
 
-void AddAnalysisOptions(CLI::App* cmd, pipeline::TrialAnalysisOptions& options, std::string& method) {
+void AddAnalysisOptions(CLI::App* cmd, pipeline::TrialAnalysisOptions& options,
+                        std::string& method) {
   cmd->add_option("--method", method, "Sub-pixel dot centre: centroid or ellipse")
       ->capture_default_str();
   cmd->add_option("--fit-frames", options.kinematics.fit_frames,
@@ -58,9 +59,9 @@ nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
                       {"seconds", r.seconds},
                       {"m_per_px_used", r.m_per_px_used},
                       {"m_per_px_from_markers", JsonNumber(r.m_per_px_from_markers)},
-                      {"surface_angle_measured_deg",
-                       r.surface_angle_measured_deg ? JsonNumber(*r.surface_angle_measured_deg)
-                                                    : nlohmann::json(nullptr)},
+                      {"surface_angle_measured_deg", r.surface_angle_measured_deg
+                                                         ? JsonNumber(*r.surface_angle_measured_deg)
+                                                         : nlohmann::json(nullptr)},
                       {"out_of_plane_change", r.out_of_plane_change},
                       {"out_of_plane_noise", r.out_of_plane_noise}};
   if (k.success) {
@@ -136,7 +137,8 @@ std::string TracksCsv(const pipeline::TrialAnalysis& r) {
     os << "," << n << "_x_px," << n << "_y_px," << n << "_status," << n << "_quality";
   os << ",pose_valid,p_WE_x_m,p_WE_y_m,theta_W_rad,pose_rms_m\n";
   for (std::size_t f = 0; f < r.tracks.frames.size(); ++f) {
-    os << io::CsvEscape(r.spec.id) << "," << f << "," << io::CsvNumber(static_cast<double>(f) / r.spec.fps);
+    os << io::CsvEscape(r.spec.id) << "," << f << ","
+       << io::CsvNumber(static_cast<double>(f) / r.spec.fps);
     for (std::size_t m = 0; m < r.tracks.names.size(); ++m) {
       const auto& row = r.tracks.frames[f];
       if (m < row.size() && row[m].found)
@@ -147,7 +149,8 @@ std::string TracksCsv(const pipeline::TrialAnalysis& r) {
     }
     if (f < r.poses.size() && r.poses[f].valid)
       os << ",1," << io::CsvNumber(r.poses[f].p_WE.x()) << "," << io::CsvNumber(r.poses[f].p_WE.y())
-         << "," << io::CsvNumber(r.poses[f].theta_W_rad) << "," << io::CsvNumber(r.poses[f].rms_residual_m);
+         << "," << io::CsvNumber(r.poses[f].theta_W_rad) << ","
+         << io::CsvNumber(r.poses[f].rms_residual_m);
     else
       os << ",0,,,,";
     os << "\n";

@@ -14,7 +14,8 @@
 namespace hoof::cli {
 
 /// Adds --method, --fit-frames, --max-contact-s, --exposure-s, --scale-from-markers.
-void AddAnalysisOptions(CLI::App* cmd, pipeline::TrialAnalysisOptions& options, std::string& method);
+void AddAnalysisOptions(CLI::App* cmd, pipeline::TrialAnalysisOptions& options,
+                        std::string& method);
 /// Sets the centre method from "centroid" or "ellipse"; throws naming the value otherwise.
 void ApplyMethod(const std::string& method, pipeline::TrialAnalysisOptions& options);
 

@@ -89,13 +89,15 @@ std::vector<Table> ComparisonTables(const std::vector<pipeline::TrialAnalysis>& 
          Column::Numbers("b_N_s_m", "N s/m", "damping b = 2 zeta sqrt(k m)", b),
          Column::Numbers("mu", "1", "friction coefficient", mu),
          Column::Numbers("mu_se", "1", "its standard error (NaN: only a lower bound)", mu_se),
-         Column::Integers("mu_only_lower_bound", "", "1 when sticking contacts bound mu from below only", lower_bound),
+         Column::Integers("mu_only_lower_bound", "",
+                          "1 when sticking contacts bound mu from below only", lower_bound),
          Column::Texts("message", "notes", message)}});
   }
   {
     std::vector<std::string> id, message;
     std::vector<std::int64_t> ok;
-    std::vector<double> touch, vxm, vym, vxs, vys, vxse, vyse, wm, ws, wse, zx, zy, zw, ke0, ke1m, ke1s;
+    std::vector<double> touch, vxm, vym, vxs, vys, vxse, vyse, wm, ws, wse, zx, zy, zw, ke0, ke1m,
+        ke1s;
     for (std::size_t i = 0; i < trials.size(); ++i) {
       const auto& c = comparison.trials[i];
       id.push_back(trials[i].spec.id);
@@ -124,18 +126,22 @@ std::vector<Table> ComparisonTables(const std::vector<pipeline::TrialAnalysis>& 
         "Per trial: velocities of C in S and spin after the impact, measured and simulated from "
         "the measured state before (at the measured impact time), their z-scores, and kinetic "
         "energies",
-        {Column::Texts("id", "trial id", id), Column::Integers("success", "", "1 when compared", ok),
+        {Column::Texts("id", "trial id", id),
+         Column::Integers("success", "", "1 when compared", ok),
          Column::Texts("message", "why not", message),
          Column::Numbers("t_touch_s", "s", "first touch of the simulation, since frame 0", touch),
          Column::Numbers("v_SC_after_meas_x_m_s", "m/s", "measured, along the surface", vxm),
          Column::Numbers("v_SC_after_meas_y_m_s", "m/s", "measured, normal", vym),
          Column::Numbers("v_SC_after_sim_x_m_s", "m/s", "simulated, along the surface", vxs),
          Column::Numbers("v_SC_after_sim_y_m_s", "m/s", "simulated, normal", vys),
-         Column::Numbers("v_SC_after_sim_se_x_m_s", "m/s", "standard error of the simulated value", vxse),
-         Column::Numbers("v_SC_after_sim_se_y_m_s", "m/s", "standard error of the simulated value", vyse),
+         Column::Numbers("v_SC_after_sim_se_x_m_s", "m/s", "standard error of the simulated value",
+                         vxse),
+         Column::Numbers("v_SC_after_sim_se_y_m_s", "m/s", "standard error of the simulated value",
+                         vyse),
          Column::Numbers("w_after_meas_rad_s", "rad/s", "measured spin after", wm),
          Column::Numbers("w_after_sim_rad_s", "rad/s", "simulated spin after", ws),
-         Column::Numbers("w_after_sim_se_rad_s", "rad/s", "standard error of the simulated spin", wse),
+         Column::Numbers("w_after_sim_se_rad_s", "rad/s", "standard error of the simulated spin",
+                         wse),
          Column::Numbers("z_v_x", "1", "(measured - simulated) / combined standard error", zx),
          Column::Numbers("z_v_y", "1", "(measured - simulated) / combined standard error", zy),
          Column::Numbers("z_w", "1", "(measured - simulated) / combined standard error", zw),
@@ -188,19 +194,28 @@ std::vector<Table> ComparisonTables(const std::vector<pipeline::TrialAnalysis>& 
               Column::Numbers("kinetic_energy_sim_J", "J", "simulated kinetic energy", ke)}};
     for (std::size_t m = 0; m < markers; ++m) {
       const std::string n = trials[i].spec.specimen.markers_B_m[m].first;
-      ft.columns.push_back(Column::Numbers(n + "_sim_x_m", "m", "simulated marker centre in W", mxw[m]));
-      ft.columns.push_back(Column::Numbers(n + "_sim_y_m", "m", "simulated marker centre in W", myw[m]));
-      ft.columns.push_back(Column::Numbers(n + "_sim_x_px", "px", "simulated marker centre", mxs[m]));
-      ft.columns.push_back(Column::Numbers(n + "_sim_y_px", "px", "simulated marker centre", mys[m]));
-      ft.columns.push_back(Column::Numbers(n + "_meas_x_px", "px", "tracked marker centre (NaN: not found)", mxm[m]));
-      ft.columns.push_back(Column::Numbers(n + "_meas_y_px", "px", "tracked marker centre (NaN: not found)", mym[m]));
-      ft.columns.push_back(Column::Numbers(n + "_residual_px", "px", "|tracked - simulated|", res[m]));
+      ft.columns.push_back(
+          Column::Numbers(n + "_sim_x_m", "m", "simulated marker centre in W", mxw[m]));
+      ft.columns.push_back(
+          Column::Numbers(n + "_sim_y_m", "m", "simulated marker centre in W", myw[m]));
+      ft.columns.push_back(
+          Column::Numbers(n + "_sim_x_px", "px", "simulated marker centre", mxs[m]));
+      ft.columns.push_back(
+          Column::Numbers(n + "_sim_y_px", "px", "simulated marker centre", mys[m]));
+      ft.columns.push_back(Column::Numbers(n + "_meas_x_px", "px",
+                                           "tracked marker centre (NaN: not found)", mxm[m]));
+      ft.columns.push_back(Column::Numbers(n + "_meas_y_px", "px",
+                                           "tracked marker centre (NaN: not found)", mym[m]));
+      ft.columns.push_back(
+          Column::Numbers(n + "_residual_px", "px", "|tracked - simulated|", res[m]));
     }
     tables.push_back(std::move(ft));
-    tables.push_back(Table{"energy/" + trials[i].spec.id,
-                           "Simulated kinetic energy through the contact (paper Figure 8)",
-                           {Column::Numbers("t_since_touch_s", "s", "time since first touch", c.contact_t_s),
-                            Column::Numbers("kinetic_energy_J", "J", "kinetic energy of the body", c.contact_kinetic_energy_J)}});
+    tables.push_back(
+        Table{"energy/" + trials[i].spec.id,
+              "Simulated kinetic energy through the contact (paper Figure 8)",
+              {Column::Numbers("t_since_touch_s", "s", "time since first touch", c.contact_t_s),
+               Column::Numbers("kinetic_energy_J", "J", "kinetic energy of the body",
+                               c.contact_kinetic_energy_J)}});
   }
   return tables;
 }

@@ -45,16 +45,19 @@ double SimulatedMeetingTime(const dynamics::ImpactResult& r, double phi,
                             const dynamics::SpecimenParameters& sp) {
   const Eigen::Vector2d g_S = dynamics::GravityInSurfaceFrame(phi, kG);
   auto f = [&](double tau) {
-    return HeightOfT(r.at_touch, g_S, tau, sp) - HeightOfT(r.at_separation, g_S, tau - r.t_separation_s, sp);
+    return HeightOfT(r.at_touch, g_S, tau, sp) -
+           HeightOfT(r.at_separation, g_S, tau - r.t_separation_s, sp);
   };
   double lo = 0.0, hi = r.t_separation_s;
   if (!(f(lo) >= 0 && f(hi) <= 0)) return 0.5 * r.t_separation_s;
-  for (int i = 0; i < 100 && hi - lo > 1e-15; ++i) (f(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
+  for (int i = 0; i < 100 && hi - lo > 1e-15; ++i)
+    (f(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
   return 0.5 * (lo + hi);
 }
 
 /// The simulator for a trial's specimen and a contact law.
-dynamics::ImpactSimulator Simulator(const pipeline::TrialAnalysis& t, const dynamics::ContactParameters& c) {
+dynamics::ImpactSimulator Simulator(const pipeline::TrialAnalysis& t,
+                                    const dynamics::ContactParameters& c) {
   return dynamics::ImpactSimulator(Specimen(t), c);
 }
 
@@ -72,7 +75,8 @@ double TouchTime(const pipeline::TrialAnalysis& t, const dynamics::ImpactSimulat
 
 /// Simulated velocity of C in S and spin after the impact, carried to the measured impact time.
 std::pair<Eigen::Vector2d, double> AfterAtImpactTime(const pipeline::TrialAnalysis& t,
-                                                     const dynamics::ImpactResult& r, double t_touch) {
+                                                     const dynamics::ImpactResult& r,
+                                                     double t_touch) {
   const Eigen::Vector2d g_S = dynamics::GravityInSurfaceFrame(SurfaceAxes(t).phi_rad(), kG);
   const double dt = t.impact.impact_time_s - (t_touch + r.t_separation_s);
   return {r.at_separation.v_SC + g_S * dt, r.at_separation.w_rad_s};
@@ -108,7 +112,8 @@ ModelUncertainty Uncertainty(const SurfaceModel& model) {
   return u;
 }
 
-TrialComparison CompareTrial(const pipeline::TrialAnalysis& t, const dynamics::ContactParameters& contact,
+TrialComparison CompareTrial(const pipeline::TrialAnalysis& t,
+                             const dynamics::ContactParameters& contact,
                              const ModelUncertainty& uncertainty) {
   TrialComparison out;
   if (!t.success) {
@@ -125,7 +130,8 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& t, const dynamics::C
     // Frame times, and samples through the contact for the energy (Figure 8).
     const std::size_t frames = t.poses.size();
     std::vector<double> times;
-    for (std::size_t f = 0; f < frames; ++f) times.push_back(static_cast<double>(f) / t.spec.fps - out.t_touch_s);
+    for (std::size_t f = 0; f < frames; ++f)
+      times.push_back(static_cast<double>(f) / t.spec.fps - out.t_touch_s);
     const auto first = sim.Simulate(ic);
     if (!first.success) {
       out.message = "simulation failed: " + first.message;
@@ -141,7 +147,8 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& t, const dynamics::C
     const double dt = out.t_touch_s - t.impact.impact_time_s;
     const Eigen::Vector2d p_WC_touch = b.p_WC + b.v_WC * dt + 0.5 * kGravity_W * dt * dt;
     const double theta_touch = b.theta_W_rad + b.w_rad_s * dt;
-    const Eigen::Vector2d p_WT = p_WC_touch - sp.d_EC_m * Dir(theta_touch) - sp.end_radius_m * S.y_S();
+    const Eigen::Vector2d p_WT =
+        p_WC_touch - sp.d_EC_m * Dir(theta_touch) - sp.end_radius_m * S.y_S();
 
     const tracking::ImageToWorld cam = Camera(t);
     for (std::size_t f = 0; f < frames; ++f) {
@@ -165,11 +172,14 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& t, const dynamics::C
         fc.markers_W_sim.push_back(sim_W);
         const Eigen::Vector2d sim_px = cam.ToImage(sim_W);
         fc.markers_px_sim.push_back(sim_px);
-        const bool found = f < t.tracks.frames.size() && m < t.tracks.frames[f].size() && t.tracks.frames[f][m].found;
-        const Eigen::Vector2d meas = found ? t.tracks.frames[f][m].p_I
-                                           : Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+        const bool found = f < t.tracks.frames.size() && m < t.tracks.frames[f].size() &&
+                           t.tracks.frames[f][m].found;
+        const Eigen::Vector2d meas =
+            found ? t.tracks.frames[f][m].p_I
+                  : Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
         fc.markers_px_meas.push_back(meas);
-        fc.marker_residual_px.push_back(found ? (meas - sim_px).norm() : std::numeric_limits<double>::quiet_NaN());
+        fc.marker_residual_px.push_back(found ? (meas - sim_px).norm()
+                                              : std::numeric_limits<double>::quiet_NaN());
       }
       out.frames.push_back(fc);
     }
@@ -205,7 +215,8 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& t, const dynamics::C
         if (uncertainty.mu_se <= 0) continue;
         c.mu += uncertainty.mu_se;
       }
-      const auto r = dynamics::ImpactSimulator(sp, c).Simulate(MeasuredConditions(shifted, out.t_touch_s));
+      const auto r =
+          dynamics::ImpactSimulator(sp, c).Simulate(MeasuredConditions(shifted, out.t_touch_s));
       if (!r.success) continue;
       const auto [v2, w2] = AfterAtImpactTime(shifted, r, out.t_touch_s);
       var_v += (v2 - v_sim).cwiseAbs2();
@@ -215,8 +226,8 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& t, const dynamics::C
     out.w_after_sim_se = std::sqrt(var_w);
     const Eigen::Vector2d se_meas = t.impact.v_SC_after_se;
     for (int k = 0; k < 2; ++k)
-      out.v_SC_after_z(k) = (out.v_SC_after_meas(k) - v_sim(k)) /
-                            std::sqrt(se_meas(k) * se_meas(k) + var_v(k));
+      out.v_SC_after_z(k) =
+          (out.v_SC_after_meas(k) - v_sim(k)) / std::sqrt(se_meas(k) * se_meas(k) + var_v(k));
     out.w_after_z = (out.w_after_meas - w_sim) /
                     std::sqrt(t.impact.w_after_se_rad_s * t.impact.w_after_se_rad_s + var_w);
     out.kinetic_energy_before_J = t.impact.kinetic_energy_before_J;
@@ -229,7 +240,8 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& t, const dynamics::C
   return out;
 }
 
-SurfaceModel FitSurfaceModel(const std::string& surface, const std::vector<pipeline::TrialAnalysis>& trials) {
+SurfaceModel FitSurfaceModel(const std::string& surface,
+                             const std::vector<pipeline::TrialAnalysis>& trials) {
   SurfaceModel m;
   m.surface = surface;
   std::vector<const pipeline::TrialAnalysis*> normal, oblique;
@@ -245,7 +257,8 @@ SurfaceModel FitSurfaceModel(const std::string& surface, const std::vector<pipel
   }
   const dynamics::SpecimenParameters sp = Specimen(*normal.front());
   std::vector<dynamics::NormalImpact> impacts;
-  for (const auto* t : normal) impacts.push_back({std::abs(t->impact.v_SC_before.y()), std::abs(t->impact.v_SC_after.y())});
+  for (const auto* t : normal)
+    impacts.push_back({std::abs(t->impact.v_SC_before.y()), std::abs(t->impact.v_SC_after.y())});
   dynamics::ContactFitOptions fo;
   fo.map_points_k = fo.map_points_b = 0;
   m.zeta_fit = dynamics::FitNormalContact(impacts, sp, fo);
@@ -270,12 +283,14 @@ SurfaceModel FitSurfaceModel(const std::string& surface, const std::vector<pipel
   // by their standard errors; touch times fixed from a first simulation (they hardly depend on
   // mu).
   std::vector<double> touch;
-  for (const auto* t : oblique) touch.push_back(TouchTime(*t, Simulator(*t, {m.k_N_m, m.b_N_s_m, 0.3})));
+  for (const auto* t : oblique)
+    touch.push_back(TouchTime(*t, Simulator(*t, {m.k_N_m, m.b_N_s_m, 0.3})));
   auto cost = [&](double mu) {
     double s = 0;
     for (std::size_t i = 0; i < oblique.size(); ++i) {
       const auto& t = *oblique[i];
-      const auto r = Simulator(t, {m.k_N_m, m.b_N_s_m, mu}).Simulate(MeasuredConditions(t, touch[i]));
+      const auto r =
+          Simulator(t, {m.k_N_m, m.b_N_s_m, mu}).Simulate(MeasuredConditions(t, touch[i]));
       if (!r.success) continue;
       const auto [v_sim, w_sim] = AfterAtImpactTime(t, r, touch[i]);
       const double se_v = std::max(t.impact.v_SC_after_se.x(), 1e-6);
@@ -290,7 +305,8 @@ SurfaceModel FitSurfaceModel(const std::string& surface, const std::vector<pipel
   constexpr double kStep = 0.01, kMax = 1.5;
   std::vector<double> grid;
   for (double mu = 0; mu <= kMax + 1e-9; mu += kStep) grid.push_back(cost(mu));
-  const std::size_t best = static_cast<std::size_t>(std::min_element(grid.begin(), grid.end()) - grid.begin());
+  const std::size_t best =
+      static_cast<std::size_t>(std::min_element(grid.begin(), grid.end()) - grid.begin());
   const double lo = std::max(0.0, (static_cast<double>(best) - 1) * kStep);
   const double hi = std::min(kMax, (static_cast<double>(best) + 1) * kStep);
   const auto [mu, s_min] = boost::math::tools::brent_find_minima(cost, lo, hi, 30);
@@ -311,9 +327,12 @@ SurfaceModel FitSurfaceModel(const std::string& surface, const std::vector<pipel
   return m;
 }
 
-dynamics::SpecimenParameters SpecimenOf(const pipeline::TrialAnalysis& trial) { return Specimen(trial); }
+dynamics::SpecimenParameters SpecimenOf(const pipeline::TrialAnalysis& trial) {
+  return Specimen(trial);
+}
 
-double SimulatedTouchTime(const pipeline::TrialAnalysis& trial, const dynamics::ContactParameters& contact) {
+double SimulatedTouchTime(const pipeline::TrialAnalysis& trial,
+                          const dynamics::ContactParameters& contact) {
   return TouchTime(trial, Simulator(trial, contact));
 }
 

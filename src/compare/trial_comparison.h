@@ -48,10 +48,10 @@ struct SurfaceModel {
 
 /// One frame: the simulation against the measurement.
 struct FrameComparison {
-  double t_s = 0.0;                     ///< frame time since frame 0
-  Eigen::Vector2d p_WC_sim{0, 0};       ///< simulated centre of mass (m)
+  double t_s = 0.0;                ///< frame time since frame 0
+  Eigen::Vector2d p_WC_sim{0, 0};  ///< simulated centre of mass (m)
   double theta_W_sim_rad = 0.0;
-  bool measured = false;                ///< the frame has a measured pose
+  bool measured = false;  ///< the frame has a measured pose
   Eigen::Vector2d p_WC_meas{0, 0};
   double theta_W_meas_rad = 0.0;
   std::vector<Eigen::Vector2d> markers_W_sim;    ///< simulated marker centres in W (m)

@@ -34,7 +34,9 @@ constexpr double RadToDeg(double rad) { return rad / kRadPerDeg; }
 class SurfaceRotation {
  public:
   explicit SurfaceRotation(double phi_rad)
-      : phi_rad_(phi_rad), x_S_W_(std::cos(phi_rad), -std::sin(phi_rad)), y_S_W_(std::sin(phi_rad), std::cos(phi_rad)) {}
+      : phi_rad_(phi_rad),
+        x_S_W_(std::cos(phi_rad), -std::sin(phi_rad)),
+        y_S_W_(std::sin(phi_rad), std::cos(phi_rad)) {}
   static SurfaceRotation FromDegrees(double phi_deg) { return SurfaceRotation(DegToRad(phi_deg)); }
 
   double phi_rad() const { return phi_rad_; }
@@ -43,9 +45,13 @@ class SurfaceRotation {
   const Eigen::Vector2d& y_S() const { return y_S_W_; }
 
   /// v_W = R_WS v_S.
-  Eigen::Vector2d ToW(const Eigen::Vector2d& v_S) const { return x_S_W_ * v_S.x() + y_S_W_ * v_S.y(); }
+  Eigen::Vector2d ToW(const Eigen::Vector2d& v_S) const {
+    return x_S_W_ * v_S.x() + y_S_W_ * v_S.y();
+  }
   /// v_S = R_SW v_W (R_SW is the transpose of R_WS).
-  Eigen::Vector2d ToS(const Eigen::Vector2d& v_W) const { return {x_S_W_.dot(v_W), y_S_W_.dot(v_W)}; }
+  Eigen::Vector2d ToS(const Eigen::Vector2d& v_W) const {
+    return {x_S_W_.dot(v_W), y_S_W_.dot(v_W)};
+  }
   /// An angle of a body measured from x_W, measured from x_S instead, and back.
   double AngleToS(double theta_W_rad) const { return theta_W_rad + phi_rad_; }
   double AngleToW(double theta_S_rad) const { return theta_S_rad - phi_rad_; }

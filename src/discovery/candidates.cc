@@ -84,21 +84,24 @@ std::vector<EffectValue> EffectValues(const Workspace& ws, const Fit& f, const s
   return out;
 }
 
-RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const std::vector<Eigen::Vector3d>& residual_current,
-                           const std::vector<Sensitivity>& sens, const std::vector<std::string>& keys,
-                           const DiscoveryOptions& options, const std::function<void(const std::string&)>& say,
-                           Round& rd) {
+RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
+                           const std::vector<Eigen::Vector3d>& residual_current,
+                           const std::vector<Sensitivity>& sens,
+                           const std::vector<std::string>& keys, const DiscoveryOptions& options,
+                           const std::function<void(const std::string&)>& say, Round& rd) {
   const std::vector<int> all = ws.All();
   const Fit& current = state.current;
   std::vector<std::string> to_try;
   for (const auto& key : keys)
-    if (std::find(state.accepted.begin(), state.accepted.end(), key) == state.accepted.end()) to_try.push_back(key);
+    if (std::find(state.accepted.begin(), state.accepted.end(), key) == state.accepted.end())
+      to_try.push_back(key);
   const double chi95 = stats::ChiSquaredQuantile(0.95, 1);
   std::vector<std::string> free_current;
   for (const auto& a : state.accepted)
     if (!Entry(a).measurement_effect) free_current.push_back(a);
   std::vector<TrialCovariance> ref;
-  for (std::size_t i = 0; i < ws.obs.size(); ++i) ref.push_back(Covariance(ws, ws.obs[i], sens[i], current.noise));
+  for (std::size_t i = 0; i < ws.obs.size(); ++i)
+    ref.push_back(Covariance(ws, ws.obs[i], sens[i], current.noise));
   int n_ratio = 0;
   for (const Obs& o : ws.obs) n_ratio += std::isfinite(o.marker_ratio) ? 1 : 0;
   // Each contact candidate at its probe size, without refitting: the residual change per unit
@@ -117,7 +120,8 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     residual_probe[key] = ws.Residuals(probe_start, all);
     auto& d_r = change[key];
     d_r.resize(ws.obs.size());
-    for (std::size_t i = 0; i < ws.obs.size(); ++i) d_r[i] = (residual_current[i] - residual_probe[key][i]) / e.probe;
+    for (std::size_t i = 0; i < ws.obs.size(); ++i)
+      d_r[i] = (residual_current[i] - residual_probe[key][i]) / e.probe;
     changes.push_back(d_r);
   }
   // The naming level: min-P over the hypotheses tried, each candidate once per form (shared and,
@@ -199,7 +203,8 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     // any trial sensitive to it?), then with zeta and mu refitted (do they absorb it?).
     Model probe_start = current.model;
     probe_start.effects[key] = {EffectForm::kShared, {e.probe}};
-    const double fixed_lr = 2 * (LogLikelihood(ws, all, residual_probe[key], sens, current.noise) - current.loglik);
+    const double fixed_lr =
+        2 * (LogLikelihood(ws, all, residual_probe[key], sens, current.noise) - current.loglik);
     const Fit probe = FitModel(ws, all, probe_start, free_current, current.noise, true, 4);
     const double probe_lr = 2 * (probe.loglik - current.loglik);
     // The free fit, shared by all surfaces, from the better of the two starts.
@@ -208,7 +213,8 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     Model start = probe.loglik > current.loglik ? probe.model : current.model;
     if (!start.effects.count(key)) start.effects[key] = {EffectForm::kShared, {0.1 * e.probe}};
     Fit chosen = FitModel(ws, all, start, free, current.noise, true);
-    if (probe.loglik > chosen.loglik) chosen = FitModel(ws, all, probe.model, free, probe.noise, true);
+    if (probe.loglik > chosen.loglik)
+      chosen = FitModel(ws, all, probe.model, free, probe.noise, true);
     // The candidate's fit may have found zeta, mu and the noise model a better optimum than
     // the current fit did; its likelihood ratio is then against the current model refitted from
     // there, so that a gain of the baseline's own parameters is not credited to the effect.
@@ -239,7 +245,8 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     // Per surface against shared: a likelihood ratio with S - 1 degrees of freedom.
     if (options.per_surface && S > 1 && chosen.ok && !at_zero) {
       Model ps = chosen.model;
-      ps.effects[key] = {EffectForm::kPerSurface, std::vector<double>(S, chosen.model.effects[key].value.at(0))};
+      ps.effects[key] = {EffectForm::kPerSurface,
+                         std::vector<double>(S, chosen.model.effects[key].value.at(0))};
       const Fit per = FitModel(ws, all, ps, free, chosen.noise, true);
       // As against the current model: the shared form refitted from the per-surface solution,
       // so that the comparison is of the two forms, not of the optima of zeta, mu and the noise
@@ -247,7 +254,9 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
       if (per.ok) {
         Model back = per.model;
         const auto& v = per.model.effects.at(key).value;
-        back.effects[key] = {EffectForm::kShared, {std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size())}};
+        back.effects[key] = {
+            EffectForm::kShared,
+            {std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size())}};
         const Fit again = FitModel(ws, all, back, free, per.noise, true);
         if (again.ok && again.loglik > chosen.loglik) chosen = again;
       }
@@ -303,7 +312,8 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
       c.wald_clear = false;
       for (const auto& v : c.values) c.wald_clear |= v.se > 0 && v.value / v.se > z_level;
     }
-    c.significant = c.fitted && c.p_value < level && c.wald_clear && c.cv_error < c.cv_error_current;
+    c.significant =
+        c.fitted && c.p_value < level && c.wald_clear && c.cv_error < c.cv_error_current;
     ev.fit = chosen;
     ev.free = free;
     evals.push_back(ev);
@@ -323,21 +333,23 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
           << UnitSuffix(c.unit);
     } else if (c.identifiability == Identifiability::kConfounded) {
       c.outcome = CandidateOutcome::kConfounded;
-      why << "at " << c.parameter << " = " << Fmt(Entry(c.key).probe) << UnitSuffix(c.unit) << ", " << c.confounded_with
-          << " takes its change back";
+      why << "at " << c.parameter << " = " << Fmt(Entry(c.key).probe) << UnitSuffix(c.unit) << ", "
+          << c.confounded_with << " takes its change back";
     } else if (c.p_value >= level) {
       c.outcome = CandidateOutcome::kNotSignificant;
-      why << "likelihood-ratio p = " << FmtP(c.p_value) << " is not below the naming level " << FmtP(level)
-          << " (alpha = " << Fmt(options.alpha) << " over " << naming.hypotheses << " hypotheses: candidates x forms)";
+      why << "likelihood-ratio p = " << FmtP(c.p_value) << " is not below the naming level "
+          << FmtP(level) << " (alpha = " << Fmt(options.alpha) << " over " << naming.hypotheses
+          << " hypotheses: candidates x forms)";
     } else if (!c.wald_clear) {
       c.outcome = CandidateOutcome::kNotSignificant;
-      why << "likelihood-ratio p = " << FmtP(c.p_value) << ", but its estimate " << Fmt(c.estimate) << " +- "
-          << Fmt(c.se) << UnitSuffix(c.unit)
-          << " does not stand clear of 0 at the naming level: the gain is in zeta, mu or the noise model";
+      why << "likelihood-ratio p = " << FmtP(c.p_value) << ", but its estimate " << Fmt(c.estimate)
+          << " +- " << Fmt(c.se) << UnitSuffix(c.unit)
+          << " does not stand clear of 0 at the naming level: the gain is in zeta, mu or the noise "
+             "model";
     } else {
       c.outcome = CandidateOutcome::kWorseHeldOut;
-      why << "p = " << FmtP(c.p_value) << " is significant, but the held-out error " << Fmt(c.cv_error)
-          << " is not below the current model's " << Fmt(c.cv_error_current)
+      why << "p = " << FmtP(c.p_value) << " is significant, but the held-out error "
+          << Fmt(c.cv_error) << " is not below the current model's " << Fmt(c.cv_error_current)
           << ": it fits these trials without predicting others better";
     }
     c.reason = why.str();
@@ -349,10 +361,12 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
   // tried again next round).
   Evaluation* best = nullptr;
   for (auto& ev : evals)
-    if (ev.c.significant && IsRotationRate(ev.c.key) && (!best || Aic(ev.c) < Aic(best->c))) best = &ev;
+    if (ev.c.significant && IsRotationRate(ev.c.key) && (!best || Aic(ev.c) < Aic(best->c)))
+      best = &ev;
   if (!best)
     for (auto& ev : evals)
-      if (ev.c.significant && !ev.c.measurement_effect && (!best || Aic(ev.c) < Aic(best->c))) best = &ev;
+      if (ev.c.significant && !ev.c.measurement_effect && (!best || Aic(ev.c) < Aic(best->c)))
+        best = &ev;
   if (!best)
     for (auto& ev : evals)
       if (ev.c.significant) best = &ev;
@@ -360,15 +374,16 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
   if (best) {
     best->c.outcome = CandidateOutcome::kAdded;
     std::ostringstream why;
-    why << "likelihood-ratio p = " << FmtP(best->c.p_value) << " below the naming level " << FmtP(level)
-        << ", held-out error " << Fmt(best->c.cv_error_current) << " -> " << Fmt(best->c.cv_error);
+    why << "likelihood-ratio p = " << FmtP(best->c.p_value) << " below the naming level "
+        << FmtP(level) << ", held-out error " << Fmt(best->c.cv_error_current) << " -> "
+        << Fmt(best->c.cv_error);
     best->c.reason = why.str();
     for (auto& ev : evals) {
       if (&ev == best || !ev.c.significant) continue;
       const double d_aic = Aic(ev.c) - Aic(best->c);
       std::ostringstream w;
-      if (ev.c.measurement_effect == best->c.measurement_effect && IsRotationRate(ev.c.key) == IsRotationRate(best->c.key) &&
-          d_aic < chi95) {
+      if (ev.c.measurement_effect == best->c.measurement_effect &&
+          IsRotationRate(ev.c.key) == IsRotationRate(best->c.key) && d_aic < chi95) {
         ev.c.outcome = CandidateOutcome::kIndistinguishable;
         w << "significant (p = " << FmtP(ev.c.p_value) << "), and fits as well as " << best->c.name
           << " (AIC within " << Fmt(d_aic) << "): the two cannot be told apart with these data";
@@ -377,7 +392,8 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
         ev.c.outcome = CandidateOutcome::kWeakerThanAdded;
         w << "significant (p = " << FmtP(ev.c.p_value) << "), but " << best->c.name;
         if (IsRotationRate(best->c.key) && !IsRotationRate(ev.c.key))
-          w << " was added first (a rotation rate goes first: it changes the velocities the contact effects are "
+          w << " was added first (a rotation rate goes first: it changes the velocities the "
+               "contact effects are "
                "judged on)";
         else if (ev.c.measurement_effect != best->c.measurement_effect)
           w << " was added first (a contact effect goes before the measurement effect)";
@@ -392,10 +408,14 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
   // Rank: the added first, then by the strength of the evidence.
   auto klass = [](const CandidateResult& c) {
     switch (c.outcome) {
-      case CandidateOutcome::kAdded: return 0;
-      case CandidateOutcome::kIndistinguishable: return 1;
-      case CandidateOutcome::kWeakerThanAdded: return 2;
-      default: return 3;
+      case CandidateOutcome::kAdded:
+        return 0;
+      case CandidateOutcome::kIndistinguishable:
+        return 1;
+      case CandidateOutcome::kWeakerThanAdded:
+        return 2;
+      default:
+        return 3;
     }
   };
   std::stable_sort(evals.begin(), evals.end(), [&](const Evaluation& a, const Evaluation& b) {
@@ -416,10 +436,13 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
       worse |= ev.c.outcome == CandidateOutcome::kWorseHeldOut;
       small |= ev.c.outcome == CandidateOutcome::kBelowResolution;
     }
-    rd.decision = "Nothing added: no candidate improves the fit significantly under the noise model (naming level " +
-                  FmtP(level) + ")";
+    rd.decision =
+        "Nothing added: no candidate improves the fit significantly under the noise model (naming "
+        "level " +
+        FmtP(level) + ")";
     if (worse) rd.decision += ", or one that does fails to predict held-out trials better";
-    if (small) rd.decision += "; a significant out-of-plane tilt is below the measurement's resolution";
+    if (small)
+      rd.decision += "; a significant out-of-plane tilt is below the measurement's resolution";
     rd.decision += ".";
     return out;
   }
@@ -439,7 +462,8 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
   const CrossValidation& after = rate ? winner->velocity_cv : winner->cv;
   double sb = 0, sa = 0;
   int n = 0;
-  for (std::size_t i = 0; i < ws.obs.size() && i < before.residual.size() && i < after.residual.size(); ++i) {
+  for (std::size_t i = 0;
+       i < ws.obs.size() && i < before.residual.size() && i < after.residual.size(); ++i) {
     const Obs& o = ws.obs[i];
     if (!std::isfinite(Rms(before.residual[i])) || !std::isfinite(Rms(after.residual[i]))) continue;
     GapTrial g;
@@ -454,7 +478,8 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
     g.gap_after = Rms(g.residual_after);
     for (int c = 0; c < kComponents; ++c)
       if (std::isfinite(g.residual_before[c]) && std::isfinite(g.residual_after[c]))
-        sb += g.residual_before[c] * g.residual_before[c], sa += g.residual_after[c] * g.residual_after[c], ++n;
+        sb += g.residual_before[c] * g.residual_before[c],
+            sa += g.residual_after[c] * g.residual_after[c], ++n;
     rd.gap.push_back(g);
   }
   rd.gap_before = n ? std::sqrt(sb / n) : kNaN;
@@ -465,19 +490,22 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const s
   if (w.form == EffectForm::kPerSurface) {
     d << " per surface (";
     for (std::size_t i = 0; i < w.values.size(); ++i)
-      d << (i ? ", " : "") << w.values[i].surface << " " << w.parameter << " = " << Fmt(w.values[i].value) << " +- "
-        << Fmt(w.values[i].se);
+      d << (i ? ", " : "") << w.values[i].surface << " " << w.parameter << " = "
+        << Fmt(w.values[i].value) << " +- " << Fmt(w.values[i].se);
     d << UnitSuffix(w.unit) << ")";
   } else {
-    d << " (" << w.parameter << " = " << Fmt(w.estimate) << " +- " << Fmt(w.se) << UnitSuffix(w.unit) << ")";
+    d << " (" << w.parameter << " = " << Fmt(w.estimate) << " +- " << Fmt(w.se)
+      << UnitSuffix(w.unit) << ")";
   }
-  d << ": likelihood ratio " << Fmt(w.lr_statistic) << ", p = " << FmtP(w.p_value) << "; held-out error "
-    << Fmt(w.cv_error_current) << " -> " << Fmt(w.cv_error) << " (" << kHeldOutErrorUnit << "); held-out gap "
-    << Fmt(100 * rd.gap_before) << " % -> " << Fmt(100 * rd.gap_after) << " % of the impact speed ("
-    << Percent(rd.gap_shrink) << " % smaller).";
+  d << ": likelihood ratio " << Fmt(w.lr_statistic) << ", p = " << FmtP(w.p_value)
+    << "; held-out error " << Fmt(w.cv_error_current) << " -> " << Fmt(w.cv_error) << " ("
+    << kHeldOutErrorUnit << "); held-out gap " << Fmt(100 * rd.gap_before) << " % -> "
+    << Fmt(100 * rd.gap_after) << " % of the impact speed (" << Percent(rd.gap_shrink)
+    << " % smaller).";
   if (!out.alike.empty()) {
     d << " It cannot be told apart from";
-    for (std::size_t i = 0; i < out.alike.size(); ++i) d << (i ? ", " : " ") << Entry(out.alike[i]).name;
+    for (std::size_t i = 0; i < out.alike.size(); ++i)
+      d << (i ? ", " : " ") << Entry(out.alike[i]).name;
     d << " with these data.";
   }
   rd.decision = d.str();

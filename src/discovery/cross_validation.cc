@@ -21,14 +21,16 @@ double MeanFinite(const std::vector<double>& v) {
 
 }  // namespace
 
-CrossValidation CrossValidate(const Workspace& ws, const Fit& start, const std::vector<std::string>& free_effects,
+CrossValidation CrossValidate(const Workspace& ws, const Fit& start,
+                              const std::vector<std::string>& free_effects,
                               const std::vector<TrialCovariance>& reference, int folds) {
   CrossValidation cv;
   cv.error.assign(ws.obs.size(), kNaN);
   cv.residual.assign(ws.obs.size(), Eigen::Vector3d::Constant(kNaN));
   for (int f = 0; f < folds; ++f) {
     std::vector<int> train, test;
-    for (std::size_t i = 0; i < ws.obs.size(); ++i) (ws.obs[i].fold == f ? test : train).push_back(static_cast<int>(i));
+    for (std::size_t i = 0; i < ws.obs.size(); ++i)
+      (ws.obs[i].fold == f ? test : train).push_back(static_cast<int>(i));
     if (test.empty() || train.empty()) continue;
     // The noise model stays the full-data fit's: the fold changes what is predicted, not how
     // well a trial can be predicted.
@@ -39,7 +41,8 @@ CrossValidation CrossValidate(const Workspace& ws, const Fit& start, const std::
       cv.residual[i] = r[j];
       const TrialCovariance& ref = reference[i];
       Eigen::VectorXd v(static_cast<Eigen::Index>(ref.components.size()));
-      for (std::size_t a = 0; a < ref.components.size(); ++a) v[static_cast<Eigen::Index>(a)] = r[j][ref.components[a]];
+      for (std::size_t a = 0; a < ref.components.size(); ++a)
+        v[static_cast<Eigen::Index>(a)] = r[j][ref.components[a]];
       cv.error[i] = (ref.whiten * v).squaredNorm() / static_cast<double>(v.size());
     }
   }
@@ -57,7 +60,8 @@ CrossValidation CrossValidateTilt(const Workspace& ws, bool free, int folds) {
     if (std::isfinite(o.marker_ratio)) ratios.push_back(o.marker_ratio);
   double var = 1e-8;
   if (ratios.size() >= 2) {
-    const double m = std::accumulate(ratios.begin(), ratios.end(), 0.0) / static_cast<double>(ratios.size());
+    const double m =
+        std::accumulate(ratios.begin(), ratios.end(), 0.0) / static_cast<double>(ratios.size());
     double ss = 0;
     for (double x : ratios) ss += (x - m) * (x - m);
     var = std::max(ss / static_cast<double>(ratios.size() - 1), 1e-14);

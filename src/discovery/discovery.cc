@@ -49,7 +49,8 @@ Finding FindingOf(const CandidateResult& c, FindingStatus status, double alpha) 
 
 }  // namespace
 
-DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOptions& options,
+DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials,
+                         const DiscoveryOptions& options,
                          const std::function<void(const std::string&)>& progress) {
   options.Validate();
   const auto t0 = std::chrono::steady_clock::now();
@@ -68,8 +69,8 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
   out.trials_skipped = skipped;
   out.trials_used = static_cast<int>(ws.obs.size());
   if (ws.obs.size() < 6) {
-    out.message = "too few measured trials with a fitted surface model (" + std::to_string(ws.obs.size()) +
-                  "; at least 6 are needed)";
+    out.message = "too few measured trials with a fitted surface model (" +
+                  std::to_string(ws.obs.size()) + "; at least 6 are needed)";
     return out;
   }
   std::vector<std::string> keys = options.candidates;
@@ -77,8 +78,8 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
     for (const auto& e : Library()) keys.push_back(e.key);
   const std::vector<int> all = ws.All();
 
-  say("baseline: fitting zeta and mu per surface and the noise model to " + std::to_string(ws.obs.size()) +
-      " trials");
+  say("baseline: fitting zeta and mu per surface and the noise model to " +
+      std::to_string(ws.obs.size()) + " trials");
   RoundState st;
   st.measured = &trials;
   st.current = FitModel(ws, all, BaselineStart(ws), {}, InitialNoise(ws), true, 12);
@@ -94,7 +95,8 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
     const auto sens = cw.Sensitivities(st.current.model, all);
     rd.tests = StructureTests(cw, residuals, sens, st.current.noise, st.tilt.tilt_rad, options);
     say("round " + std::to_string(round) + ": " +
-        std::to_string(std::count_if(rd.tests.begin(), rd.tests.end(), [](auto& t) { return t.significant; })) +
+        std::to_string(std::count_if(rd.tests.begin(), rd.tests.end(),
+                                     [](auto& t) { return t.significant; })) +
         " significant trend(s) of " + std::to_string(rd.tests.size()) + " in the residuals");
     const RoundOutcome o = RunCandidates(cw, st, residuals, sens, keys, options, say, rd);
     if (!o.added) {
@@ -110,11 +112,13 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
         if (c.key == a) {
           Finding f = FindingOf(c, FindingStatus::kIndistinguishable, options.alpha);
           f.partner = best->name;
-          f.separating_measurement = Entry(a).separating_measurement + "; " + Entry(best->key).separating_measurement;
+          f.separating_measurement =
+              Entry(a).separating_measurement + "; " + Entry(best->key).separating_measurement;
           out.findings.push_back(f);
         }
-    Finding f = FindingOf(*best, o.alike.empty() ? FindingStatus::kNamed : FindingStatus::kIndistinguishable,
-                          options.alpha);
+    Finding f = FindingOf(
+        *best, o.alike.empty() ? FindingStatus::kNamed : FindingStatus::kIndistinguishable,
+        options.alpha);
     for (const auto& a : o.alike) f.partner += (f.partner.empty() ? "" : ", ") + Entry(a).name;
     if (!o.alike.empty()) f.separating_measurement = Entry(best->key).separating_measurement;
     f.gap_shrink = rd.gap_shrink;
@@ -145,7 +149,8 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
   // The final model's remaining structure: named effects become tentative when some remains.
   const auto final_residuals = current->Residuals(st.current.model, all);
   const auto final_sens = current->Sensitivities(st.current.model, all);
-  for (const auto& t : StructureTests(*current, final_residuals, final_sens, st.current.noise, st.tilt.tilt_rad, options))
+  for (const auto& t : StructureTests(*current, final_residuals, final_sens, st.current.noise,
+                                      st.tilt.tilt_rad, options))
     if (t.significant) out.remaining.push_back(t);
   out.unexplained = !out.remaining.empty();
   if (out.unexplained)
@@ -167,7 +172,8 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials, con
     if (IsRotationRate(key)) {
       for (const auto& rd : out.rounds)
         for (const auto& c : rd.candidates)
-          if (rd.accepted == key && c.key == key) out.effects.push_back({key, "", c.estimate, c.se});
+          if (rd.accepted == key && c.key == key)
+            out.effects.push_back({key, "", c.estimate, c.se});
     } else if (Entry(key).measurement_effect) {
       out.effects.push_back({key, "", st.tilt.tilt_rad * 180 / std::numbers::pi,
                              st.tilt.tilt_se_rad * 180 / std::numbers::pi});

@@ -48,8 +48,8 @@ struct LibraryEntry {
   std::string unit;       ///< of the parameter
   double probe = 0.0;     ///< a realistic size, used to probe identifiability and to scale the fit
   double upper = 0.0;     ///< largest value the fit may take
-  bool measurement_effect = false;  ///< changes what the camera sees, not the impact
-  std::string signature;            ///< what it changes, in words
+  bool measurement_effect = false;     ///< changes what the camera sees, not the impact
+  std::string signature;               ///< what it changes, in words
   std::string separating_measurement;  ///< what would tell it from its look-alikes
   /// Smallest value the fit may take other than 0 (the baseline, which the current model is).
   /// A tangential spring far stiffer than the normal one makes the contact's equations stiff
@@ -68,9 +68,9 @@ struct DiscoveryOptions {
   /// Family-wise significance level: of the structure tests (Holm) and of naming a candidate
   /// (min-P over the candidates and their forms, Round::naming_level); in (0, 0.5).
   double alpha = 0.01;
-  int folds = 3;        ///< Leave-trials-out folds (trials dealt round-robin in design order); >= 2.
-  int max_rounds = 3;   ///< Effects added at most; >= 1.
-  int jobs = 0;         ///< Threads (0 = all cores).
+  int folds = 3;       ///< Leave-trials-out folds (trials dealt round-robin in design order); >= 2.
+  int max_rounds = 3;  ///< Effects added at most; >= 1.
+  int jobs = 0;        ///< Threads (0 = all cores).
   /// Library keys to try (Library()); empty = all.
   std::vector<std::string> candidates;
   /// Let a contact effect take its own value on each surface, besides one value shared by all
@@ -126,16 +126,18 @@ enum class Identifiability {
 
 /// Why a candidate was or was not added in a round.
 enum class CandidateOutcome {
-  kAdded,               ///< the strongest significant candidate: added to the model
-  kIndistinguishable,   ///< significant, but fits as well as the one added
-  kWeakerThanAdded,     ///< significant, but the one added explains clearly more
-  kNotSignificant,      ///< its likelihood ratio is not significant at the naming level (Round::naming_level)
-  kWorseHeldOut,        ///< significant in the fit, but it does not predict held-out trials better
-  kBelowResolution,     ///< significant, but smaller than the measurement resolves (out-of-plane
-                        ///< tilt within DiscoveryOptions::marker_ratio_tolerance)
-  kNotTested,           ///< see Identifiability::kNotTested; also a rotation rate the marker layout cannot see
-  kConfounded,          ///< see Identifiability::kConfounded
-  kNotFitted,           ///< the fit failed (message)
+  kAdded,              ///< the strongest significant candidate: added to the model
+  kIndistinguishable,  ///< significant, but fits as well as the one added
+  kWeakerThanAdded,    ///< significant, but the one added explains clearly more
+  kNotSignificant,     ///< its likelihood ratio is not significant at the naming level
+                       ///< (Round::naming_level)
+  kWorseHeldOut,       ///< significant in the fit, but it does not predict held-out trials better
+  kBelowResolution,    ///< significant, but smaller than the measurement resolves (out-of-plane
+                       ///< tilt within DiscoveryOptions::marker_ratio_tolerance)
+  kNotTested,   ///< see Identifiability::kNotTested; also a rotation rate the marker layout cannot
+                ///< see
+  kConfounded,  ///< see Identifiability::kConfounded
+  kNotFitted,   ///< the fit failed (message)
 };
 
 /// A contact effect's value: shared by all surfaces, or one per surface.
@@ -167,19 +169,19 @@ inline constexpr const char* kHeldOutErrorUnit = "mean squared residual / predic
 /// One value of an effect: for all surfaces (surface empty) or for one.
 struct EffectValue {
   std::string key;
-  std::string surface;  ///< empty: shared by all surfaces
+  std::string surface;           ///< empty: shared by all surfaces
   double value = 0.0, se = 0.0;  ///< in the library entry's unit
 };
 
 /// How a candidate did in one round.
 struct CandidateResult {
-  std::string key;        ///< library key, e.g. "hunt_crossley"
-  std::string name;       ///< e.g. "velocity-dependent (Hunt-Crossley) damping"
-  std::string parameter;  ///< e.g. "c"
-  std::string unit;       ///< e.g. "N s/m^2"
+  std::string key;                  ///< library key, e.g. "hunt_crossley"
+  std::string name;                 ///< e.g. "velocity-dependent (Hunt-Crossley) damping"
+  std::string parameter;            ///< e.g. "c"
+  std::string unit;                 ///< e.g. "N s/m^2"
   bool measurement_effect = false;  ///< out-of-plane rotation: changes the image, not the physics
-  bool fitted = false;    ///< the fit ran
-  std::string message;    ///< why not, or empty
+  bool fitted = false;              ///< the fit ran
+  std::string message;              ///< why not, or empty
   EffectForm form = EffectForm::kShared;  ///< the form the data chose
   /// The shared value, or for a per-surface effect the largest of the surface values (its
   /// values are in `values`); NaN when undefined.
@@ -207,11 +209,11 @@ struct CandidateResult {
   /// p_value < the naming level (Round::naming_level), wald_clear, and cv_error < cv_error_current.
   bool significant = false;
   CandidateOutcome outcome = CandidateOutcome::kNotSignificant;
-  std::string reason;        ///< why it was or was not added, in words
+  std::string reason;  ///< why it was or was not added, in words
   /// Smallest size (the library entry's unit) that these trials, with this noise, would detect
   /// at the naming level with 80 % power (shared form; NaN when not computed).
   double detection_limit = 0.0;
-  int rank = 0;              ///< 1 = added or strongest evidence
+  int rank = 0;  ///< 1 = added or strongest evidence
 };
 
 /// One held-out trial's disagreement before and after an effect is added.
@@ -236,8 +238,8 @@ struct Round {
   /// Bonferroni's alpha / hypotheses, which it never falls below.
   double naming_level = 0.0, bonferroni_level = 0.0;
   int hypotheses = 0;
-  std::string accepted;  ///< key of the effect added in this round, empty when none
-  std::string decision;  ///< in words
+  std::string accepted;       ///< key of the effect added in this round, empty when none
+  std::string decision;       ///< in words
   std::vector<GapTrial> gap;  ///< held-out trials, when an effect was added
   /// Aggregate held-out gap (root mean square over trials and components, fractions of the
   /// impact speed) and its shrink.
@@ -265,9 +267,9 @@ struct Finding {
   std::vector<std::string> surfaces;
   double estimate = 0.0, se = 0.0;  ///< shared value, or the largest surface value
   std::vector<EffectValue> values;
-  std::string partner;  ///< what it cannot be told apart from
+  std::string partner;                 ///< what it cannot be told apart from
   std::string separating_measurement;  ///< what would separate them
-  double gap_shrink = 0.0;  ///< held-out, when it was added
+  double gap_shrink = 0.0;             ///< held-out, when it was added
 };
 
 /// One trial's residuals under the baseline and the final model (full-data fits).
@@ -323,8 +325,8 @@ struct Plan {
   bool success = false;
   std::string message;  ///< why it could not run
   std::string key, name, parameter, unit;
-  double size = 0.0;  ///< the size asked about
-  int trials = 0;     ///< trials of the study
+  double size = 0.0;   ///< the size asked about
+  int trials = 0;      ///< trials of the study
   double level = 0.0;  ///< the naming level of the first round (Round::naming_level)
   /// The smallest size this study detects with 80 % power, and its power at `size`.
   double detection_limit = 0.0, power = 0.0;
@@ -337,7 +339,7 @@ struct Plan {
 /// The plan for `key` at `size` (its library unit) under the baseline fitted to `trials` with its
 /// noise model (Wald approximation, as CandidateResult::detection_limit). Throws
 /// std::invalid_argument for a bad key, size or options.
-Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std::string& key, double size,
-                   const DiscoveryOptions& options = {});
+Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std::string& key,
+                   double size, const DiscoveryOptions& options = {});
 
 }  // namespace hoof::discovery

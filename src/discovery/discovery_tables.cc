@@ -125,11 +125,11 @@ Table CandidatesTable(const std::string& name, const std::vector<CandidateResult
     reason.push_back(c.reason);
     detection_limit.push_back(c.detection_limit);
   }
-  const std::string outcomes =
-      Choices({CandidateOutcome::kAdded, CandidateOutcome::kIndistinguishable,
-               CandidateOutcome::kWeakerThanAdded, CandidateOutcome::kNotSignificant,
-               CandidateOutcome::kWorseHeldOut, CandidateOutcome::kBelowResolution, CandidateOutcome::kNotTested,
-               CandidateOutcome::kConfounded, CandidateOutcome::kNotFitted});
+  const std::string outcomes = Choices(
+      {CandidateOutcome::kAdded, CandidateOutcome::kIndistinguishable,
+       CandidateOutcome::kWeakerThanAdded, CandidateOutcome::kNotSignificant,
+       CandidateOutcome::kWorseHeldOut, CandidateOutcome::kBelowResolution,
+       CandidateOutcome::kNotTested, CandidateOutcome::kConfounded, CandidateOutcome::kNotFitted});
   const std::string identifiabilities = Choices(
       {Identifiability::kIdentified, Identifiability::kNotTested, Identifiability::kConfounded});
   return Table{
@@ -179,9 +179,10 @@ Table CandidatesTable(const std::string& name, const std::vector<CandidateResult
        Column::Integers("wald_clear", "",
                         "1 when the estimate stands clear of 0 by its s.e. at the naming level",
                         wald_clear),
-       Column::Integers("significant", "",
-                        "1 when p_value < alpha / candidates, wald_clear and the held-out error fell",
-                        significant),
+       Column::Integers(
+           "significant", "",
+           "1 when p_value < alpha / candidates, wald_clear and the held-out error fell",
+           significant),
        Column::Texts("outcome", "why it was or was not added: " + outcomes, outcome),
        Column::Texts("reason", "why it was or was not added, in words", reason),
        Column::Numbers("detection_limit", kEstimateUnits,
@@ -717,10 +718,11 @@ Table DiscoveryOptionsTable(const DiscoveryOptions& o) {
                        "lower bound of the systematic measurement error per velocity component, "
                        "fraction of the impact speed",
                        {o.measurement_floor}),
-       Column::Numbers("replicate_tolerance", "1",
-                       "part of a replicate cell's mean residual the lack-of-fit test ignores, fraction of the "
-                       "impact speed",
-                       {o.replicate_tolerance})}};
+       Column::Numbers(
+           "replicate_tolerance", "1",
+           "part of a replicate cell's mean residual the lack-of-fit test ignores, fraction of the "
+           "impact speed",
+           {o.replicate_tolerance})}};
 }
 
 DiscoveryResult ReadDiscovery(const std::filesystem::path& h5) {

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <numeric>
 
-#include <boost/math/special_functions/binomial.hpp>
-#include <Eigen/QR>
 #include <ceres/ceres.h>
+#include <Eigen/QR>
+#include <boost/math/special_functions/binomial.hpp>
 
 #include "discovery/internal.h"
 #include "stats/distributions.h"
@@ -37,7 +37,8 @@ struct TrialCost {
     const double zeta = p[b++][0];
     const double mu = mu_free ? p[b++][0] : mu_fixed;
     dynamics::ContactExtensions x = fixed;
-    for (std::size_t j = 0; j < effect_keys.size(); ++j) Apply(effect_keys[j], p[b++][0] * effect_scale[j], x);
+    for (std::size_t j = 0; j < effect_keys.size(); ++j)
+      Apply(effect_keys[j], p[b++][0] * effect_scale[j], x);
     bool ok = false;
     const Eigen::Vector3d pred = ws->Predict(*o, zeta, mu, x, &ok);
     Eigen::VectorXd r(static_cast<Eigen::Index>(components.size()));
@@ -54,7 +55,8 @@ struct TrialCost {
 }  // namespace
 
 Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& start,
-             const std::vector<std::string>& free_effects, const Noise& noise, bool estimate_noise, int passes) {
+             const std::vector<std::string>& free_effects, const Noise& noise, bool estimate_noise,
+             int passes) {
   Fit fit;
   fit.model = start;
   fit.noise = noise;
@@ -78,12 +80,14 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
       u[j] = {Entry(free_effects[j]).smallest / scale[j]};
     } else {
       form[j] = it->second.form;
-      for (double v : it->second.value) u[j].push_back(std::max(v, Entry(free_effects[j]).smallest) / scale[j]);
+      for (double v : it->second.value)
+        u[j].push_back(std::max(v, Entry(free_effects[j]).smallest) / scale[j]);
     }
   }
   std::map<std::string, EffectParam> fixed;
   for (const auto& [key, value] : start.effects)
-    if (std::find(free_effects.begin(), free_effects.end(), key) == free_effects.end()) fixed[key] = value;
+    if (std::find(free_effects.begin(), free_effects.end(), key) == free_effects.end())
+      fixed[key] = value;
   auto store = [&] {
     fit.model.zeta = zeta;
     fit.model.mu = mu;
@@ -107,15 +111,18 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
       const Obs& o = ws.obs[static_cast<std::size_t>(which[i])];
       const auto s = static_cast<std::size_t>(o.surface);
       const TrialCovariance cov = Covariance(ws, o, sens[i], fit.noise);
-      auto* f = new TrialCost{&ws, &o, cov.whiten, cov.components, !o.normal && surface_oblique[s], mu[s],
-                              free_effects, scale, {}};
+      auto* f = new TrialCost{
+          &ws,          &o,    cov.whiten, cov.components, !o.normal && surface_oblique[s], mu[s],
+          free_effects, scale, {}};
       for (const auto& [key, p] : fixed) Apply(key, p.At(o.surface), f->fixed);
       ceres::NumericDiffOptions nd;
       nd.relative_step_size = 1e-4;
-      auto* cost = new ceres::DynamicNumericDiffCostFunction<TrialCost, ceres::CENTRAL>(f, ceres::TAKE_OWNERSHIP, nd);
+      auto* cost = new ceres::DynamicNumericDiffCostFunction<TrialCost, ceres::CENTRAL>(
+          f, ceres::TAKE_OWNERSHIP, nd);
       std::vector<double*> params{&zeta[s]};
       if (f->mu_free) params.push_back(&mu[s]);
-      for (std::size_t j = 0; j < u.size(); ++j) params.push_back(&u[j][form[j] == EffectForm::kShared ? 0 : s]);
+      for (std::size_t j = 0; j < u.size(); ++j)
+        params.push_back(&u[j][form[j] == EffectForm::kShared ? 0 : s]);
       for (std::size_t b = 0; b < params.size(); ++b) cost->AddParameterBlock(1);
       cost->SetNumResiduals(static_cast<int>(f->components.size()));
       problem->AddResidualBlock(cost, nullptr, params);
@@ -185,7 +192,8 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
   problem->Evaluate(eo, nullptr, nullptr, nullptr, &crs);
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
   for (int row = 0; row < crs.num_rows; ++row)
-    for (int q = crs.rows[static_cast<std::size_t>(row)]; q < crs.rows[static_cast<std::size_t>(row) + 1]; ++q)
+    for (int q = crs.rows[static_cast<std::size_t>(row)];
+         q < crs.rows[static_cast<std::size_t>(row) + 1]; ++q)
       J(row, crs.cols[static_cast<std::size_t>(q)]) = crs.values[static_cast<std::size_t>(q)];
   // Columns scaled to unit length first: the whitened derivatives by zeta and by an effect can
   // differ by many orders, and the pseudo-inverse's rank threshold is relative to the largest.
@@ -193,9 +201,10 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
   for (Eigen::Index k = 0; k < norm.size(); ++k)
     if (!(norm[k] > 0)) norm[k] = 1.0;
   const Eigen::MatrixXd Js = J * norm.cwiseInverse().asDiagonal();
-  const Eigen::MatrixXd cov = norm.cwiseInverse().asDiagonal() *
-                              (Js.transpose() * Js).completeOrthogonalDecomposition().pseudoInverse() *
-                              norm.cwiseInverse().asDiagonal();
+  const Eigen::MatrixXd cov =
+      norm.cwiseInverse().asDiagonal() *
+      (Js.transpose() * Js).completeOrthogonalDecomposition().pseudoInverse() *
+      norm.cwiseInverse().asDiagonal();
   auto se_of = [&](Eigen::Index col) { return std::sqrt(std::max(0.0, cov(col, col))); };
   Eigen::Index col = 0;
   for (std::size_t s = 0; s < S; ++s) {
@@ -228,7 +237,8 @@ TiltFit FitTilt(const Workspace& ws, const std::vector<int>& which, bool free) {
   const double ms = std::max(ss / n, 1e-14);
   f.sigma = std::sqrt(ms);
   f.loglik = -0.5 * n * std::log(ms);
-  if (free && f.tilt_rad > 0 && n > 1) f.tilt_se_rad = f.sigma / std::sqrt(n - 1) / std::sin(f.tilt_rad);
+  if (free && f.tilt_rad > 0 && n > 1)
+    f.tilt_se_rad = f.sigma / std::sqrt(n - 1) / std::sin(f.tilt_rad);
   return f;
 }
 
@@ -236,7 +246,8 @@ double ChiBarSquareUpperTail(double x, int df) {
   if (!(x > 0)) return 1.0;
   double p = 0.0;
   for (int k = 1; k <= df; ++k)
-    p += boost::math::binomial_coefficient<double>(static_cast<unsigned>(df), static_cast<unsigned>(k)) *
+    p += boost::math::binomial_coefficient<double>(static_cast<unsigned>(df),
+                                                   static_cast<unsigned>(k)) *
          std::pow(0.5, df) * stats::ChiSquaredUpperTail(x, k);
   return p;
 }

@@ -67,7 +67,7 @@ struct Obs {
   /// Variance of the random measurement error of each component (the per-trial fits' s.e.,
   /// after and before the impact), as fractions of the impact speed squared.
   Eigen::Vector3d measurement_var{0, 0, 0};
-  double scale = 1.0;                 // impact speed |v_SC before|
+  double scale = 1.0;  // impact speed |v_SC before|
   std::array<bool, kComponents> used{false, false, false};
   double marker_ratio = kNaN;        // mean over the flight windows
   double marker_ratio_slope = kNaN;  // per second, over the flight windows
@@ -85,7 +85,7 @@ struct EffectParam {
 
 /// Parameter values of a model.
 struct Model {
-  std::vector<double> zeta, mu;               // per surface
+  std::vector<double> zeta, mu;                // per surface
   std::map<std::string, EffectParam> effects;  // contact effects
 };
 
@@ -103,8 +103,8 @@ class Workspace {
  public:
   std::vector<Obs> obs;
   std::vector<std::string> surfaces;
-  std::vector<double> k;          // per surface (the paper's; not identified)
-  std::vector<bool> has_oblique;  // per surface
+  std::vector<double> k;                     // per surface (the paper's; not identified)
+  std::vector<bool> has_oblique;             // per surface
   std::vector<double> zeta_start, mu_start;  // the comparison's per-surface fit
   double rtol = 1e-8;
   double measurement_floor = 1e-4;
@@ -113,8 +113,8 @@ class Workspace {
 
   dynamics::ContactExtensions Extensions(const Model& m, int surface) const;
   /// v_x, v_y and w d after the impact at the measured impact time, in S.
-  Eigen::Vector3d Predict(const Obs& o, double zeta, double mu, const dynamics::ContactExtensions& x,
-                          bool* ok) const;
+  Eigen::Vector3d Predict(const Obs& o, double zeta, double mu,
+                          const dynamics::ContactExtensions& x, bool* ok) const;
   /// Residuals (measured - model) / impact speed of the obs `which`; unused components are NaN,
   /// a failed simulation gives 1 (a large misfit rather than a gap).
   std::vector<Eigen::Vector3d> Residuals(const Model& m, const std::vector<int>& which) const;
@@ -125,8 +125,8 @@ class Workspace {
 };
 
 /// Builds the workspace from the measured trials.
-void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOptions& options, int* skipped,
-           Workspace& ws);
+void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOptions& options,
+           int* skipped, Workspace& ws);
 
 // ---- noise (noise.cc) ---------------------------------------------------------------------
 
@@ -137,14 +137,17 @@ struct TrialCovariance {
   std::vector<int> components;
   double log_det = 0.0;
 };
-TrialCovariance Covariance(const Workspace& ws, const Obs& o, const Sensitivity& s, const Noise& noise);
+TrialCovariance Covariance(const Workspace& ws, const Obs& o, const Sensitivity& s,
+                           const Noise& noise);
 /// -1/2 sum over trials of (log det V + r^T V^-1 r), constants dropped.
-double LogLikelihood(const Workspace& ws, const std::vector<int>& which, const std::vector<Eigen::Vector3d>& r,
-                     const std::vector<Sensitivity>& s, const Noise& noise);
+double LogLikelihood(const Workspace& ws, const std::vector<int>& which,
+                     const std::vector<Eigen::Vector3d>& r, const std::vector<Sensitivity>& s,
+                     const Noise& noise);
 /// The noise model of largest likelihood for these residuals (coordinate-wise Brent searches
 /// on the log s.d.s), starting from `start`.
-Noise EstimateNoise(const Workspace& ws, const std::vector<int>& which, const std::vector<Eigen::Vector3d>& r,
-                    const std::vector<Sensitivity>& s, const Noise& start);
+Noise EstimateNoise(const Workspace& ws, const std::vector<int>& which,
+                    const std::vector<Eigen::Vector3d>& r, const std::vector<Sensitivity>& s,
+                    const Noise& start);
 Noise InitialNoise(const Workspace& ws);
 
 // ---- fits (fit.cc) ------------------------------------------------------------------------
@@ -166,7 +169,8 @@ struct Fit {
 /// to `passes` solves until the likelihood stops rising (it is then the profile likelihood);
 /// otherwise it stays `noise` and one solve is made.
 Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& start,
-             const std::vector<std::string>& free_effects, const Noise& noise, bool estimate_noise, int passes = 8);
+             const std::vector<std::string>& free_effects, const Noise& noise, bool estimate_noise,
+             int passes = 8);
 
 /// The out-of-plane (measurement) model: the marker distance ratio is cos(tilt) in every trial.
 struct TiltFit {
@@ -181,9 +185,10 @@ double ChiBarSquareUpperTail(double x, int df);
 
 // ---- structure (structure.cc) -------------------------------------------------------------
 
-std::vector<StructureTest> StructureTests(const Workspace& ws, const std::vector<Eigen::Vector3d>& r,
-                                          const std::vector<Sensitivity>& s, const Noise& noise, double tilt_rad,
-                                          const DiscoveryOptions& options);
+std::vector<StructureTest> StructureTests(const Workspace& ws,
+                                          const std::vector<Eigen::Vector3d>& r,
+                                          const std::vector<Sensitivity>& s, const Noise& noise,
+                                          double tilt_rad, const DiscoveryOptions& options);
 
 // ---- cross-validation (cross_validation.cc) ------------------------------------------------
 
@@ -194,7 +199,8 @@ struct CrossValidation {
 };
 /// Each fold's trials predicted by `start` refitted (noise held at the full-data fit's) without
 /// them; errors in units of the variance `reference` predicts for each trial.
-CrossValidation CrossValidate(const Workspace& ws, const Fit& start, const std::vector<std::string>& free_effects,
+CrossValidation CrossValidate(const Workspace& ws, const Fit& start,
+                              const std::vector<std::string>& free_effects,
                               const std::vector<TrialCovariance>& reference, int folds);
 CrossValidation CrossValidateTilt(const Workspace& ws, bool free, int folds);
 /// One-sided paired t test that `b` has lower errors than `a`.
@@ -229,9 +235,10 @@ struct RoundOutcome {
   std::shared_ptr<Workspace> ws;  // built from `remeasured`, for the rounds after
 };
 /// `residual_current` and `sens` are the current model's residuals and sensitivities of all obs.
-RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state, const std::vector<Eigen::Vector3d>& residual_current,
-                           const std::vector<Sensitivity>& sens, const std::vector<std::string>& keys,
-                           const DiscoveryOptions& options,
+RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
+                           const std::vector<Eigen::Vector3d>& residual_current,
+                           const std::vector<Sensitivity>& sens,
+                           const std::vector<std::string>& keys, const DiscoveryOptions& options,
                            const std::function<void(const std::string&)>& say, Round& round);
 
 // ---- out-of-plane rotation growing in time (out_of_plane.cc) ---------------------------------
@@ -251,7 +258,8 @@ struct RateEvaluation {
   std::shared_ptr<const std::vector<pipeline::TrialAnalysis>> remeasured;
   std::shared_ptr<Workspace> ws;  // built from `remeasured`
 };
-RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& state, const std::string& key,
+RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& state,
+                                    const std::string& key,
                                     const std::vector<std::string>& free_current, double level,
                                     const DiscoveryOptions& options);
 
@@ -264,7 +272,8 @@ struct WhitenedDesign {
   Eigen::MatrixXd X;
   std::vector<Eigen::Index> first;
 };
-WhitenedDesign Whiten(const Workspace& ws, const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref);
+WhitenedDesign Whiten(const Workspace& ws, const std::vector<Sensitivity>& sens,
+                      const std::vector<TrialCovariance>& ref);
 /// A residual change per obs (NaN counts as 0), whitened into the design's rows.
 Eigen::VectorXd WhitenChange(const Workspace& ws, const std::vector<Eigen::Vector3d>& d_r,
                              const std::vector<TrialCovariance>& ref, const WhitenedDesign& w);
@@ -272,8 +281,10 @@ Eigen::VectorXd WhitenChange(const Workspace& ws, const std::vector<Eigen::Vecto
 /// surface are profiled out, from `d_r`, the residual changes of one unit of the effect, `sens`,
 /// the derivatives by zeta and mu, and `ref`, the noise model's whitening. Their sum is the
 /// study's.
-std::vector<double> ProfiledInformation(const Workspace& ws, const std::vector<Eigen::Vector3d>& d_r,
-                                        const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref);
+std::vector<double> ProfiledInformation(const Workspace& ws,
+                                        const std::vector<Eigen::Vector3d>& d_r,
+                                        const std::vector<Sensitivity>& sens,
+                                        const std::vector<TrialCovariance>& ref);
 /// The smallest size that a one-sided test at `level` detects with 80 % power (Wald).
 double DetectionLimit(const std::vector<double>& information, double level);
 
@@ -290,9 +301,11 @@ struct NamingLevel {
 /// per obs) tried shared and, with `per_surface` and two or more surfaces, per surface, plus
 /// `independent` hypotheses tested on other data (the marker distance). By `draws` seeded Monte
 /// Carlo draws of the scores' joint normal distribution under the linearised noise model.
-NamingLevel CalibrateNamingLevel(const Workspace& ws, const std::vector<std::vector<Eigen::Vector3d>>& changes,
-                                 const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref,
-                                 bool per_surface, int independent, double alpha, int draws = 20000);
+NamingLevel CalibrateNamingLevel(const Workspace& ws,
+                                 const std::vector<std::vector<Eigen::Vector3d>>& changes,
+                                 const std::vector<Sensitivity>& sens,
+                                 const std::vector<TrialCovariance>& ref, bool per_surface,
+                                 int independent, double alpha, int draws = 20000);
 
 // ---- verdict (verdict.cc) -----------------------------------------------------------------
 

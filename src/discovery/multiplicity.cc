@@ -69,21 +69,25 @@ struct OrthantLr {
 
 }  // namespace
 
-NamingLevel CalibrateNamingLevel(const Workspace& ws, const std::vector<std::vector<Eigen::Vector3d>>& changes,
-                                 const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref,
-                                 bool per_surface, int independent, double alpha, int draws) {
+NamingLevel CalibrateNamingLevel(const Workspace& ws,
+                                 const std::vector<std::vector<Eigen::Vector3d>>& changes,
+                                 const std::vector<Sensitivity>& sens,
+                                 const std::vector<TrialCovariance>& ref, bool per_surface,
+                                 int independent, double alpha, int draws) {
   const std::size_t S = ws.surfaces.size();
   const bool forms = per_surface && S > 1;
   NamingLevel out;
   const WhitenedDesign w = Whiten(ws, sens, ref);
-  // Columns: each candidate's change restricted to each surface's trials, zeta and mu projected out.
+  // Columns: each candidate's change restricted to each surface's trials, zeta and mu projected
+  // out.
   const Eigen::Index rows = w.X.rows();
   Eigen::MatrixXd D = Eigen::MatrixXd::Zero(rows, static_cast<Eigen::Index>(changes.size() * S));
   for (std::size_t k = 0; k < changes.size(); ++k) {
     const Eigen::VectorXd d = WhitenChange(ws, changes[k], ref, w);
     for (std::size_t i = 0; i < ws.obs.size(); ++i) {
       const Eigen::Index col = static_cast<Eigen::Index>(k * S) + ws.obs[i].surface;
-      D.col(col).segment(w.first[i], w.first[i + 1] - w.first[i]) = d.segment(w.first[i], w.first[i + 1] - w.first[i]);
+      D.col(col).segment(w.first[i], w.first[i + 1] - w.first[i]) =
+          d.segment(w.first[i], w.first[i + 1] - w.first[i]);
     }
   }
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(w.X);
@@ -145,7 +149,8 @@ NamingLevel CalibrateNamingLevel(const Workspace& ws, const std::vector<std::vec
 
   // g = L xi with L L^T = G (eigen-decomposition: G may be singular).
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(G);
-  const Eigen::MatrixXd L = eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+  const Eigen::MatrixXd L =
+      eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
   boost::random::mt19937 rng(20261122u);
   boost::random::normal_distribution<double> normal;
   boost::random::uniform_01<double> uniform;

@@ -18,7 +18,8 @@
 
 namespace hoof::discovery::internal {
 
-TrialCovariance Covariance(const Workspace& ws, const Obs& o, const Sensitivity& s, const Noise& noise) {
+TrialCovariance Covariance(const Workspace& ws, const Obs& o, const Sensitivity& s,
+                           const Noise& noise) {
   TrialCovariance t;
   for (int c = 0; c < kComponents; ++c)
     if (o.used[static_cast<std::size_t>(c)]) t.components.push_back(c);
@@ -29,10 +30,12 @@ TrialCovariance Covariance(const Workspace& ws, const Obs& o, const Sensitivity&
   t.cov.resize(n, n);
   for (Eigen::Index a = 0; a < n; ++a)
     for (Eigen::Index b = 0; b < n; ++b) {
-      const int ca = t.components[static_cast<std::size_t>(a)], cb = t.components[static_cast<std::size_t>(b)];
+      const int ca = t.components[static_cast<std::size_t>(a)],
+                cb = t.components[static_cast<std::size_t>(b)];
       t.cov(a, b) = vz * s(ca, 0) * s(cb, 0) + vm * s(ca, 1) * s(cb, 1);
       if (a == b)
-        t.cov(a, b) += o.measurement_var[ca] + noise.systematic_sd[ca] * noise.systematic_sd[ca] + 1e-16;
+        t.cov(a, b) +=
+            o.measurement_var[ca] + noise.systematic_sd[ca] * noise.systematic_sd[ca] + 1e-16;
     }
   const Eigen::LLT<Eigen::MatrixXd> llt(t.cov);
   const Eigen::MatrixXd L = llt.matrixL();
@@ -44,18 +47,20 @@ TrialCovariance Covariance(const Workspace& ws, const Obs& o, const Sensitivity&
 
 namespace {
 
-double TrialLogLikelihood(const Workspace& ws, const Obs& o, const Eigen::Vector3d& r, const Sensitivity& s,
-                          const Noise& noise) {
+double TrialLogLikelihood(const Workspace& ws, const Obs& o, const Eigen::Vector3d& r,
+                          const Sensitivity& s, const Noise& noise) {
   const TrialCovariance t = Covariance(ws, o, s, noise);
   Eigen::VectorXd v(static_cast<Eigen::Index>(t.components.size()));
-  for (std::size_t a = 0; a < t.components.size(); ++a) v[static_cast<Eigen::Index>(a)] = r[t.components[a]];
+  for (std::size_t a = 0; a < t.components.size(); ++a)
+    v[static_cast<Eigen::Index>(a)] = r[t.components[a]];
   return -0.5 * (t.log_det + (t.whiten * v).squaredNorm());
 }
 
 }  // namespace
 
-double LogLikelihood(const Workspace& ws, const std::vector<int>& which, const std::vector<Eigen::Vector3d>& r,
-                     const std::vector<Sensitivity>& s, const Noise& noise) {
+double LogLikelihood(const Workspace& ws, const std::vector<int>& which,
+                     const std::vector<Eigen::Vector3d>& r, const std::vector<Sensitivity>& s,
+                     const Noise& noise) {
   double ll = 0.0;
   for (std::size_t i = 0; i < which.size(); ++i)
     ll += TrialLogLikelihood(ws, ws.obs[static_cast<std::size_t>(which[i])], r[i], s[i], noise);
@@ -70,8 +75,9 @@ Noise InitialNoise(const Workspace& ws) {
   return n;
 }
 
-Noise EstimateNoise(const Workspace& ws, const std::vector<int>& which, const std::vector<Eigen::Vector3d>& r,
-                    const std::vector<Sensitivity>& s, const Noise& start) {
+Noise EstimateNoise(const Workspace& ws, const std::vector<int>& which,
+                    const std::vector<Eigen::Vector3d>& r, const std::vector<Sensitivity>& s,
+                    const Noise& start) {
   Noise n = start;
   const std::size_t S = ws.surfaces.size();
   // The trials of each surface (a surface's scatter only moves its own trials' likelihood).
@@ -81,7 +87,8 @@ Noise EstimateNoise(const Workspace& ws, const std::vector<int>& which, const st
   for (std::size_t i = 0; i < which.size(); ++i) {
     const Obs& o = ws.obs[static_cast<std::size_t>(which[i])];
     of_surface[static_cast<std::size_t>(o.surface)].push_back(i);
-    for (int c = 0; c < kComponents; ++c) component_used[static_cast<std::size_t>(c)] |= o.used[static_cast<std::size_t>(c)];
+    for (int c = 0; c < kComponents; ++c)
+      component_used[static_cast<std::size_t>(c)] |= o.used[static_cast<std::size_t>(c)];
     if (!o.normal) surface_oblique[static_cast<std::size_t>(o.surface)] = true;
   }
   auto ll_of = [&](const std::vector<std::size_t>& idx) {
@@ -100,7 +107,8 @@ Noise EstimateNoise(const Workspace& ws, const std::vector<int>& which, const st
       return -ll_of(idx);
     };
     boost::uintmax_t iterations = 60;
-    const auto best = boost::math::tools::brent_find_minima(f, std::log(lo), std::log(hi), 24, iterations);
+    const auto best =
+        boost::math::tools::brent_find_minima(f, std::log(lo), std::log(hi), 24, iterations);
     sd = std::exp(best.first);
   };
   const double floor = std::max(ws.measurement_floor, 1e-7);

@@ -24,7 +24,8 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180;
 
-pipeline::OutOfPlaneMotion WithRate(pipeline::OutOfPlaneMotion m, const std::string& key, double rate_rad_s) {
+pipeline::OutOfPlaneMotion WithRate(pipeline::OutOfPlaneMotion m, const std::string& key,
+                                    double rate_rad_s) {
   if (key == "out_of_plane_rate")
     m.tilt_rate_rad_s += rate_rad_s;
   else
@@ -37,7 +38,8 @@ struct RatioSeries {
   std::vector<double> t_s, ratio;
 };
 
-std::vector<RatioSeries> Series(const Workspace& ws, const std::vector<pipeline::TrialAnalysis>& measured) {
+std::vector<RatioSeries> Series(const Workspace& ws,
+                                const std::vector<pipeline::TrialAnalysis>& measured) {
   std::vector<RatioSeries> out(ws.obs.size());
   for (std::size_t i = 0; i < ws.obs.size(); ++i) {
     const pipeline::TrialAnalysis& t = measured[ws.obs[i].trial_index];
@@ -63,14 +65,16 @@ struct RatioTerms {
     double ss = 0;
     int n = 0;
     for (int i : which)
-      if (std::isfinite(rss[static_cast<std::size_t>(i)])) ss += rss[static_cast<std::size_t>(i)], n += frames[static_cast<std::size_t>(i)];
+      if (std::isfinite(rss[static_cast<std::size_t>(i)]))
+        ss += rss[static_cast<std::size_t>(i)], n += frames[static_cast<std::size_t>(i)];
     return n > 0 ? -0.5 * n * std::log(std::max(ss / n, 1e-300)) : 0.0;
   }
   double Variance(const std::vector<int>& which) const {
     double ss = 0;
     int n = 0;
     for (int i : which)
-      if (std::isfinite(rss[static_cast<std::size_t>(i)])) ss += rss[static_cast<std::size_t>(i)], n += frames[static_cast<std::size_t>(i)];
+      if (std::isfinite(rss[static_cast<std::size_t>(i)]))
+        ss += rss[static_cast<std::size_t>(i)], n += frames[static_cast<std::size_t>(i)];
     return n > 0 ? ss / n : kNaN;
   }
 };
@@ -91,7 +95,8 @@ RatioTerms Ratio(const Workspace& ws, const std::vector<pipeline::TrialAnalysis>
     }
     const double a = rm / mm;
     double rss = 0;
-    for (std::size_t f = 0; f < s.t_s.size(); ++f) rss += (s.ratio[f] - a * model[f]) * (s.ratio[f] - a * model[f]);
+    for (std::size_t f = 0; f < s.t_s.size(); ++f)
+      rss += (s.ratio[f] - a * model[f]) * (s.ratio[f] - a * model[f]);
     out.rss[i] = rss;
     out.frames[i] = static_cast<int>(s.t_s.size());
   }
@@ -101,11 +106,14 @@ RatioTerms Ratio(const Workspace& ws, const std::vector<pipeline::TrialAnalysis>
 /// The rate of largest marker-distance likelihood over the obs `which` (a coarse grid on both
 /// signs, then Brent between the best point's neighbours).
 double RatioOnlyRate(const Workspace& ws, const std::vector<pipeline::TrialAnalysis>& measured,
-                     const std::vector<RatioSeries>& series, const RoundState& st, const std::string& key,
-                     const std::vector<int>& which, double upper) {
-  auto minus = [&](double w) { return -Ratio(ws, measured, series, WithRate(st.motion, key, w)).Loglik(which); };
+                     const std::vector<RatioSeries>& series, const RoundState& st,
+                     const std::string& key, const std::vector<int>& which, double upper) {
+  auto minus = [&](double w) {
+    return -Ratio(ws, measured, series, WithRate(st.motion, key, w)).Loglik(which);
+  };
   std::vector<double> grid{0.0};
-  for (int k = 0; k <= 12; ++k) grid.push_back(upper * std::pow(0.5, k)), grid.push_back(-upper * std::pow(0.5, k));
+  for (int k = 0; k <= 12; ++k)
+    grid.push_back(upper * std::pow(0.5, k)), grid.push_back(-upper * std::pow(0.5, k));
   std::sort(grid.begin(), grid.end());
   std::size_t best = 0;
   std::vector<double> value(grid.size());
@@ -144,7 +152,8 @@ Remeasured Remeasure(const Workspace& ws, const std::vector<pipeline::TrialAnaly
     return out;
   }
   bool same = w->obs.size() == ws.obs.size();
-  for (std::size_t i = 0; same && i < ws.obs.size(); ++i) same = w->obs[i].trial_index == ws.obs[i].trial_index;
+  for (std::size_t i = 0; same && i < ws.obs.size(); ++i)
+    same = w->obs[i].trial_index == ws.obs[i].trial_index;
   if (same) out.ws = std::move(w);
   return out;
 }
@@ -161,7 +170,8 @@ struct Point {
 
 bool IsRotationRate(const std::string& key) { return Entry(key).rotation_rate; }
 
-RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, const std::string& key,
+RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st,
+                                    const std::string& key,
                                     const std::vector<std::string>& free_current, double level,
                                     const DiscoveryOptions& options) {
   const LibraryEntry& e = Entry(key);
@@ -183,7 +193,8 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
     p.remeasured = Remeasure(ws, measured, m, options);
     if (!p.remeasured.ws) return p;
     try {
-      p.fit = FitModel(*p.remeasured.ws, all, st.current.model, free_current, st.current.noise, true, passes);
+      p.fit = FitModel(*p.remeasured.ws, all, st.current.model, free_current, st.current.noise,
+                       true, passes);
     } catch (const std::exception&) {
       return p;  // not a feasible point (see Remeasure)
     }
@@ -204,8 +215,9 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
   // probe size for the velocities when the marker distance has none.
   const double from_ratio = std::abs(RatioOnlyRate(ws, measured, series, st, key, all, upper));
   // The image's own evidence: the marker distance alone, at its best rate, against none.
-  const double ratio_lr =
-      std::max(0.0, 2 * (Ratio(ws, measured, series, WithRate(st.motion, key, from_ratio)).Loglik(all) - zero.ratio_loglik));
+  const double ratio_lr = std::max(
+      0.0, 2 * (Ratio(ws, measured, series, WithRate(st.motion, key, from_ratio)).Loglik(all) -
+                zero.ratio_loglik));
   const double ratio_p = stats::ChiSquaredUpperTail(ratio_lr, 1);
   std::vector<double> starts;
   if (from_ratio > 1e-3 * probe) starts = {from_ratio, -from_ratio};
@@ -221,7 +233,8 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
     if (p.loglik > best.loglik) best = std::move(p);
   }
   // The velocities' information about the rate at 0 (for the detection limit), from the probes.
-  const double curvature_at_0 = (velocity[probe] - 2 * velocity[0.0] + velocity[-probe]) / (probe * probe);
+  const double curvature_at_0 =
+      (velocity[probe] - 2 * velocity[0.0] + velocity[-probe]) / (probe * probe);
   const double info_velocity = std::isfinite(curvature_at_0) ? std::max(0.0, -curvature_at_0) : 0.0;
   if (best.rate != 0.0) {
     // Refine on the best point's side, between a quarter and four times it.
@@ -240,7 +253,8 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
   Point zero_final = evaluate(0.0, 8);
   Point with_rate;
   if (best.rate != 0.0) with_rate = evaluate(best.rate, 8);
-  Point& fin = std::isfinite(with_rate.loglik) && with_rate.loglik > zero_final.loglik ? with_rate : zero_final;
+  Point& fin = std::isfinite(with_rate.loglik) && with_rate.loglik > zero_final.loglik ? with_rate
+                                                                                       : zero_final;
   c.fitted = true;
   c.estimate = fin.rate / kDeg;
   // The s.e. from the curvature of the joint log-likelihood.
@@ -248,7 +262,8 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
   if (fin.rate != 0.0) {
     const double h = 0.1 * std::abs(fin.rate);
     // At the same passes as the search, whose best point is the middle one.
-    const Point lo = evaluate(fin.rate - h, kSearchPasses), hi = evaluate(fin.rate + h, kSearchPasses);
+    const Point lo = evaluate(fin.rate - h, kSearchPasses),
+                hi = evaluate(fin.rate + h, kSearchPasses);
     const double curvature = (hi.loglik - 2 * best.loglik + lo.loglik) / (h * h);
     if (curvature < 0) c.se = 1 / std::sqrt(-curvature) / kDeg;
   }
@@ -260,7 +275,8 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
   for (const auto& s : series) frames += static_cast<int>(s.t_s.size());
   for (const Obs& o : ws.obs) residuals += o.Dim();
   c.delta_bic = -c.lr_statistic + std::log(static_cast<double>(frames + residuals));
-  c.identifiability = frames == 0 && !(info_velocity > 0) ? Identifiability::kNotTested : Identifiability::kIdentified;
+  c.identifiability = frames == 0 && !(info_velocity > 0) ? Identifiability::kNotTested
+                                                          : Identifiability::kIdentified;
   const boost::math::normal z;
   const double z_level = boost::math::quantile(boost::math::complement(z, level / 2));
   c.wald_clear = c.se > 0 && std::abs(c.estimate) / c.se > z_level;
@@ -272,9 +288,10 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
     const pipeline::OutOfPlaneMotion with = WithRate(st.motion, key, probe);
     for (const Obs& o : ws.obs) {
       const auto& specimen = measured[o.trial_index].spec.specimen;
-      ratio_blind &= std::abs(pipeline::MarkerDistanceRatio(specimen, with.TiltAt(2e-3), with.RollAt(2e-3)) -
-                              pipeline::MarkerDistanceRatio(specimen, st.motion.TiltAt(2e-3), st.motion.RollAt(2e-3))) <
-                     1e-9;
+      ratio_blind &=
+          std::abs(pipeline::MarkerDistanceRatio(specimen, with.TiltAt(2e-3), with.RollAt(2e-3)) -
+                   pipeline::MarkerDistanceRatio(specimen, st.motion.TiltAt(2e-3),
+                                                 st.motion.RollAt(2e-3))) < 1e-9;
     }
   }
   const RatioTerms none = Ratio(ws, measured, series, st.motion);
@@ -312,17 +329,22 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
   // Named only with the image's own evidence: a bias of the velocities alone is also what a
   // contact effect on v_x and spin does (the scorecard named a roll rate in studies with rolling
   // resistance or tangential compliance hidden before this rule).
-  c.significant = c.p_value < level && c.wald_clear && ratio_p < level && c.cv_error < c.cv_error_current;
+  c.significant =
+      c.p_value < level && c.wald_clear && ratio_p < level && c.cv_error < c.cv_error_current;
   if (ratio_blind) {
     c.identifiability = Identifiability::kNotTested;
     c.outcome = CandidateOutcome::kNotTested;
-    c.reason = "the distance of the layout's first two markers does not change with this rotation, and its bias "
-               "of the velocities alone cannot be told from a contact effect on v_x and spin (LR p = " +
-               FmtP(c.p_value) + "); markers apart across the axis, or a second camera, would test it";
+    c.reason =
+        "the distance of the layout's first two markers does not change with this rotation, and "
+        "its bias "
+        "of the velocities alone cannot be told from a contact effect on v_x and spin (LR p = " +
+        FmtP(c.p_value) + "); markers apart across the axis, or a second camera, would test it";
   } else if (c.p_value < level && c.wald_clear && !(ratio_p < level)) {
     c.outcome = CandidateOutcome::kNotSignificant;
-    c.reason = "likelihood-ratio p = " + FmtP(c.p_value) + ", but the marker distance alone does not show it (p = " +
-               FmtP(ratio_p) + "): a bias of the velocities alone is also what a contact effect on v_x and spin does";
+    c.reason =
+        "likelihood-ratio p = " + FmtP(c.p_value) +
+        ", but the marker distance alone does not show it (p = " + FmtP(ratio_p) +
+        "): a bias of the velocities alone is also what a contact effect on v_x and spin does";
   }
 
   // Detection limit: the smallest rate whose noncentrality, from the velocities (quadratic in
@@ -333,8 +355,8 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
     // The velocities' information from the probes; where the noise model's refits bend the
     // log-likelihood there (it takes up a bias at 0), the observed information at the estimate.
     const double info = info_velocity > 0 ? info_velocity
-                        : c.se > 0       ? 1 / std::pow(c.se * kDeg, 2)
-                                         : 0.0;
+                        : c.se > 0        ? 1 / std::pow(c.se * kDeg, 2)
+                                          : 0.0;
     auto noncentrality = [&](double rate) {
       double lambda = info * rate * rate;
       if (var > 0) {
@@ -346,8 +368,10 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st, c
           std::vector<double> d(s.t_s.size());
           for (std::size_t j = 0; j < d.size(); ++j)
             d[j] = pipeline::MarkerDistanceRatio(specimen, m.TiltAt(s.t_s[j]), m.RollAt(s.t_s[j])) -
-                   pipeline::MarkerDistanceRatio(specimen, st.motion.TiltAt(s.t_s[j]), st.motion.RollAt(s.t_s[j]));
-          const double md = std::accumulate(d.begin(), d.end(), 0.0) / static_cast<double>(d.size());
+                   pipeline::MarkerDistanceRatio(specimen, st.motion.TiltAt(s.t_s[j]),
+                                                 st.motion.RollAt(s.t_s[j]));
+          const double md =
+              std::accumulate(d.begin(), d.end(), 0.0) / static_cast<double>(d.size());
           for (double x : d) lambda += (x - md) * (x - md) / var;
         }
       }

@@ -15,7 +15,8 @@
 namespace hoof::discovery {
 namespace internal {
 
-WhitenedDesign Whiten(const Workspace& ws, const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref) {
+WhitenedDesign Whiten(const Workspace& ws, const std::vector<Sensitivity>& sens,
+                      const std::vector<TrialCovariance>& ref) {
   const auto S = static_cast<Eigen::Index>(ws.surfaces.size());
   WhitenedDesign w;
   w.first.assign(ws.obs.size() + 1, 0);
@@ -26,7 +27,8 @@ WhitenedDesign Whiten(const Workspace& ws, const std::vector<Sensitivity>& sens,
     const auto& t = ref[i];
     const auto n = static_cast<Eigen::Index>(t.components.size());
     Eigen::MatrixXd J(n, 2);
-    for (Eigen::Index a = 0; a < n; ++a) J.row(a) = sens[i].row(t.components[static_cast<std::size_t>(a)]);
+    for (Eigen::Index a = 0; a < n; ++a)
+      J.row(a) = sens[i].row(t.components[static_cast<std::size_t>(a)]);
     w.X.block(w.first[i], 2 * ws.obs[i].surface, n, 2) = t.whiten * J;
   }
   return w;
@@ -48,15 +50,18 @@ Eigen::VectorXd WhitenChange(const Workspace& ws, const std::vector<Eigen::Vecto
   return d;
 }
 
-std::vector<double> ProfiledInformation(const Workspace& ws, const std::vector<Eigen::Vector3d>& d_r,
-                                        const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref) {
+std::vector<double> ProfiledInformation(const Workspace& ws,
+                                        const std::vector<Eigen::Vector3d>& d_r,
+                                        const std::vector<Sensitivity>& sens,
+                                        const std::vector<TrialCovariance>& ref) {
   const WhitenedDesign w = Whiten(ws, sens, ref);
   const Eigen::VectorXd d = WhitenChange(ws, d_r, ref, w);
   // What zeta and mu can take up of the effect's change is projected out.
   const Eigen::VectorXd coef = w.X.completeOrthogonalDecomposition().solve(d);
   const Eigen::VectorXd left = d - w.X * coef;
   std::vector<double> info(ws.obs.size(), 0.0);
-  for (std::size_t i = 0; i < ws.obs.size(); ++i) info[i] = left.segment(w.first[i], w.first[i + 1] - w.first[i]).squaredNorm();
+  for (std::size_t i = 0; i < ws.obs.size(); ++i)
+    info[i] = left.segment(w.first[i], w.first[i + 1] - w.first[i]).squaredNorm();
   return info;
 }
 
@@ -64,21 +69,25 @@ double DetectionLimit(const std::vector<double>& information, double level) {
   const double info = std::accumulate(information.begin(), information.end(), 0.0);
   if (!(info > 0)) return kNaN;
   const boost::math::normal z;
-  return (boost::math::quantile(boost::math::complement(z, level)) + boost::math::quantile(z, 0.8)) / std::sqrt(info);
+  return (boost::math::quantile(boost::math::complement(z, level)) +
+          boost::math::quantile(z, 0.8)) /
+         std::sqrt(info);
 }
 
 }  // namespace internal
 
 using namespace internal;
 
-Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std::string& key, double size,
-                   const DiscoveryOptions& options) {
+Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std::string& key,
+                   double size, const DiscoveryOptions& options) {
   options.Validate();
   const LibraryEntry& e = Entry(key);
   if (e.measurement_effect)
-    throw std::invalid_argument("plan: '" + key + "' is a measurement effect; plans are for contact effects");
+    throw std::invalid_argument("plan: '" + key +
+                                "' is a measurement effect; plans are for contact effects");
   if (!(size > 0 && size <= e.upper))
-    throw std::invalid_argument("plan: the size of '" + key + "' must be in (0, " + Fmt(e.upper) + "], got " + Fmt(size));
+    throw std::invalid_argument("plan: the size of '" + key + "' must be in (0, " + Fmt(e.upper) +
+                                "], got " + Fmt(size));
   Plan plan;
   plan.key = key;
   plan.name = e.name;
@@ -90,8 +99,8 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
   Build(trials, options, &skipped, ws);
   plan.trials = static_cast<int>(ws.obs.size());
   if (ws.obs.size() < 6) {
-    plan.message = "too few measured trials with a fitted surface model (" + std::to_string(ws.obs.size()) +
-                   "; at least 6 are needed)";
+    plan.message = "too few measured trials with a fitted surface model (" +
+                   std::to_string(ws.obs.size()) + "; at least 6 are needed)";
     return plan;
   }
   const std::vector<int> all = ws.All();
@@ -101,7 +110,8 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
   const Fit base = FitModel(ws, all, start, {}, InitialNoise(ws), true, 12);
   const auto sens = ws.Sensitivities(base.model, all);
   std::vector<TrialCovariance> ref;
-  for (std::size_t i = 0; i < ws.obs.size(); ++i) ref.push_back(Covariance(ws, ws.obs[i], sens[i], base.noise));
+  for (std::size_t i = 0; i < ws.obs.size(); ++i)
+    ref.push_back(Covariance(ws, ws.obs[i], sens[i], base.noise));
   Model with = base.model;
   with.effects[key] = {EffectForm::kShared, {size}};
   const auto r0 = ws.Residuals(base.model, all);
@@ -116,7 +126,8 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
     for (const Obs& o : ws.obs) n_ratio += std::isfinite(o.marker_ratio) ? 1 : 0;
     for (const LibraryEntry& c : Library()) {
       if (!options.candidates.empty() &&
-          std::find(options.candidates.begin(), options.candidates.end(), c.key) == options.candidates.end())
+          std::find(options.candidates.begin(), options.candidates.end(), c.key) ==
+              options.candidates.end())
         continue;
       if (c.measurement_effect) {
         independent += n_ratio >= 3 ? 1 : 0;
@@ -129,7 +140,9 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
       for (std::size_t i = 0; i < ws.obs.size(); ++i) d[i] = (r0[i] - rp[i]) / c.probe;
       changes.push_back(std::move(d));
     }
-    plan.level = CalibrateNamingLevel(ws, changes, sens, ref, options.per_surface, independent, options.alpha).level;
+    plan.level = CalibrateNamingLevel(ws, changes, sens, ref, options.per_surface, independent,
+                                      options.alpha)
+                     .level;
   }
   const auto info = ProfiledInformation(ws, d_r, sens, ref);
   const double total = std::accumulate(info.begin(), info.end(), 0.0);
@@ -137,9 +150,10 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
   const boost::math::normal z;
   const double z_level = boost::math::quantile(boost::math::complement(z, plan.level));
   plan.power = total > 0 ? boost::math::cdf(z, size * std::sqrt(total) - z_level) : kNaN;
-  plan.trials_needed = std::isfinite(plan.detection_limit)
-                           ? std::ceil(plan.trials * (plan.detection_limit / size) * (plan.detection_limit / size))
-                           : kNaN;
+  plan.trials_needed =
+      std::isfinite(plan.detection_limit)
+          ? std::ceil(plan.trials * (plan.detection_limit / size) * (plan.detection_limit / size))
+          : kNaN;
   // Per condition (surface and angle; speeds as a range): where the information comes from.
   std::map<std::pair<int, double>, PlanCondition> by;
   for (std::size_t i = 0; i < ws.obs.size(); ++i) {
@@ -162,7 +176,9 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
     plan.conditions.push_back(c);
   }
   std::stable_sort(plan.conditions.begin(), plan.conditions.end(),
-                   [](const auto& a, const auto& b) { return a.information_per_trial > b.information_per_trial; });
+                   [](const auto& a, const auto& b) {
+                     return a.information_per_trial > b.information_per_trial;
+                   });
   plan.success = true;
   return plan;
 }

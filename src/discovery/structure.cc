@@ -5,8 +5,8 @@
 // decide what is named.
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <map>
+#include <numeric>
 #include <set>
 #include <sstream>
 
@@ -43,19 +43,22 @@ struct Point {
 
 }  // namespace
 
-std::vector<StructureTest> StructureTests(const Workspace& ws, const std::vector<Eigen::Vector3d>& r,
-                                          const std::vector<Sensitivity>& s, const Noise& noise, double tilt_rad,
-                                          const DiscoveryOptions& options) {
+std::vector<StructureTest> StructureTests(const Workspace& ws,
+                                          const std::vector<Eigen::Vector3d>& r,
+                                          const std::vector<Sensitivity>& s, const Noise& noise,
+                                          double tilt_rad, const DiscoveryOptions& options) {
   std::vector<StructureTest> tests;
   for (std::size_t surface = 0; surface < ws.surfaces.size(); ++surface)
     for (int c = 0; c < kComponents; ++c) {
       std::vector<Point> by_speed, by_angle;
       for (std::size_t i = 0; i < ws.obs.size(); ++i) {
         const Obs& o = ws.obs[i];
-        if (o.surface != static_cast<int>(surface) || !o.used[static_cast<std::size_t>(c)] || !std::isfinite(r[i][c]))
+        if (o.surface != static_cast<int>(surface) || !o.used[static_cast<std::size_t>(c)] ||
+            !std::isfinite(r[i][c]))
           continue;
         const TrialCovariance cov = Covariance(ws, o, s[i], noise);
-        const auto at = std::find(cov.components.begin(), cov.components.end(), c) - cov.components.begin();
+        const auto at =
+            std::find(cov.components.begin(), cov.components.end(), c) - cov.components.begin();
         const double var = cov.cov(at, at);
         by_speed.push_back({o.scale, r[i][c], var});
         by_angle.push_back({o.angle_deg, r[i][c], var});
@@ -63,8 +66,8 @@ std::vector<StructureTest> StructureTests(const Workspace& ws, const std::vector
       if (by_speed.size() < 4) continue;
       const std::string scope = ws.surfaces[surface];
       // Weighted mean and trend; the variances are the noise model's, so the statistics are z.
-      auto regress = [&](const std::vector<Point>& v, const std::string& covariate, const std::string& unit,
-                         double unit_scale) {
+      auto regress = [&](const std::vector<Point>& v, const std::string& covariate,
+                         const std::string& unit, double unit_scale) {
         double sw = 0, sx = 0, sr = 0;
         for (const auto& p : v) sw += 1 / p.var, sx += p.x / p.var, sr += p.r / p.var;
         const double mx = sx / sw, mr = sr / sw;
@@ -77,8 +80,8 @@ std::vector<StructureTest> StructureTests(const Workspace& ws, const std::vector
           t.statistic = mr * std::sqrt(sw);
           t.p = NormalTwoSided(t.statistic);
           std::ostringstream d;
-          d << t.quantity << " residual " << Fmt(100 * mr, 2) << " % of the impact speed on average (" << v.size()
-            << " trials)";
+          d << t.quantity << " residual " << Fmt(100 * mr, 2)
+            << " % of the impact speed on average (" << v.size() << " trials)";
           t.description = d.str();
           tests.push_back(t);
           return;
@@ -100,8 +103,9 @@ std::vector<StructureTest> StructureTests(const Workspace& ws, const std::vector
         t.statistic = b * std::sqrt(sxx);
         t.p = NormalTwoSided(t.statistic);
         std::ostringstream d;
-        d << t.quantity << " residual " << (b >= 0 ? "rises " : "falls ") << Fmt(std::abs(100 * b * unit_scale), 2)
-          << " % of the impact speed per " << unit << " of " << covariate << " (" << v.size() << " trials)";
+        d << t.quantity << " residual " << (b >= 0 ? "rises " : "falls ")
+          << Fmt(std::abs(100 * b * unit_scale), 2) << " % of the impact speed per " << unit
+          << " of " << covariate << " (" << v.size() << " trials)";
         t.description = d.str();
         tests.push_back(t);
       };
@@ -113,7 +117,8 @@ std::vector<StructureTest> StructureTests(const Workspace& ws, const std::vector
       std::map<double, std::map<int, std::vector<double>>> cells;  // angle -> cell -> residuals
       for (std::size_t i = 0; i < ws.obs.size(); ++i) {
         const Obs& o = ws.obs[i];
-        if (o.surface == static_cast<int>(surface) && o.used[static_cast<std::size_t>(c)] && std::isfinite(r[i][c]))
+        if (o.surface == static_cast<int>(surface) && o.used[static_cast<std::size_t>(c)] &&
+            std::isfinite(r[i][c]))
           cells[o.angle_deg][o.cell].push_back(r[i][c]);
       }
       for (const auto& [angle, of_cell] : cells) {
@@ -137,16 +142,18 @@ std::vector<StructureTest> StructureTests(const Workspace& ws, const std::vector
         t.statistic = (ss_lof / df1) / std::max(ss_pe / df2, 1e-30);
         t.p = stats::FUpperTail(t.statistic, df1, df2);
         std::ostringstream d;
-        d << t.quantity << " cell means stand off zero beyond " << Fmt(100 * options.replicate_tolerance, 2)
-          << " % of the impact speed by more than the scatter within cells allows (" << of_cell.size() << " cells, "
-          << n << " trials)";
+        d << t.quantity << " cell means stand off zero beyond "
+          << Fmt(100 * options.replicate_tolerance, 2)
+          << " % of the impact speed by more than the scatter within cells allows ("
+          << of_cell.size() << " cells, " << n << " trials)";
         t.description = d.str();
         tests.push_back(t);
       }
       // The trend with speed at each angle: an effect whose speed dependence changes with the
       // angle (friction, for one) can cancel in the pooled trend.
       std::map<double, std::vector<Point>> at_angle;
-      for (std::size_t k = 0; k < by_speed.size(); ++k) at_angle[by_angle[k].x].push_back(by_speed[k]);
+      for (std::size_t k = 0; k < by_speed.size(); ++k)
+        at_angle[by_angle[k].x].push_back(by_speed[k]);
       if (at_angle.size() > 1)
         for (const auto& [angle, v] : at_angle) {
           if (v.size() < 4) continue;
@@ -162,8 +169,8 @@ std::vector<StructureTest> StructureTests(const Workspace& ws, const std::vector
     if (std::isfinite(o.marker_ratio_slope)) slope.push_back(o.marker_ratio_slope);
   }
   // One-sided against the tolerance: the test is of |mean| > tolerance.
-  auto mean_t = [&](const std::vector<double>& v, const std::string& covariate, const std::string& what,
-                    double tolerance, const std::string& unit) {
+  auto mean_t = [&](const std::vector<double>& v, const std::string& covariate,
+                    const std::string& what, double tolerance, const std::string& unit) {
     if (v.size() < 3) return;
     const double n = static_cast<double>(v.size());
     const double m = std::accumulate(v.begin(), v.end(), 0.0) / n;
@@ -182,7 +189,8 @@ std::vector<StructureTest> StructureTests(const Workspace& ws, const std::vector
     t.description = what + " " + Fmt(m, 3) + unit + " (" + std::to_string(v.size()) + " trials)";
     tests.push_back(t);
   };
-  mean_t(dev, "level", "projected / layout marker distance minus the model's", options.marker_ratio_tolerance, "");
+  mean_t(dev, "level", "projected / layout marker distance minus the model's",
+         options.marker_ratio_tolerance, "");
   // A drift of the ratio by the tolerance over the flight windows (about 4 ms).
   mean_t(slope, "time in the trial", "drift of the projected / layout marker distance",
          options.marker_ratio_tolerance / 4e-3, " per s");

@@ -23,8 +23,8 @@ std::string Estimate(const Finding& f) {
     v << f.parameter << " = " << Fmt(f.estimate) << " +- " << Fmt(f.se) << UnitSuffix(f.unit);
   } else {
     for (std::size_t i = 0; i < f.values.size(); ++i)
-      v << (i ? ", " : "") << f.values[i].surface << " " << f.parameter << " = " << Fmt(f.values[i].value) << " +- "
-        << Fmt(f.values[i].se);
+      v << (i ? ", " : "") << f.values[i].surface << " " << f.parameter << " = "
+        << Fmt(f.values[i].value) << " +- " << Fmt(f.values[i].se);
     v << UnitSuffix(f.unit);
   }
   return v.str();
@@ -52,10 +52,13 @@ std::vector<SurfaceFit> SurfaceFits(const Workspace& ws, const Fit& f) {
 
 std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& options, int skipped) {
   std::ostringstream v;
-  v << "Data: " << out.trials_used << " measured trial(s) on " << out.baseline.size() << " surface(s)";
+  v << "Data: " << out.trials_used << " measured trial(s) on " << out.baseline.size()
+    << " surface(s)";
   if (skipped) v << " (" << skipped << " skipped: not measured or no surface model)";
-  v << ". Baseline: the paper's two-phase model with zeta and mu fitted per surface (k is not identified by "
-       "velocities and stays the paper's). Noise model: zeta and mu scatter from trial to trial (s.d. of zeta";
+  v << ". Baseline: the paper's two-phase model with zeta and mu fitted per surface (k is not "
+       "identified by "
+       "velocities and stays the paper's). Noise model: zeta and mu scatter from trial to trial "
+       "(s.d. of zeta";
   for (const auto& s : out.final_model) v << " " << Fmt(s.zeta_sd, 2) << " on " << s.surface << ";";
   v << " fitted), plus each velocity's own measurement error.\n\n";
   // The evidence of an added effect, from the round that added it.
@@ -65,10 +68,11 @@ std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& opti
       if (rd.accepted == f.key)
         for (const auto& c : rd.candidates)
           if (c.key == f.key)
-            e << "likelihood-ratio p = " << FmtP(c.p_value) << "; held-out error " << Fmt(c.cv_error_current)
-              << " -> " << Fmt(c.cv_error) << " (" << kHeldOutErrorUnit << "), held-out gap "
-              << Fmt(100 * rd.gap_before) << " % -> " << Fmt(100 * rd.gap_after) << " % of the impact speed ("
-              << Percent(f.gap_shrink) << " % smaller)";
+            e << "likelihood-ratio p = " << FmtP(c.p_value) << "; held-out error "
+              << Fmt(c.cv_error_current) << " -> " << Fmt(c.cv_error) << " (" << kHeldOutErrorUnit
+              << "), held-out gap " << Fmt(100 * rd.gap_before) << " % -> "
+              << Fmt(100 * rd.gap_after) << " % of the impact speed (" << Percent(f.gap_shrink)
+              << " % smaller)";
     return e.str();
   };
   bool any_named = false;
@@ -77,8 +81,9 @@ std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& opti
       any_named = true;
       v << "Named: " << f.name << Scope(f) << ", " << Estimate(f) << ". " << evidence(f) << ".\n";
     } else if (f.status == FindingStatus::kTentative) {
-      v << "Tentative: " << f.name << Scope(f) << ", " << Estimate(f) << ", improves the fit significantly ("
-        << evidence(f) << "), but the residuals still show structure that no effect explains.\n";
+      v << "Tentative: " << f.name << Scope(f) << ", " << Estimate(f)
+        << ", improves the fit significantly (" << evidence(f)
+        << "), but the residuals still show structure that no effect explains.\n";
     } else {
       v << "Cannot be told apart with these data: " << f.name << " and " << f.partner
         << ". A measurement that would separate them: " << f.separating_measurement << ".\n";
@@ -88,33 +93,41 @@ std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& opti
   for (const auto& rd : out.rounds)
     for (const auto& c : rd.candidates)
       if (c.fitted && c.p_value < options.alpha && c.outcome != CandidateOutcome::kAdded)
-        v << "Round " << rd.index << ", " << c.name << " (p = " << FmtP(c.p_value) << "): not added, "
-          << c.reason << ".\n";
+        v << "Round " << rd.index << ", " << c.name << " (p = " << FmtP(c.p_value)
+          << "): not added, " << c.reason << ".\n";
   if (out.unexplained) {
-    v << "\nUnexplained disagreement: with " << (out.effects.empty() ? "the baseline" : "the effects above added")
-      << ", " << out.remaining.size() << " test(s) of the residuals remain significant:\n";
+    v << "\nUnexplained disagreement: with "
+      << (out.effects.empty() ? "the baseline" : "the effects above added") << ", "
+      << out.remaining.size() << " test(s) of the residuals remain significant:\n";
     for (std::size_t i = 0; i < std::min<std::size_t>(3, out.remaining.size()); ++i)
-      v << "  - " << out.remaining[i].scope << ": " << out.remaining[i].description << " (p = "
-        << FmtP(out.remaining[i].p) << ")\n";
-    v << "The model lacks something that the library does not hold; no effect is named with confidence.\n";
+      v << "  - " << out.remaining[i].scope << ": " << out.remaining[i].description
+        << " (p = " << FmtP(out.remaining[i].p) << ")\n";
+    v << "The model lacks something that the library does not hold; no effect is named with "
+         "confidence.\n";
   } else if (!any_named) {
-    v << "Nothing is named: no candidate of the library improves the model significantly under the noise model.\n";
+    v << "Nothing is named: no candidate of the library improves the model significantly under the "
+         "noise model.\n";
   }
   if (!out.rounds.empty()) {
     const Round& last = out.rounds.back();
     std::vector<std::string> limits, untested;
     for (const auto& c : last.candidates) {
       // (A rotation the image cannot see, but whose velocities speak, has its own line above.)
-      if (c.outcome == CandidateOutcome::kNotTested && !(IsRotationRate(c.key) && c.p_value < last.naming_level))
+      if (c.outcome == CandidateOutcome::kNotTested &&
+          !(IsRotationRate(c.key) && c.p_value < last.naming_level))
         untested.push_back(c.name);
       if ((!c.measurement_effect || IsRotationRate(c.key)) && std::isfinite(c.detection_limit) &&
-          (c.outcome == CandidateOutcome::kNotSignificant || c.outcome == CandidateOutcome::kWorseHeldOut ||
+          (c.outcome == CandidateOutcome::kNotSignificant ||
+           c.outcome == CandidateOutcome::kWorseHeldOut ||
            c.outcome == CandidateOutcome::kConfounded))
-        limits.push_back(c.name + ": " + c.parameter + " = " + Fmt(c.detection_limit, 2) + UnitSuffix(c.unit));
+        limits.push_back(c.name + ": " + c.parameter + " = " + Fmt(c.detection_limit, 2) +
+                         UnitSuffix(c.unit));
     }
     if (!limits.empty()) {
-      v << "\nWhat these trials could have missed: the smallest size of each effect not added that this design and "
-           "noise detect with 80 % power at the naming level (shared by all surfaces; Wald approximation):\n";
+      v << "\nWhat these trials could have missed: the smallest size of each effect not added that "
+           "this design and "
+           "noise detect with 80 % power at the naming level (shared by all surfaces; Wald "
+           "approximation):\n";
       for (const auto& l : limits) v << "  - " << l << "\n";
     }
     if (!untested.empty()) {

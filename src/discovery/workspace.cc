@@ -20,8 +20,8 @@ dynamics::ContactExtensions Workspace::Extensions(const Model& m, int surface) c
   return x;
 }
 
-Eigen::Vector3d Workspace::Predict(const Obs& o, double zeta, double mu, const dynamics::ContactExtensions& x,
-                                   bool* ok) const {
+Eigen::Vector3d Workspace::Predict(const Obs& o, double zeta, double mu,
+                                   const dynamics::ContactExtensions& x, bool* ok) const {
   const double k_s = k[static_cast<std::size_t>(o.surface)];
   dynamics::ContactParameters c(k_s, dynamics::DampingForRatio(zeta, k_s, o.specimen.mass_kg), mu);
   c.extensions = x;
@@ -36,14 +36,16 @@ Eigen::Vector3d Workspace::Predict(const Obs& o, double zeta, double mu, const d
     const Eigen::Vector2d g_S = dynamics::GravityInSurfaceFrame(o.phi, kG);
     // Carried under gravity from the separation to the measured impact time, where the
     // measured velocities after the impact are quoted.
-    const Eigen::Vector2d v = r.at_separation.v_SC + g_S * (o.impact_time_s - (o.t_touch_s + r.t_separation_s));
+    const Eigen::Vector2d v =
+        r.at_separation.v_SC + g_S * (o.impact_time_s - (o.t_touch_s + r.t_separation_s));
     return {v.x(), v.y(), r.at_separation.w_rad_s * o.specimen.d_EC_m};
   } catch (const std::exception&) {
     return {0, 0, 0};
   }
 }
 
-std::vector<Eigen::Vector3d> Workspace::Residuals(const Model& m, const std::vector<int>& which) const {
+std::vector<Eigen::Vector3d> Workspace::Residuals(const Model& m,
+                                                  const std::vector<int>& which) const {
   std::vector<Eigen::Vector3d> out(which.size(), Eigen::Vector3d::Constant(kNaN));
   ParallelFor(which.size(), [&](std::size_t i) {
     const Obs& o = obs[static_cast<std::size_t>(which[i])];
@@ -51,12 +53,14 @@ std::vector<Eigen::Vector3d> Workspace::Residuals(const Model& m, const std::vec
     bool ok = false;
     const Eigen::Vector3d p = Predict(o, m.zeta[s], m.mu[s], Extensions(m, o.surface), &ok);
     for (int c = 0; c < kComponents; ++c)
-      if (o.used[static_cast<std::size_t>(c)]) out[i][c] = ok ? (o.measured[c] - p[c]) / o.scale : 1.0;
+      if (o.used[static_cast<std::size_t>(c)])
+        out[i][c] = ok ? (o.measured[c] - p[c]) / o.scale : 1.0;
   });
   return out;
 }
 
-std::vector<Sensitivity> Workspace::Sensitivities(const Model& m, const std::vector<int>& which) const {
+std::vector<Sensitivity> Workspace::Sensitivities(const Model& m,
+                                                  const std::vector<int>& which) const {
   std::vector<Sensitivity> out(which.size(), Sensitivity::Zero());
   ParallelFor(which.size(), [&](std::size_t i) {
     const Obs& o = obs[static_cast<std::size_t>(which[i])];
@@ -93,8 +97,8 @@ std::vector<int> Workspace::All() const {
   return all;
 }
 
-void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOptions& options, int* skipped,
-           Workspace& ws) {
+void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOptions& options,
+           int* skipped, Workspace& ws) {
   ws.rtol = options.relative_tolerance;
   ws.measurement_floor = options.measurement_floor;
   ws.threads = core::ResolveJobs(options.jobs);
@@ -111,7 +115,8 @@ void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOp
   // Start per surface from the comparison's rules (zeta from normal trials, mu from oblique).
   std::map<std::string, compare::SurfaceModel> base;
   for (const auto* t : used)
-    if (!base.count(t->spec.surface)) base[t->spec.surface] = compare::FitSurfaceModel(t->spec.surface, trials);
+    if (!base.count(t->spec.surface))
+      base[t->spec.surface] = compare::FitSurfaceModel(t->spec.surface, trials);
   for (const auto* t : used) {
     const auto& m = base.at(t->spec.surface);
     if (!m.success) {
@@ -126,7 +131,8 @@ void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOp
       ++*skipped;
       continue;
     }
-    const auto [it, added] = surface_index.try_emplace(t->spec.surface, static_cast<int>(ws.surfaces.size()));
+    const auto [it, added] =
+        surface_index.try_emplace(t->spec.surface, static_cast<int>(ws.surfaces.size()));
     if (added) {
       ws.surfaces.push_back(t->spec.surface);
       ws.k.push_back(m.k_N_m);
@@ -152,16 +158,20 @@ void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOp
     // The prediction starts from the measured state before the impact, so its error enters too
     // (to first order with a gain of at most 1).
     const double d = o.specimen.d_EC_m;
-    o.measurement_var = Eigen::Vector3d(
-        im.v_SC_after_se.x() * im.v_SC_after_se.x() + im.v_SC_before_se.x() * im.v_SC_before_se.x(),
-        im.v_SC_after_se.y() * im.v_SC_after_se.y() + im.v_SC_before_se.y() * im.v_SC_before_se.y(),
-        d * d * (im.w_after_se_rad_s * im.w_after_se_rad_s + im.w_before_se_rad_s * im.w_before_se_rad_s)) /
+    o.measurement_var = Eigen::Vector3d(im.v_SC_after_se.x() * im.v_SC_after_se.x() +
+                                            im.v_SC_before_se.x() * im.v_SC_before_se.x(),
+                                        im.v_SC_after_se.y() * im.v_SC_after_se.y() +
+                                            im.v_SC_before_se.y() * im.v_SC_before_se.y(),
+                                        d * d *
+                                            (im.w_after_se_rad_s * im.w_after_se_rad_s +
+                                             im.w_before_se_rad_s * im.w_before_se_rad_s)) /
                         (o.scale * o.scale);
     for (int c = 0; c < kComponents; ++c)
       if (!std::isfinite(o.measurement_var[c])) o.measurement_var[c] = 0.0;
     // Normal impacts carry no information about the contact law in v_x and w.
     o.used = {!o.normal, true, !o.normal};
-    const std::string cell_key = t->spec.surface + "|" + Fmt(o.angle_deg, 6) + "|" + Fmt(o.speed_m_s, 6);
+    const std::string cell_key =
+        t->spec.surface + "|" + Fmt(o.angle_deg, 6) + "|" + Fmt(o.speed_m_s, 6);
     o.cell = cell_index.try_emplace(cell_key, static_cast<int>(cell_index.size())).first->second;
     // Image-level evidence: the marker distance ratio over the flight windows.
     std::vector<std::pair<double, double>> tr;

@@ -31,14 +31,16 @@ void CommitTemporary(const std::filesystem::path& temporary, const std::filesyst
   if (std::filesystem::is_directory(path, ec)) {
     std::filesystem::remove(temporary, ec);
     UntrackTemporary(temporary);
-    throw std::runtime_error("cannot write " + path.string() + ": it is a folder; give a file name");
+    throw std::runtime_error("cannot write " + path.string() +
+                             ": it is a folder; give a file name");
   }
   std::filesystem::rename(temporary, path, ec);
   if (ec) {
     const std::string why = ec.message();  // before remove() overwrites ec ("Success")
     std::filesystem::remove(temporary, ec);
     UntrackTemporary(temporary);
-    throw std::runtime_error("cannot move " + temporary.string() + " to " + path.string() + ": " + why);
+    throw std::runtime_error("cannot move " + temporary.string() + " to " + path.string() + ": " +
+                             why);
   }
   UntrackTemporary(temporary);
 }
@@ -80,7 +82,8 @@ namespace {
 
 /// The process id in a name holding ".tmp-<pid>-<n>", or 0.
 long TemporaryOwner(const std::string& name) {
-  for (std::size_t at = name.find(".tmp-"); at != std::string::npos; at = name.find(".tmp-", at + 1)) {
+  for (std::size_t at = name.find(".tmp-"); at != std::string::npos;
+       at = name.find(".tmp-", at + 1)) {
     std::size_t i = at + 5, digits = 0;
     long pid = 0;
     while (i < name.size() && std::isdigit(static_cast<unsigned char>(name[i])) && digits < 10)
@@ -93,7 +96,8 @@ long TemporaryOwner(const std::string& name) {
 
 }  // namespace
 
-int RemoveStaleTemporaries(const std::filesystem::path& dir, const std::function<bool(const std::string&)>& ours) {
+int RemoveStaleTemporaries(const std::filesystem::path& dir,
+                           const std::function<bool(const std::string&)>& ours) {
   int removed = 0;
   std::error_code ec;
   std::filesystem::directory_iterator it(dir, ec), end;
@@ -102,7 +106,8 @@ int RemoveStaleTemporaries(const std::filesystem::path& dir, const std::function
     if (ours && !ours(name)) continue;
     const long pid = TemporaryOwner(name);
     if (pid <= 0 || pid == ::getpid()) continue;
-    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH)
+      continue;  // alive, or not ours to judge
     std::error_code rm;
     if (std::filesystem::remove_all(it->path(), rm) > 0 && !rm) ++removed;
   }

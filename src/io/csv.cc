@@ -127,8 +127,8 @@ double CsvTable::Number(std::size_t row, std::size_t column) const {
   const auto [ptr, ec] = std::from_chars(begin, end, value);
   if (text.empty() || ec != std::errc() || ptr != end || !std::isfinite(value)) {
     std::ostringstream os;
-    os << source_ << ":" << lines_[row] << ": column \"" << header_[column] << "\" value \""
-       << text << "\" is not a finite number";
+    os << source_ << ":" << lines_[row] << ": column \"" << header_[column] << "\" value \"" << text
+       << "\" is not a finite number";
     throw std::runtime_error(os.str());
   }
   return value;

@@ -64,9 +64,10 @@ sigset_t InterruptSignals() {
       }
     }
   }
-  const std::string message = std::string("\nhoofimpact: interrupted (") + ::strsignal(signal) + "); " +
-                              std::to_string(removed) +
-                              " unfinished output(s) removed; outputs already written are complete\n";
+  const std::string message =
+      std::string("\nhoofimpact: interrupted (") + ::strsignal(signal) + "); " +
+      std::to_string(removed) +
+      " unfinished output(s) removed; outputs already written are complete\n";
   (void)!::write(STDERR_FILENO, message.data(), message.size());
   ::_exit(128 + signal);
 }
@@ -117,7 +118,8 @@ void ResetChildSignals(posix_spawnattr_t& attributes) {
   posix_spawnattr_setsigdefault(&attributes, &defaults);
   short flags = 0;
   posix_spawnattr_getflags(&attributes, &flags);
-  posix_spawnattr_setflags(&attributes, static_cast<short>(flags | POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF));
+  posix_spawnattr_setflags(
+      &attributes, static_cast<short>(flags | POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF));
 }
 
 void HandleInterrupts() {

@@ -14,7 +14,6 @@
 namespace hoof::kinematics {
 namespace {
 
-
 Eigen::Vector2d CentreOfMass(const PoseSample& p, double d) {
   return p.p_WE + d * Eigen::Vector2d(std::cos(p.theta_W_rad), std::sin(p.theta_W_rad));
 }
@@ -88,8 +87,8 @@ FlightFit Shift(FlightFit f, double dt, double g) {
 
 /// Height of the contact point T above a surface through the origin, along y_S, at time t
 /// (relative to the fit's reference time) for a flight fit.
-double HeightOfT(const FlightFit& f, double t, const core::SurfaceRotation& S, const BodyGeometry& body,
-                 double g) {
+double HeightOfT(const FlightFit& f, double t, const core::SurfaceRotation& S,
+                 const BodyGeometry& body, double g) {
   const Eigen::Vector2d c = f.p_WC + f.v_WC * t + Eigen::Vector2d(0, -0.5 * g * t * t);
   const double th = f.theta_W_rad + f.w_rad_s * t;
   const Eigen::Vector2d e = c - body.d_EC_m * Eigen::Vector2d(std::cos(th), std::sin(th));
@@ -157,8 +156,16 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
   const int frames_before = static_cast<int>(lowest);
   const int frames_after = static_cast<int>(valid.size() - 1 - lowest);
   // A real impact: the end comes down before the lowest frame and goes back up after it.
-  const double v_down = frames_before >= 2 ? (height(valid[lowest]) - height(valid[lowest - 2])) / (poses[static_cast<std::size_t>(valid[lowest])].t_s - poses[static_cast<std::size_t>(valid[lowest - 2])].t_s) : 0.0;
-  const double v_up = frames_after >= 2 ? (height(valid[lowest + 2]) - height(valid[lowest])) / (poses[static_cast<std::size_t>(valid[lowest + 2])].t_s - poses[static_cast<std::size_t>(valid[lowest])].t_s) : 0.0;
+  const double v_down = frames_before >= 2
+                            ? (height(valid[lowest]) - height(valid[lowest - 2])) /
+                                  (poses[static_cast<std::size_t>(valid[lowest])].t_s -
+                                   poses[static_cast<std::size_t>(valid[lowest - 2])].t_s)
+                            : 0.0;
+  const double v_up = frames_after >= 2
+                          ? (height(valid[lowest + 2]) - height(valid[lowest])) /
+                                (poses[static_cast<std::size_t>(valid[lowest + 2])].t_s -
+                                 poses[static_cast<std::size_t>(valid[lowest])].t_s)
+                          : 0.0;
   if (frames_before < options.min_fit_frames || frames_after < options.min_fit_frames ||
       !(v_down < -0.05) || !(v_up > 0.05)) {
     std::ostringstream os;
@@ -174,8 +181,10 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
   int bounce_frame = -1;
   for (std::size_t j = lowest + 3; j + 1 < valid.size(); ++j) {
     const int a = valid[j - 1], b = valid[j], c = valid[j + 1];
-    const double v1 = (height(b) - height(a)) / (poses[static_cast<std::size_t>(b)].t_s - poses[static_cast<std::size_t>(a)].t_s);
-    const double v2 = (height(c) - height(b)) / (poses[static_cast<std::size_t>(c)].t_s - poses[static_cast<std::size_t>(b)].t_s);
+    const double v1 = (height(b) - height(a)) / (poses[static_cast<std::size_t>(b)].t_s -
+                                                 poses[static_cast<std::size_t>(a)].t_s);
+    const double v2 = (height(c) - height(b)) / (poses[static_cast<std::size_t>(c)].t_s -
+                                                 poses[static_cast<std::size_t>(b)].t_s);
     if (v2 - v1 > 0.3 * jump) {
       bounce_frame = b;
       break;
@@ -200,7 +209,8 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
     }
     if (static_cast<int>(before.size()) > options.fit_frames)
       before.erase(before.begin(), before.end() - options.fit_frames);
-    if (static_cast<int>(after.size()) > options.fit_frames) after.resize(static_cast<std::size_t>(options.fit_frames));
+    if (static_cast<int>(after.size()) > options.fit_frames)
+      after.resize(static_cast<std::size_t>(options.fit_frames));
     if (static_cast<int>(before.size()) < options.min_fit_frames ||
         static_cast<int>(after.size()) < options.min_fit_frames) {
       std::ostringstream os;
@@ -247,8 +257,10 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
   k.w_after_rad_s = k.after.w_rad_s;
   k.w_before_se_rad_s = k.before.w_se_rad_s;
   k.w_after_se_rad_s = k.after.w_se_rad_s;
-  k.v_ST_before = S.ToS(ContactPointVelocity(k.before.v_WC, k.before.w_rad_s, k.before.theta_W_rad, S, body));
-  k.v_ST_after = S.ToS(ContactPointVelocity(k.after.v_WC, k.after.w_rad_s, k.after.theta_W_rad, S, body));
+  k.v_ST_before =
+      S.ToS(ContactPointVelocity(k.before.v_WC, k.before.w_rad_s, k.before.theta_W_rad, S, body));
+  k.v_ST_after =
+      S.ToS(ContactPointVelocity(k.after.v_WC, k.after.w_rad_s, k.after.theta_W_rad, S, body));
 
   // e and mu_eff, with the delta method over the eight fitted quantities.
   Eigen::Matrix<double, 8, 1> q;
@@ -276,8 +288,8 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
   k.e_se = std::sqrt(cov_m(0, 0));
   k.mu_eff_se = std::sqrt(cov_m(1, 1));
   const int dof = std::max(1, k.before.n + k.after.n - 4);
-  const double t_q = boost::math::quantile(boost::math::complement(
-      boost::math::students_t(dof), 0.5 * (1 - options.confidence)));
+  const double t_q = boost::math::quantile(
+      boost::math::complement(boost::math::students_t(dof), 0.5 * (1 - options.confidence)));
   k.e_ci_low = k.e - t_q * k.e_se;
   k.e_ci_high = k.e + t_q * k.e_se;
   k.mu_eff_ci_low = std::max(0.0, k.mu_eff - t_q * k.mu_eff_se);

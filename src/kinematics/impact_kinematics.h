@@ -18,10 +18,10 @@ namespace hoof::kinematics {
 
 /// One frame's body pose in the world frame W (from tracking).
 struct PoseSample {
-  double t_s = 0.0;              ///< frame time since frame 0 (s)
-  bool valid = false;            ///< false when too few markers were found
-  Eigen::Vector2d p_WE{0, 0};    ///< centre of the round end (m)
-  double theta_W_rad = 0.0;      ///< angle of x_B from x_W (rad)
+  double t_s = 0.0;            ///< frame time since frame 0 (s)
+  bool valid = false;          ///< false when too few markers were found
+  Eigen::Vector2d p_WE{0, 0};  ///< centre of the round end (m)
+  double theta_W_rad = 0.0;    ///< angle of x_B from x_W (rad)
 };
 
 /// Geometry needed to go from E to C and to the contact point T.
@@ -34,12 +34,12 @@ struct BodyGeometry {
 
 /// Settings of the impact measurement.
 struct KinematicsOptions {
-  int fit_frames = 20;          ///< frames per fit, before and after (the paper's 20); >= 3
-  int min_fit_frames = 6;       ///< fewer usable frames than this is an error; >= 3
-  double max_contact_s = 50e-6; ///< longest contact assumed when leaving frames out (s); >= 0
-  double exposure_s = -1.0;     ///< exposure time (s); < 0 means one frame period (worst case)
-  double gravity_m_s2 = 9.81;   ///< g along -y_W
-  double confidence = 0.95;     ///< level of the reported intervals; in (0, 1)
+  int fit_frames = 20;           ///< frames per fit, before and after (the paper's 20); >= 3
+  int min_fit_frames = 6;        ///< fewer usable frames than this is an error; >= 3
+  double max_contact_s = 50e-6;  ///< longest contact assumed when leaving frames out (s); >= 0
+  double exposure_s = -1.0;      ///< exposure time (s); < 0 means one frame period (worst case)
+  double gravity_m_s2 = 9.81;    ///< g along -y_W
+  double confidence = 0.95;      ///< level of the reported intervals; in (0, 1)
 
   void Validate() const;
 };
@@ -47,14 +47,14 @@ struct KinematicsOptions {
 /// A fit of one free-flight window.
 struct FlightFit {
   int first_frame = -1, last_frame = -1, n = 0;  ///< frames used (indices into the sequence)
-  Eigen::Vector2d p_WC{0, 0};       ///< position of C at the impact time (m)
-  Eigen::Vector2d v_WC{0, 0};       ///< velocity of C at the impact time (m/s), W
+  Eigen::Vector2d p_WC{0, 0};                    ///< position of C at the impact time (m)
+  Eigen::Vector2d v_WC{0, 0};                    ///< velocity of C at the impact time (m/s), W
   Eigen::Matrix2d cov_v_WC = Eigen::Matrix2d::Zero();  ///< its covariance ((m/s)^2)
-  double theta_W_rad = 0.0;         ///< angle at the impact time
-  double w_rad_s = 0.0;             ///< angular velocity
+  double theta_W_rad = 0.0;                            ///< angle at the impact time
+  double w_rad_s = 0.0;                                ///< angular velocity
   double w_se_rad_s = 0.0;
   double theta_se_rad = 0.0;
-  double rms_residual_m = 0.0;      ///< of the position fit
+  double rms_residual_m = 0.0;  ///< of the position fit
   double rms_theta_residual_rad = 0.0;
 };
 
@@ -65,13 +65,13 @@ struct ImpactKinematics {
   std::vector<std::string> warnings;  ///< e.g. a second bounce, naming the frame
   std::vector<std::string> flags;     ///< short machine-readable tags ("second_bounce", ...)
 
-  double impact_time_s = 0.0;   ///< where the before and after fits of T's height meet
-  int impact_frame = -1;        ///< last frame before the impact time
+  double impact_time_s = 0.0;  ///< where the before and after fits of T's height meet
+  int impact_frame = -1;       ///< last frame before the impact time
   FlightFit before, after;
 
-  Eigen::Vector2d v_SC_before{0, 0}, v_SC_after{0, 0};   ///< velocity of C in S (m/s)
+  Eigen::Vector2d v_SC_before{0, 0}, v_SC_after{0, 0};  ///< velocity of C in S (m/s)
   Eigen::Vector2d v_SC_before_se{0, 0}, v_SC_after_se{0, 0};
-  Eigen::Vector2d v_ST_before{0, 0}, v_ST_after{0, 0};   ///< velocity of the body point at T
+  Eigen::Vector2d v_ST_before{0, 0}, v_ST_after{0, 0};  ///< velocity of the body point at T
   double w_before_rad_s = 0.0, w_after_rad_s = 0.0;
   double w_before_se_rad_s = 0.0, w_after_se_rad_s = 0.0;
   double e = 0.0, e_se = 0.0, e_ci_low = 0.0, e_ci_high = 0.0;

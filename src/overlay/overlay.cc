@@ -49,7 +49,8 @@ const std::vector<double>& Numbers(const studyfile::Table& t, const std::string&
 
 double NumberAt(const studyfile::Column& c, std::size_t row) {
   if (const auto* d = std::get_if<std::vector<double>>(&c.values)) return (*d)[row];
-  if (const auto* i = std::get_if<std::vector<std::int64_t>>(&c.values)) return static_cast<double>((*i)[row]);
+  if (const auto* i = std::get_if<std::vector<std::int64_t>>(&c.values))
+    return static_cast<double>((*i)[row]);
   throw std::runtime_error("column " + c.name + " is not numeric");
 }
 
@@ -66,9 +67,10 @@ fs::path FindTrialDir(const studyfile::TrialResult& r, const fs::path& study_dir
 }
 
 std::unique_ptr<tracking::FrameSource> OpenFrames(const pipeline::TrialSpec& spec) {
-  if (spec.frames.is_video()) return std::make_unique<tracking::VideoSource>(spec.dir / spec.frames.video);
-  return std::make_unique<tracking::ImageSequenceSource>(spec.dir, spec.frames.pattern, spec.frames.first,
-                                                         spec.frames.count);
+  if (spec.frames.is_video())
+    return std::make_unique<tracking::VideoSource>(spec.dir / spec.frames.video);
+  return std::make_unique<tracking::ImageSequenceSource>(spec.dir, spec.frames.pattern,
+                                                         spec.frames.first, spec.frames.count);
 }
 
 /// Everything RenderTrialOverlay needs from the study file and the trial folder.
@@ -95,22 +97,26 @@ TrialData LoadTrial(const fs::path& h5, const std::string& id) {
   try {
     cmp = studyfile::ReadTable(h5, "/comparison/trials");
   } catch (const std::exception&) {
-    throw std::runtime_error(h5.string() + " has no /comparison (the simulation against the "
+    throw std::runtime_error(h5.string() +
+                             " has no /comparison (the simulation against the "
                              "measurement): run `hoofimpact run` first");
   }
   const auto& ids = std::get<std::vector<std::string>>(cmp.Get("id").values);
   const auto row = static_cast<std::size_t>(std::find(ids.begin(), ids.end(), id) - ids.begin());
   if (row == ids.size() || NumberAt(cmp.Get("success"), row) == 0.0) {
-    std::string why = row == ids.size() ? "" : std::get<std::vector<std::string>>(cmp.Get("message").values)[row];
-    throw std::runtime_error(h5.string() + ": trial '" + id + "' was not simulated against its "
-                             "measurement" + (why.empty() ? "" : ": " + why));
+    std::string why =
+        row == ids.size() ? "" : std::get<std::vector<std::string>>(cmp.Get("message").values)[row];
+    throw std::runtime_error(h5.string() + ": trial '" + id +
+                             "' was not simulated against its "
+                             "measurement" +
+                             (why.empty() ? "" : ": " + why));
   }
   d.t_touch_s = NumberAt(cmp.Get("t_touch_s"), row);
   d.frames = studyfile::ReadTable(h5, "/comparison/frames/" + id);
   const fs::path trial_dir = FindTrialDir(d.result, results.study_dir, h5);
   const fs::path study_json = fs::path(results.study_dir) / "study.json";
-  d.spec = pipeline::ReadTrial(trial_dir, fs::exists(study_json) ? std::optional<fs::path>(study_json)
-                                                                 : std::nullopt);
+  d.spec = pipeline::ReadTrial(
+      trial_dir, fs::exists(study_json) ? std::optional<fs::path>(study_json) : std::nullopt);
   d.camera.m_per_px = d.result.m_per_px_used;  // the scale the comparison used
   d.camera.gravity_I = d.spec.camera.gravity_image;
   d.camera.camera_matrix = d.spec.camera.camera_matrix;
@@ -137,10 +143,13 @@ FrameOverlay BuildFrame(const TrialData& d, std::size_t f) {
   const auto& sp = d.spec.specimen;
   if (f >= d.frames.columns.front().size()) return o;
   for (const auto& [name, p_B] : sp.markers_B_m) {
-    o.markers_sim_px.emplace_back(Numbers(d.frames, name + "_sim_x_px")[f], Numbers(d.frames, name + "_sim_y_px")[f]);
-    o.markers_meas_px.emplace_back(Numbers(d.frames, name + "_meas_x_px")[f], Numbers(d.frames, name + "_meas_y_px")[f]);
+    o.markers_sim_px.emplace_back(Numbers(d.frames, name + "_sim_x_px")[f],
+                                  Numbers(d.frames, name + "_sim_y_px")[f]);
+    o.markers_meas_px.emplace_back(Numbers(d.frames, name + "_meas_x_px")[f],
+                                   Numbers(d.frames, name + "_meas_y_px")[f]);
   }
-  const Eigen::Vector2d p_WC{Numbers(d.frames, "p_WC_sim_x_m")[f], Numbers(d.frames, "p_WC_sim_y_m")[f]};
+  const Eigen::Vector2d p_WC{Numbers(d.frames, "p_WC_sim_x_m")[f],
+                             Numbers(d.frames, "p_WC_sim_y_m")[f]};
   o.outline_sim_px = OutlineToImage(sp, p_WC, Numbers(d.frames, "theta_W_sim_rad")[f], d.camera);
   // Contact point T at first touch: the round end's lowest point along the surface normal y_S.
   if (std::isfinite(d.t_touch_s)) {
@@ -165,8 +174,10 @@ bool Finite(const Eigen::Vector2d& p) { return std::isfinite(p.x()) && std::isfi
 cv::Mat ToColour8(const cv::Mat& frame) {
   cv::Mat grey = frame.channels() == 1 ? frame : tracking::ToGrey(frame, "overlay frame");
   cv::Mat u8;
-  if (grey.depth() == CV_8U) u8 = grey;
-  else tracking::ToUnitFloat(grey).convertTo(u8, CV_8U, 255.0);
+  if (grey.depth() == CV_8U)
+    u8 = grey;
+  else
+    tracking::ToUnitFloat(grey).convertTo(u8, CV_8U, 255.0);
   cv::Mat bgr;
   cv::cvtColor(u8, bgr, cv::COLOR_GRAY2BGR);
   return bgr;
@@ -175,7 +186,8 @@ cv::Mat ToColour8(const cv::Mat& frame) {
 std::string Stamp(const FrameOverlay& o) {
   char buf[128];
   if (std::isfinite(o.t_since_impact_s))
-    std::snprintf(buf, sizeof buf, "frame %d   t = %+.3f ms from impact", o.frame, o.t_since_impact_s * 1e3);
+    std::snprintf(buf, sizeof buf, "frame %d   t = %+.3f ms from impact", o.frame,
+                  o.t_since_impact_s * 1e3);
   else
     std::snprintf(buf, sizeof buf, "frame %d", o.frame);
   return buf;
@@ -229,7 +241,8 @@ Eigen::Vector2d BodyPointToImage(const Eigen::Vector2d& p_B, const Eigen::Vector
                                  const tracking::ImageToWorld& camera) {
   const double c = std::cos(theta_W_rad), s = std::sin(theta_W_rad);
   const Eigen::Vector2d p_WE = p_WC - d_EC_m * Eigen::Vector2d(c, s);
-  return camera.ToImage(p_WE + Eigen::Vector2d(c * p_B.x() - s * p_B.y(), s * p_B.x() + c * p_B.y()));
+  return camera.ToImage(p_WE +
+                        Eigen::Vector2d(c * p_B.x() - s * p_B.y(), s * p_B.x() + c * p_B.y()));
 }
 
 std::vector<Eigen::Vector2d> OutlineToImage(const pipeline::SpecimenSpec& specimen,
@@ -248,32 +261,42 @@ cv::Mat DrawOverlay(const cv::Mat& frame, const FrameOverlay& o) {
   const double font = std::max(0.4, size / 900);
   const cv::Scalar red(40, 40, 255), green(0, 220, 0), yellow(0, 230, 255), white(255, 255, 255);
   const int shift = 4;  // sub-pixel drawing: coordinates * 16
-  auto fx = [&](const Eigen::Vector2d& p) { return cv::Point(static_cast<int>(std::lround(p.x() * 16)),
-                                                             static_cast<int>(std::lround(p.y() * 16))); };
+  auto fx = [&](const Eigen::Vector2d& p) {
+    return cv::Point(static_cast<int>(std::lround(p.x() * 16)),
+                     static_cast<int>(std::lround(p.y() * 16)));
+  };
   if (o.has_contact) {
     cv::line(img, fx(o.surface_a_px), fx(o.surface_b_px), yellow, thick, cv::LINE_AA, shift);
   }
   if (!o.outline_sim_px.empty()) {
     std::vector<cv::Point> poly;
-    for (const auto& p : o.outline_sim_px) if (Finite(p)) poly.push_back(fx(p));
-    cv::polylines(img, std::vector<std::vector<cv::Point>>{poly}, true, red, thick, cv::LINE_AA, shift);
+    for (const auto& p : o.outline_sim_px)
+      if (Finite(p)) poly.push_back(fx(p));
+    cv::polylines(img, std::vector<std::vector<cv::Point>>{poly}, true, red, thick, cv::LINE_AA,
+                  shift);
   }
   for (const auto& p : o.markers_sim_px)
-    if (Finite(p)) cv::circle(img, fx(p), static_cast<int>(o.marker_radius_px * 16), red, thick, cv::LINE_AA, shift);
+    if (Finite(p))
+      cv::circle(img, fx(p), static_cast<int>(o.marker_radius_px * 16), red, thick, cv::LINE_AA,
+                 shift);
   const double arm = std::max(3.0, 0.6 * o.marker_radius_px);
   for (const auto& p : o.markers_meas_px) {
     if (!Finite(p)) continue;
-    cv::line(img, fx(p + Eigen::Vector2d(-arm, 0)), fx(p + Eigen::Vector2d(arm, 0)), green, thick, cv::LINE_AA, shift);
-    cv::line(img, fx(p + Eigen::Vector2d(0, -arm)), fx(p + Eigen::Vector2d(0, arm)), green, thick, cv::LINE_AA, shift);
+    cv::line(img, fx(p + Eigen::Vector2d(-arm, 0)), fx(p + Eigen::Vector2d(arm, 0)), green, thick,
+             cv::LINE_AA, shift);
+    cv::line(img, fx(p + Eigen::Vector2d(0, -arm)), fx(p + Eigen::Vector2d(0, arm)), green, thick,
+             cv::LINE_AA, shift);
   }
   if (o.has_contact) {
-    cv::drawMarker(img, Pt(o.contact_px), yellow, cv::MARKER_DIAMOND, static_cast<int>(2 * arm), thick, cv::LINE_AA);
+    cv::drawMarker(img, Pt(o.contact_px), yellow, cv::MARKER_DIAMOND, static_cast<int>(2 * arm),
+                   thick, cv::LINE_AA);
   }
   // Text: title and time stamp at the top left, the legend below.
   const int line = static_cast<int>(std::lround(28 * font)) + 4;
   int y = line;
   auto text = [&](const std::string& s, const cv::Scalar& c) {
-    cv::putText(img, s, {8, y}, cv::FONT_HERSHEY_SIMPLEX, font, cv::Scalar(0, 0, 0), thick + 2, cv::LINE_AA);
+    cv::putText(img, s, {8, y}, cv::FONT_HERSHEY_SIMPLEX, font, cv::Scalar(0, 0, 0), thick + 2,
+                cv::LINE_AA);
     cv::putText(img, s, {8, y}, cv::FONT_HERSHEY_SIMPLEX, font, c, thick, cv::LINE_AA);
     y += line;
   };
@@ -282,25 +305,31 @@ cv::Mat DrawOverlay(const cv::Mat& frame, const FrameOverlay& o) {
   lines.emplace_back(Stamp(o), white);
   lines.emplace_back("+ measured markers", green);
   lines.emplace_back("o simulated markers and outline", red);
-  if (o.has_contact) lines.emplace_back("<> contact point T at first touch (sim.), surface", yellow);
+  if (o.has_contact)
+    lines.emplace_back("<> contact point T at first touch (sim.), surface", yellow);
   // A darkened box behind the text keeps it legible over the specimen.
   int width = 0, base = 0;
   for (const auto& l : lines)
-    width = std::max(width, cv::getTextSize(l.first, cv::FONT_HERSHEY_SIMPLEX, font, thick, &base).width);
-  const cv::Rect box = cv::Rect(0, 0, width + 16, line * static_cast<int>(lines.size()) + line / 2) &
-                       cv::Rect(0, 0, img.cols, img.rows);
+    width = std::max(width,
+                     cv::getTextSize(l.first, cv::FONT_HERSHEY_SIMPLEX, font, thick, &base).width);
+  const cv::Rect box =
+      cv::Rect(0, 0, width + 16, line * static_cast<int>(lines.size()) + line / 2) &
+      cv::Rect(0, 0, img.cols, img.rows);
   img(box) *= 0.35;
   for (const auto& l : lines) text(l.first, l.second);
   return img;
 }
 
 void OverlayOptions::Validate() const {
-  if (slow < 1) throw std::invalid_argument("overlay: slow must be >= 1, got " + std::to_string(slow));
+  if (slow < 1)
+    throw std::invalid_argument("overlay: slow must be >= 1, got " + std::to_string(slow));
   if (!(video_fps > 0)) throw std::invalid_argument("overlay: video_fps must be > 0");
-  if (!write_frames && !write_video) throw std::invalid_argument("overlay: nothing to write (no frames, no video)");
+  if (!write_frames && !write_video)
+    throw std::invalid_argument("overlay: nothing to write (no frames, no video)");
 }
 
-OverlaySummary RenderTrialOverlay(const fs::path& h5, const std::string& id, const OverlayOptions& opt) {
+OverlaySummary RenderTrialOverlay(const fs::path& h5, const std::string& id,
+                                  const OverlayOptions& opt) {
   opt.Validate();
   const TrialData d = LoadTrial(h5, id);
   auto source = OpenFrames(d.spec);
@@ -327,10 +356,12 @@ OverlaySummary RenderTrialOverlay(const fs::path& h5, const std::string& id, con
     }
     sum.frames = source->count();
     if (opt.write_video && !tmp_frames.empty()) {
-      if (TryVideo(tmp / "overlay.webm", cv::VideoWriter::fourcc('V', 'P', '8', '0'), tmp_frames, opt)) {
+      if (TryVideo(tmp / "overlay.webm", cv::VideoWriter::fourcc('V', 'P', '8', '0'), tmp_frames,
+                   opt)) {
         sum.video = sum.dir / "overlay.webm";
         sum.video_format = "WebM (VP8)";
-      } else if (TryVideo(tmp / "overlay.avi", cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), tmp_frames, opt)) {
+      } else if (TryVideo(tmp / "overlay.avi", cv::VideoWriter::fourcc('M', 'J', 'P', 'G'),
+                          tmp_frames, opt)) {
         sum.video = sum.dir / "overlay.avi";
         sum.video_format = "AVI (MJPG)";
       } else {

@@ -56,8 +56,8 @@ struct FrameOverlay {
   bool has_contact = false;                      ///< draw T and the surface line
   Eigen::Vector2d contact_px{0, 0};              ///< T at the simulated first touch
   Eigen::Vector2d surface_a_px{0, 0}, surface_b_px{0, 0};  ///< two points of the surface line
-  double marker_radius_px = 6.0;                 ///< radius of the simulated markers' circles
-  std::string title;                             ///< e.g. the trial id
+  double marker_radius_px = 6.0;  ///< radius of the simulated markers' circles
+  std::string title;              ///< e.g. the trial id
 };
 
 /// A colour (BGR, 8-bit) copy of `frame` (one channel of any depth, or 3 channels) with
@@ -70,7 +70,7 @@ struct OverlayOptions {
   /// Each frame is shown `slow` times in the video (>= 1): at video_fps = 25 a frame lasts
   /// slow / 25 s; the 8000 fps capture then plays 320 * slow times slower than real time.
   int slow = 1;
-  double video_fps = 25.0;  ///< frames per second of the video (> 0)
+  double video_fps = 25.0;   ///< frames per second of the video (> 0)
   bool write_frames = true;  ///< PNG per frame (frame_000012.png): stepping frame by frame
   bool write_video = true;   ///< overlay.webm (VP8) or, without that encoder, overlay.avi (MJPG)
   /// Throws std::invalid_argument naming the field.
@@ -79,11 +79,11 @@ struct OverlayOptions {
 
 /// What RenderTrialOverlay wrote.
 struct OverlaySummary {
-  std::filesystem::path dir;    ///< output_dir/<group>
-  int frames = 0;               ///< frames rendered
+  std::filesystem::path dir;  ///< output_dir/<group>
+  int frames = 0;             ///< frames rendered
   std::vector<std::filesystem::path> frame_files;
-  std::filesystem::path video;  ///< empty when no video was written
-  std::string video_format;     ///< "WebM (VP8)", "AVI (MJPG)" or "" (none)
+  std::filesystem::path video;        ///< empty when no video was written
+  std::string video_format;           ///< "WebM (VP8)", "AVI (MJPG)" or "" (none)
   std::vector<std::string> warnings;  ///< e.g. no video encoder
 };
 

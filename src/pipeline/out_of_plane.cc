@@ -8,10 +8,11 @@
 
 namespace hoof::pipeline {
 
-Eigen::Vector2d ProjectOutOfPlane(const Eigen::Vector3d& p_B_m, double tilt_rad, double roll_rad, double d_EC_m) {
-  const Eigen::Matrix3d R =
-      (Eigen::AngleAxisd(tilt_rad, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(roll_rad, Eigen::Vector3d::UnitX()))
-          .toRotationMatrix();
+Eigen::Vector2d ProjectOutOfPlane(const Eigen::Vector3d& p_B_m, double tilt_rad, double roll_rad,
+                                  double d_EC_m) {
+  const Eigen::Matrix3d R = (Eigen::AngleAxisd(tilt_rad, Eigen::Vector3d::UnitY()) *
+                             Eigen::AngleAxisd(roll_rad, Eigen::Vector3d::UnitX()))
+                                .toRotationMatrix();
   const Eigen::Vector3d p_BC{d_EC_m, 0.0, 0.0};
   return (R * (p_B_m - p_BC) + p_BC).head<2>();
 }
@@ -20,7 +21,8 @@ double MarkerDistanceRatio(const SpecimenSpec& specimen, double tilt_rad, double
   const auto& m = specimen.markers_B_m;
   if (m.size() < 2) return 1.0;
   const double z = specimen.thickness_m / 2;
-  const Eigen::Vector3d a{m[0].second.x(), m[0].second.y(), z}, b{m[1].second.x(), m[1].second.y(), z};
+  const Eigen::Vector3d a{m[0].second.x(), m[0].second.y(), z},
+      b{m[1].second.x(), m[1].second.y(), z};
   const double d = (a - b).head<2>().norm();
   if (!(d > 0)) return 1.0;
   return (ProjectOutOfPlane(a, tilt_rad, roll_rad, specimen.d_EC_m) -
@@ -52,13 +54,13 @@ TrialAnalysis RemeasureOutOfPlane(const TrialAnalysis& trial, const OutOfPlaneMo
     if (f < out.marker_distance_ratio.size() && std::isfinite(out.marker_distance_ratio[f]))
       out.marker_distance_ratio[f] /= MarkerDistanceRatio(spec.specimen, tilt, roll);
   }
-  const kinematics::BodyGeometry body{spec.specimen.d_EC_m, spec.specimen.end_radius_m, spec.specimen.mass_kg,
-                                      spec.specimen.inertia_kg_m2};
+  const kinematics::BodyGeometry body{spec.specimen.d_EC_m, spec.specimen.end_radius_m,
+                                      spec.specimen.mass_kg, spec.specimen.inertia_kg_m2};
   out.impact = kinematics::MeasureImpact(samples, spec.fps, spec.surface_angle_deg, body, options);
   if (!out.impact.success) {
     out.success = false;
-    out.error = (spec.dir / "trial.json").string() + ": re-measured with an out-of-plane rotation: " +
-                out.impact.message;
+    out.error = (spec.dir / "trial.json").string() +
+                ": re-measured with an out-of-plane rotation: " + out.impact.message;
   }
   return out;
 }

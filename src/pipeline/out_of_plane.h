@@ -27,12 +27,15 @@ struct OutOfPlaneMotion {
 
   double TiltAt(double dt_s) const { return tilt_rad + tilt_rate_rad_s * dt_s; }
   double RollAt(double dt_s) const { return roll_rad + roll_rate_rad_s * dt_s; }
-  bool IsZero() const { return tilt_rad == 0 && roll_rad == 0 && tilt_rate_rad_s == 0 && roll_rate_rad_s == 0; }
+  bool IsZero() const {
+    return tilt_rad == 0 && roll_rad == 0 && tilt_rate_rad_s == 0 && roll_rate_rad_s == 0;
+  }
 };
 
 /// Body coordinates in the plane of motion at which the body point `p_B_m` is seen when the body
 /// is tilted and rolled about C (orthographic view along z_B).
-Eigen::Vector2d ProjectOutOfPlane(const Eigen::Vector3d& p_B_m, double tilt_rad, double roll_rad, double d_EC_m);
+Eigen::Vector2d ProjectOutOfPlane(const Eigen::Vector3d& p_B_m, double tilt_rad, double roll_rad,
+                                  double d_EC_m);
 
 /// Projected over true distance of the specimen's first two markers (what
 /// TrialAnalysis::marker_distance_ratio measures) at this tilt and roll; 1 with fewer than two

@@ -41,8 +41,9 @@ std::vector<TrialAnalysis> AnalyzeStudy(const StudySpec& study, const TrialAnaly
     const auto [it, added] = first.try_emplace(results[i].spec.id, i);
     if (added) continue;
     results[i].success = false;
-    results[i].error = (study.trial_dirs[i] / "trial.json").string() + ": field \"id\" is \"" + results[i].spec.id +
-                       "\", already the id of " + study.trial_dirs[it->second].string();
+    results[i].error = (study.trial_dirs[i] / "trial.json").string() + ": field \"id\" is \"" +
+                       results[i].spec.id + "\", already the id of " +
+                       study.trial_dirs[it->second].string();
   }
   return results;
 }

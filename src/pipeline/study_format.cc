@@ -2,8 +2,8 @@
 
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -18,7 +18,8 @@ namespace {
 /// Why `id` cannot name a trial (it names its files: figures, overlay frames), or "".
 std::string IdProblem(const std::string& id) {
   if (id.empty()) return "must not be empty";
-  if (id.size() > 200) return "is " + std::to_string(id.size()) + " characters long; at most 200 are accepted";
+  if (id.size() > 200)
+    return "is " + std::to_string(id.size()) + " characters long; at most 200 are accepted";
   if (id == "." || id == "..") return "\"" + id + "\" cannot name files";
   for (unsigned char c : id)
     if (c == '/' || c == '\\' || c < 0x20 || c == 0x7f)
@@ -40,12 +41,14 @@ json ReadJson(const fs::path& file) {
   try {
     j = json::parse(in);
   } catch (const json::out_of_range& e) {  // a number beyond double, such as 1e999
-    throw std::runtime_error(file.string() + ": a number is out of range (beyond a double): " + e.what());
+    throw std::runtime_error(file.string() +
+                             ": a number is out of range (beyond a double): " + e.what());
   } catch (const json::exception& e) {
     throw std::runtime_error(file.string() + ": not valid JSON: " + e.what());
   }
   if (!j.is_object())
-    throw std::runtime_error(file.string() + ": must hold a JSON object ({...}), found " + std::string(j.type_name()));
+    throw std::runtime_error(file.string() + ": must hold a JSON object ({...}), found " +
+                             std::string(j.type_name()));
   return j;
 }
 
@@ -58,8 +61,7 @@ void WarnUnknown(const json& obj, const std::set<std::string>& known, const fs::
          "must be an object ({...}), found " + std::string(obj.type_name()));
   for (auto it = obj.begin(); it != obj.end(); ++it)
     if (!known.count(it.key()))
-      warnings.push_back(file.string() + ": unknown field \"" + prefix + it.key() +
-                         "\" ignored");
+      warnings.push_back(file.string() + ": unknown field \"" + prefix + it.key() + "\" ignored");
 }
 
 const json& Require(const json& obj, const std::string& key, const fs::path& file,
@@ -93,8 +95,7 @@ Eigen::Vector2d Pair(const json& v, const fs::path& file, const std::string& fie
 
 void CheckFormat(const json& j, const std::string& expected, const fs::path& file) {
   const std::string f = Text(j, "format", file, "");
-  if (f != expected)
-    Fail(file, "format", "is \"" + f + "\", expected \"" + expected + "\"");
+  if (f != expected) Fail(file, "format", "is \"" + f + "\", expected \"" + expected + "\"");
 }
 
 SpecimenSpec ParseSpecimen(const json& s, const fs::path& file, const std::string& prefix,
@@ -137,7 +138,8 @@ StudySpec ReadStudy(const fs::path& dir) {
   if (!specimens.is_object() || specimens.empty())
     Fail(file, "specimens", "must hold at least one specimen");
   for (auto it = specimens.begin(); it != specimens.end(); ++it) {
-    if (const std::string why = IdProblem(it.key()); !why.empty()) Fail(file, "specimens", "specimen id " + why);
+    if (const std::string why = IdProblem(it.key()); !why.empty())
+      Fail(file, "specimens", "specimen id " + why);
     study.specimens[it.key()] =
         ParseSpecimen(it.value(), file, "specimens." + it.key() + ".", study.warnings);
   }
@@ -148,8 +150,10 @@ StudySpec ReadStudy(const fs::path& dir) {
       if (!t.is_string()) Fail(file, "trials", "must hold folder names, found " + t.dump());
       // A trial folder lies inside the study folder: no absolute path, no "..".
       const fs::path rel = fs::path(t.get<std::string>()).lexically_normal();
-      if (rel.empty() || rel.is_absolute() || rel.has_root_name() || *rel.begin() == ".." || rel == ".")
-        Fail(file, "trials", "\"" + t.get<std::string>() + "\" is not a folder inside the study folder");
+      if (rel.empty() || rel.is_absolute() || rel.has_root_name() || *rel.begin() == ".." ||
+          rel == ".")
+        Fail(file, "trials",
+             "\"" + t.get<std::string>() + "\" is not a folder inside the study folder");
       study.trial_dirs.push_back(dir / rel);
     }
   } else {
@@ -158,7 +162,8 @@ StudySpec ReadStudy(const fs::path& dir) {
     std::vector<fs::path> found;
     std::error_code ec;
     fs::directory_iterator it(dir, ec), end;
-    if (ec) throw std::runtime_error(dir.string() + ": cannot list the study folder: " + ec.message());
+    if (ec)
+      throw std::runtime_error(dir.string() + ": cannot list the study folder: " + ec.message());
     for (; it != end; it.increment(ec)) {
       if (ec) {
         study.warnings.push_back(dir.string() + ": listing stopped: " + ec.message());
@@ -168,7 +173,8 @@ StudySpec ReadStudy(const fs::path& dir) {
       const bool folder = it->is_directory(e1);
       const bool trial = folder && fs::exists(it->path() / "trial.json", e2);
       if (e1 || e2)
-        study.warnings.push_back(it->path().string() + ": skipped, cannot be read: " + (e1 ? e1 : e2).message());
+        study.warnings.push_back(it->path().string() +
+                                 ": skipped, cannot be read: " + (e1 ? e1 : e2).message());
       else if (trial)
         found.push_back(it->path());
     }
@@ -194,17 +200,20 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
   if (j.contains("specimen_parameters")) {
     // Extension: a trial may carry its specimen inline (same fields as in study.json), so a
     // single trial folder can be measured without a study around it.
-    t.specimen = ParseSpecimen(j.at("specimen_parameters"), file, "specimen_parameters.", t.warnings);
+    t.specimen =
+        ParseSpecimen(j.at("specimen_parameters"), file, "specimen_parameters.", t.warnings);
   } else {
     const auto sp = study.specimens.find(t.specimen_id);
     if (sp == study.specimens.end())
-      Fail(file, "specimen", "names \"" + t.specimen_id + "\", which " +
-                                 (study.dir / "study.json").string() + " does not define");
+      Fail(file, "specimen",
+           "names \"" + t.specimen_id + "\", which " + (study.dir / "study.json").string() +
+               " does not define");
     t.specimen = sp->second;
   }
   t.surface = Text(j, "surface", file, "");
   t.surface_angle_deg = Number(j, "surface_angle_deg", file, "", false);
-  if (std::abs(t.surface_angle_deg) >= 90) Fail(file, "surface_angle_deg", "must be within (-90, 90)");
+  if (std::abs(t.surface_angle_deg) >= 90)
+    Fail(file, "surface_angle_deg", "must be within (-90, 90)");
   t.fps = Number(j, "fps", file, "", true);
 
   const json& frames = Require(j, "frames", file, "");
@@ -214,33 +223,38 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
   } else {
     t.frames.pattern = Text(frames, "pattern", file, "frames.");
     if (t.frames.pattern.size() > tracking::kMaxFramePatternLength)
-      Fail(file, "frames.pattern", "is " + std::to_string(t.frames.pattern.size()) + " characters long; at most " +
-                                       std::to_string(tracking::kMaxFramePatternLength) + " are accepted");
+      Fail(file, "frames.pattern",
+           "is " + std::to_string(t.frames.pattern.size()) + " characters long; at most " +
+               std::to_string(tracking::kMaxFramePatternLength) + " are accepted");
     if (!tracking::IsFramePattern(t.frames.pattern))
-      Fail(file, "frames.pattern", "\"" + t.frames.pattern +
-                                       "\" must hold exactly one integer conversion such as %06d (and %% for a "
-                                       "percent sign)");
+      Fail(file, "frames.pattern",
+           "\"" + t.frames.pattern +
+               "\" must hold exactly one integer conversion such as %06d (and %% for a "
+               "percent sign)");
     const json& first = Require(frames, "first", file, "frames.");
     const json& count = Require(frames, "count", file, "frames.");
     // Compared as 64-bit integers before narrowing, so 4294967297 is refused, not read as 1.
     constexpr std::int64_t kMaxInt = std::numeric_limits<int>::max();
     const auto in_range = [&](const json& v, std::int64_t low) {
       if (!v.is_number_integer()) return false;
-      if (v.is_number_unsigned()) return v.get<std::uint64_t>() <= static_cast<std::uint64_t>(kMaxInt) &&
-                                         static_cast<std::int64_t>(v.get<std::uint64_t>()) >= low;
+      if (v.is_number_unsigned())
+        return v.get<std::uint64_t>() <= static_cast<std::uint64_t>(kMaxInt) &&
+               static_cast<std::int64_t>(v.get<std::uint64_t>()) >= low;
       return v.get<std::int64_t>() >= low && v.get<std::int64_t>() <= kMaxInt;
     };
     if (!in_range(first, 0))
-      Fail(file, "frames.first", "must be an integer in [0, " + std::to_string(kMaxInt) + "], found " + first.dump());
+      Fail(file, "frames.first",
+           "must be an integer in [0, " + std::to_string(kMaxInt) + "], found " + first.dump());
     if (!in_range(count, 1))
-      Fail(file, "frames.count", "must be an integer in [1, " + std::to_string(kMaxInt) + "], found " + count.dump());
+      Fail(file, "frames.count",
+           "must be an integer in [1, " + std::to_string(kMaxInt) + "], found " + count.dump());
     t.frames.first = first.get<int>();
     t.frames.count = count.get<int>();
   }
 
   const json& camera = Require(j, "camera", file, "");
-  WarnUnknown(camera, {"m_per_px", "gravity_image", "distortion", "camera_matrix"}, file,
-              "camera.", t.warnings);
+  WarnUnknown(camera, {"m_per_px", "gravity_image", "distortion", "camera_matrix"}, file, "camera.",
+              t.warnings);
   t.camera.m_per_px = Number(camera, "m_per_px", file, "camera.", true);
   if (camera.contains("gravity_image")) {
     const Eigen::Vector2d g = Pair(camera.at("gravity_image"), file, "camera.gravity_image");

@@ -28,9 +28,9 @@ struct SpecimenSpec {
 
 /// Camera of trial.json.
 struct CameraSpec {
-  double m_per_px = 0.0;                           ///< scale in the plane of motion
-  Eigen::Vector2d gravity_image{0.0, 1.0};         ///< unit direction of gravity in the image
-  std::optional<std::array<double, 5>> distortion; ///< OpenCV k1 k2 p1 p2 k3
+  double m_per_px = 0.0;                               ///< scale in the plane of motion
+  Eigen::Vector2d gravity_image{0.0, 1.0};             ///< unit direction of gravity in the image
+  std::optional<std::array<double, 5>> distortion;     ///< OpenCV k1 k2 p1 p2 k3
   std::optional<std::array<double, 9>> camera_matrix;  ///< row-major 3x3
 };
 
@@ -39,7 +39,7 @@ struct FramesSpec {
   std::string pattern;  ///< printf pattern relative to the trial folder, e.g. frames/%06d.png
   int first = 0;
   int count = 0;
-  std::string video;    ///< video file relative to the trial folder (instead of a pattern)
+  std::string video;  ///< video file relative to the trial folder (instead of a pattern)
   bool is_video() const { return !video.empty(); }
 };
 

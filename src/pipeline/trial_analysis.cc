@@ -17,8 +17,8 @@ std::unique_ptr<tracking::FrameSource> OpenFrames(const TrialSpec& spec) {
   if (spec.frames.is_video())
     return std::make_unique<tracking::VideoSource>(spec.dir / spec.frames.video);
   try {
-    return std::make_unique<tracking::ImageSequenceSource>(spec.dir, spec.frames.pattern, spec.frames.first,
-                                                           spec.frames.count);
+    return std::make_unique<tracking::ImageSequenceSource>(spec.dir, spec.frames.pattern,
+                                                           spec.frames.first, spec.frames.count);
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error((spec.dir / "trial.json").string() + ": " + e.what());
   }
@@ -36,12 +36,13 @@ void CheckSurface(const TrialSpec& spec, const cv::Mat& first, const tracking::I
                   const TrialAnalysisOptions& options, TrialAnalysis& out) {
   const auto line = tracking::FindSurfaceLine(first);
   if (!line) {
-    out.warnings.push_back("no surface line found in the first frame; the surface angle is "
-                           "not checked");
+    out.warnings.push_back(
+        "no surface line found in the first frame; the surface angle is "
+        "not checked");
     return;
   }
-  const Eigen::Vector2d d_W = cam.ToWorld(line->point_I + 50 * line->direction_I) -
-                              cam.ToWorld(line->point_I);
+  const Eigen::Vector2d d_W =
+      cam.ToWorld(line->point_I + 50 * line->direction_I) - cam.ToWorld(line->point_I);
   double phi = -std::atan2(d_W.y(), d_W.x()) * 180 / M_PI;
   if (phi > 90) phi -= 180;
   if (phi < -90) phi += 180;
@@ -56,8 +57,10 @@ void CheckSurface(const TrialSpec& spec, const cv::Mat& first, const tracking::I
 }
 
 /// Projected marker distance over the layout distance, and whether it changes beyond noise.
-void CheckOutOfPlane(const TrialSpec& spec, const TrialAnalysisOptions& options, TrialAnalysis& out) {
-  const double layout = (spec.specimen.markers_B_m[0].second - spec.specimen.markers_B_m[1].second).norm();
+void CheckOutOfPlane(const TrialSpec& spec, const TrialAnalysisOptions& options,
+                     TrialAnalysis& out) {
+  const double layout =
+      (spec.specimen.markers_B_m[0].second - spec.specimen.markers_B_m[1].second).norm();
   out.marker_distance_ratio.assign(out.poses.size(), std::numeric_limits<double>::quiet_NaN());
   for (std::size_t f = 0; f < out.poses.size(); ++f)
     if (out.poses[f].valid && out.poses[f].marker_distance_m > 0)
@@ -82,15 +85,17 @@ void CheckOutOfPlane(const TrialSpec& spec, const TrialAnalysisOptions& options,
   // for white noise of s.d. sigma they have s.d. sqrt(6) sigma. Range from 3-frame medians.
   out.out_of_plane_noise = 1.4826 * Median(diffs) / std::sqrt(6.0);
   std::vector<double> smooth;
-  for (std::size_t i = 1; i + 1 < r.size(); ++i) smooth.push_back(Median({r[i - 1], r[i], r[i + 1]}));
+  for (std::size_t i = 1; i + 1 < r.size(); ++i)
+    smooth.push_back(Median({r[i - 1], r[i], r[i + 1]}));
   const auto [lo, hi] = std::minmax_element(smooth.begin(), smooth.end());
   out.out_of_plane_change = *hi - *lo;
   const double threshold = std::max(options.out_of_plane_threshold, 8.0 * out.out_of_plane_noise);
   if (out.out_of_plane_change > threshold) {
     std::ostringstream os;
-    os << "out-of-plane rotation: the projected distance between " << spec.specimen.markers_B_m[0].first
-       << " and " << spec.specimen.markers_B_m[1].first << " changes by "
-       << 100 * out.out_of_plane_change << " % (noise " << 100 * out.out_of_plane_noise << " %)";
+    os << "out-of-plane rotation: the projected distance between "
+       << spec.specimen.markers_B_m[0].first << " and " << spec.specimen.markers_B_m[1].first
+       << " changes by " << 100 * out.out_of_plane_change << " % (noise "
+       << 100 * out.out_of_plane_noise << " %)";
     out.warnings.push_back(os.str());
     out.flags.push_back("out_of_plane");
   }
@@ -139,8 +144,10 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
       }
       if (!ratio.empty()) out.m_per_px_from_markers = Median(ratio);
       if (options.scale_from_markers) {
-        if (ratio.empty()) throw std::runtime_error(spec.dir.string() + ": cannot take the scale "
-                                                    "from the markers: none seen together");
+        if (ratio.empty())
+          throw std::runtime_error(spec.dir.string() +
+                                   ": cannot take the scale "
+                                   "from the markers: none seen together");
         out.m_per_px_used = out.m_per_px_from_markers;
       }
     }
@@ -149,7 +156,8 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
 
     std::vector<kinematics::PoseSample> samples;
     for (int f = 0; f < out.tracks.frame_count(); ++f) {
-      const auto pose = tracking::FitPose(out.tracks.frames[static_cast<std::size_t>(f)], layout, cam);
+      const auto pose =
+          tracking::FitPose(out.tracks.frames[static_cast<std::size_t>(f)], layout, cam);
       out.poses.push_back(pose);
       samples.push_back({f / spec.fps, pose.valid, pose.p_WE, pose.theta_W_rad});
     }

@@ -36,17 +36,18 @@ struct TrialAnalysis {
   bool success = false;
   std::string error;
   tracking::MarkerTracks tracks;
-  std::vector<tracking::BodyPose> poses;     ///< per frame, in W
+  std::vector<tracking::BodyPose> poses;  ///< per frame, in W
   kinematics::ImpactKinematics impact;
   double m_per_px_used = 0.0;
-  double m_per_px_from_markers = 0.0;        ///< 0 when it could not be measured
+  double m_per_px_from_markers = 0.0;  ///< 0 when it could not be measured
   std::optional<double> surface_angle_measured_deg;
-  std::vector<double> marker_distance_ratio;  ///< projected / layout distance per frame (NaN = missing)
-  double out_of_plane_change = 0.0;          ///< range of the ratio over the fit windows
-  double out_of_plane_noise = 0.0;           ///< its noise standard deviation
-  std::vector<std::string> flags;            ///< "out_of_plane", "surface_angle", "lost_marker", ...
+  std::vector<double>
+      marker_distance_ratio;         ///< projected / layout distance per frame (NaN = missing)
+  double out_of_plane_change = 0.0;  ///< range of the ratio over the fit windows
+  double out_of_plane_noise = 0.0;   ///< its noise standard deviation
+  std::vector<std::string> flags;    ///< "out_of_plane", "surface_angle", "lost_marker", ...
   std::vector<std::string> warnings;
-  double seconds = 0.0;                      ///< wall time of the analysis
+  double seconds = 0.0;  ///< wall time of the analysis
 };
 
 /// The trial's image-to-world calibration at the scale `m_per_px`.

@@ -27,7 +27,8 @@ double FrameNumber(const nlohmann::json& f, const std::string& key, const std::s
                    const std::string& file) {
   if (!f.contains(key)) return 0.0;
   if (!f.at(key).is_number())
-    throw std::runtime_error(file + ": field \"" + field + "\" must be a number, found " + f.at(key).dump());
+    throw std::runtime_error(file + ": field \"" + field + "\" must be a number, found " +
+                             f.at(key).dump());
   return f.at(key).get<double>();
 }
 
@@ -57,8 +58,9 @@ TrialTruth ReadTruth(const std::filesystem::path& trial_dir) {
   t.w_before_rad_s = Num(j, "w_before_rad_s", file);
   t.w_after_rad_s = Num(j, "w_after_rad_s", file);
   t.e = Num(j, "e", file);
-  t.mu_eff = j.contains("mu_eff") && j.at("mu_eff").is_number() ? j.at("mu_eff").get<double>()
-                                                                  : std::numeric_limits<double>::quiet_NaN();
+  t.mu_eff = j.contains("mu_eff") && j.at("mu_eff").is_number()
+                 ? j.at("mu_eff").get<double>()
+                 : std::numeric_limits<double>::quiet_NaN();
   if (!j.contains("frames") || !j.at("frames").is_array())
     throw std::runtime_error(file + ": field \"frames\" is missing");
   const nlohmann::json& frames = j.at("frames");
@@ -66,13 +68,16 @@ TrialTruth ReadTruth(const std::filesystem::path& trial_dir) {
     const nlohmann::json& f = frames[i];
     const std::string at = "frames[" + std::to_string(i) + "]";
     if (!f.is_object() || !f.contains("markers_px") || !f.at("markers_px").is_object())
-      throw std::runtime_error(file + ": field \"" + at + ".markers_px\" is missing or not an object");
+      throw std::runtime_error(file + ": field \"" + at +
+                               ".markers_px\" is missing or not an object");
     std::map<std::string, Eigen::Vector2d> m;
     for (auto it = f.at("markers_px").begin(); it != f.at("markers_px").end(); ++it)
       m[it.key()] = Pair(it.value(), at + ".markers_px." + it.key(), file);
     t.markers_px.push_back(m);
-    const double tilt = FrameNumber(f, "out_of_plane_tilt_rad", at + ".out_of_plane_tilt_rad", file);
-    const double roll = FrameNumber(f, "out_of_plane_roll_rad", at + ".out_of_plane_roll_rad", file);
+    const double tilt =
+        FrameNumber(f, "out_of_plane_tilt_rad", at + ".out_of_plane_tilt_rad", file);
+    const double roll =
+        FrameNumber(f, "out_of_plane_roll_rad", at + ".out_of_plane_roll_rad", file);
     if (tilt != 0.0 || roll != 0.0) t.out_of_plane = true;
   }
   return t;

@@ -30,12 +30,12 @@ TrialTruth ReadTruth(const std::filesystem::path& trial_dir);
 
 /// Errors of an analysis against truth.
 struct TrialScore {
-  double marker_rms_px = 0.0;      ///< over every found marker in every frame
+  double marker_rms_px = 0.0;  ///< over every found marker in every frame
   double marker_max_px = 0.0;
   int marker_count = 0;
-  double v_before_rel = 0.0;       ///< |v_SC measured - truth| / |truth|, before
-  double v_after_rel = 0.0;        ///< same, after
-  double w_before_abs = 0.0;       ///< |w measured - truth| (rad/s)
+  double v_before_rel = 0.0;  ///< |v_SC measured - truth| / |truth|, before
+  double v_after_rel = 0.0;   ///< same, after
+  double w_before_abs = 0.0;  ///< |w measured - truth| (rad/s)
   double w_after_abs = 0.0;
   double e_abs = 0.0;
   double mu_eff_abs = 0.0;         ///< NaN for normal impacts without tangential change

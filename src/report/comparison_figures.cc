@@ -45,7 +45,8 @@ std::vector<std::filesystem::path> WriteComparisonFigures(const std::filesystem:
   std::vector<std::filesystem::path> written;
   std::vector<std::string> surfaces;
   for (const auto& t : study.trials)
-    if (std::find(surfaces.begin(), surfaces.end(), t.surface) == surfaces.end() && !t.surface.empty())
+    if (std::find(surfaces.begin(), surfaces.end(), t.surface) == surfaces.end() &&
+        !t.surface.empty())
       surfaces.push_back(t.surface);
 
   // Figure 6: normal impacts.
@@ -73,7 +74,9 @@ std::vector<std::filesystem::path> WriteComparisonFigures(const std::filesystem:
     oy.options = "pt 9 ps 1.2 lc rgb '" + colour + "'";
     for (const auto& t : study.trials) {
       const auto it = row.find(t.id);
-      if (t.surface != surfaces[s] || !t.success || it == row.end() || !std::isfinite(vys[it->second])) continue;
+      if (t.surface != surfaces[s] || !t.success || it == row.end() ||
+          !std::isfinite(vys[it->second]))
+        continue;
       const std::size_t i = it->second;
       if (std::abs(t.surface_angle_deg) < 1e-9) {
         nm.x.push_back(std::abs(t.v_SC_before_m_s.y()));
@@ -104,7 +107,8 @@ std::vector<std::filesystem::path> WriteComparisonFigures(const std::filesystem:
   if (!normal.series.empty()) Render(normal, dir, "velocity_normal", written);
   if (!oblique.series.empty()) {
     const double pad = 0.05 * (hi - lo + 1e-9);
-    oblique.series.push_back({"measured = simulated", {lo - pad, hi + pad}, {lo - pad, hi + pad}, {}, "lines", ""});
+    oblique.series.push_back(
+        {"measured = simulated", {lo - pad, hi + pad}, {lo - pad, hi + pad}, {}, "lines", ""});
     oblique.series.back().options = "dt 2 lc rgb '#777777'";
     Render(oblique, dir, "velocity_oblique", written);
   }
@@ -113,7 +117,9 @@ std::vector<std::filesystem::path> WriteComparisonFigures(const std::filesystem:
   std::set<std::string> done;
   for (const auto& t : study.trials) {
     const auto it = row.find(t.id);
-    if (!t.success || it == row.end() || std::abs(t.surface_angle_deg) < 1e-9 || done.count(t.surface)) continue;
+    if (!t.success || it == row.end() || std::abs(t.surface_angle_deg) < 1e-9 ||
+        done.count(t.surface))
+      continue;
     const std::size_t i = it->second;
     if (!std::isfinite(ke0[i])) continue;
     studyfile::Table energy;

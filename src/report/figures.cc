@@ -21,7 +21,8 @@ void WriteOutOfPlaneFigure(const pipeline::TrialAnalysis& trial, double threshol
   for (std::size_t f = 0; f < trial.marker_distance_ratio.size(); ++f) {
     s.x.push_back(static_cast<double>(f));
     s.y.push_back(100.0 * trial.marker_distance_ratio[f]);
-    if (std::isfinite(trial.marker_distance_ratio[f])) finite.push_back(100.0 * trial.marker_distance_ratio[f]);
+    if (std::isfinite(trial.marker_distance_ratio[f]))
+      finite.push_back(100.0 * trial.marker_distance_ratio[f]);
   }
   Plot plot;
   const bool flagged =
@@ -37,11 +38,14 @@ void WriteOutOfPlaneFigure(const pipeline::TrialAnalysis& trial, double threshol
   plot.series.reserve(1);
   plot.series.push_back(s);
   if (trial.impact.success) {
-    plot.shaded_x_ranges.emplace_back(trial.impact.before.first_frame, trial.impact.before.last_frame);
-    plot.shaded_x_ranges.emplace_back(trial.impact.after.first_frame, trial.impact.after.last_frame);
+    plot.shaded_x_ranges.emplace_back(trial.impact.before.first_frame,
+                                      trial.impact.before.last_frame);
+    plot.shaded_x_ranges.emplace_back(trial.impact.after.first_frame,
+                                      trial.impact.after.last_frame);
   }
   if (!finite.empty()) {
-    std::nth_element(finite.begin(), finite.begin() + static_cast<std::ptrdiff_t>(finite.size() / 2), finite.end());
+    std::nth_element(finite.begin(),
+                     finite.begin() + static_cast<std::ptrdiff_t>(finite.size() / 2), finite.end());
     const double median = finite[finite.size() / 2];
     const double limit = 100 * std::max(threshold, 8.0 * trial.out_of_plane_noise);
     plot.horizontal_lines = {median - limit / 2, median + limit / 2};
@@ -57,7 +61,8 @@ namespace {
 /// Converts C's position in W to the figure's units and frame.
 struct FigureFrame {
   Eigen::Vector2d origin_W, x_S, y_S;
-  void Add(DisplacementSamples& s, double t_s, const Eigen::Vector2d& p_WC, double theta_rad) const {
+  void Add(DisplacementSamples& s, double t_s, const Eigen::Vector2d& p_WC,
+           double theta_rad) const {
     const Eigen::Vector2d r = p_WC - origin_W;
     s.t_ms.push_back(1e3 * t_s);
     s.x_S_mm.push_back(1e3 * x_S.dot(r));
@@ -84,12 +89,14 @@ DisplacementSamples SampleFit(const kinematics::FlightFit& fit, double impact_ti
 DisplacementCurves ComputeDisplacementCurves(const pipeline::TrialAnalysis& trial,
                                              int samples_per_fit, double gravity_m_s2) {
   if (samples_per_fit < 2)
-    throw std::invalid_argument("samples_per_fit must be >= 2, got " + std::to_string(samples_per_fit));
+    throw std::invalid_argument("samples_per_fit must be >= 2, got " +
+                                std::to_string(samples_per_fit));
   const double phi = core::DegToRad(trial.spec.surface_angle_deg);
   const double d = trial.spec.specimen.d_EC_m;
   const double fps = trial.spec.fps;
   const auto com = [d](const tracking::BodyPose& p) {
-    return Eigen::Vector2d(p.p_WE + d * Eigen::Vector2d(std::cos(p.theta_W_rad), std::sin(p.theta_W_rad)));
+    return Eigen::Vector2d(p.p_WE +
+                           d * Eigen::Vector2d(std::cos(p.theta_W_rad), std::sin(p.theta_W_rad)));
   };
   DisplacementCurves c;
   const auto& k = trial.impact;
@@ -105,7 +112,8 @@ DisplacementCurves ComputeDisplacementCurves(const pipeline::TrialAnalysis& tria
   }
   for (std::size_t f = 0; f < trial.poses.size(); ++f)
     if (trial.poses[f].valid)
-      frame.Add(c.measured, static_cast<double>(f) / fps, com(trial.poses[f]), trial.poses[f].theta_W_rad);
+      frame.Add(c.measured, static_cast<double>(f) / fps, com(trial.poses[f]),
+                trial.poses[f].theta_W_rad);
   if (c.has_fit) {
     c.impact_time_ms = 1e3 * k.impact_time_s;
     c.fit_before = SampleFit(k.before, k.impact_time_s, k.before.first_frame / fps, k.impact_time_s,
@@ -140,7 +148,8 @@ void WriteDisplacementFigure(const pipeline::TrialAnalysis& trial,
                              const std::filesystem::path& output) {
   const DisplacementCurves c = ComputeDisplacementCurves(trial);
   if (c.measured.t_ms.empty())
-    throw std::runtime_error(output.string() + ": trial " + trial.spec.id + " has no valid pose to plot");
+    throw std::runtime_error(output.string() + ": trial " + trial.spec.id +
+                             " has no valid pose to plot");
   Plot a, b;
   a.title = "(a) displacement of the centre of mass C in the surface frame S";
   a.x_label = "time t (ms)";
@@ -157,8 +166,10 @@ void WriteDisplacementFigure(const pipeline::TrialAnalysis& trial,
   if (c.has_fit) {
     for (const DisplacementSamples* f : {&c.fit_before, &c.fit_after}) {
       const bool first = f == &c.fit_before;
-      a.series.push_back(Curve(first ? "x_S fit (parabola)" : "", f->t_ms, f->x_S_mm, "lines", kLineX));
-      a.series.push_back(Curve(first ? "y_S fit (parabola)" : "", f->t_ms, f->y_S_mm, "lines", kLineY));
+      a.series.push_back(
+          Curve(first ? "x_S fit (parabola)" : "", f->t_ms, f->x_S_mm, "lines", kLineX));
+      a.series.push_back(
+          Curve(first ? "y_S fit (parabola)" : "", f->t_ms, f->y_S_mm, "lines", kLineY));
       b.series.push_back(Curve(first ? "fit (line)" : "", f->t_ms, f->theta_deg, "lines", kLineX));
     }
     std::ostringstream label;
@@ -171,7 +182,8 @@ void WriteDisplacementFigure(const pipeline::TrialAnalysis& trial,
   title.precision(3);
   title << trial.spec.id << ": " << trial.spec.surface << ", surface angle "
         << trial.spec.surface_angle_deg << " deg";
-  if (trial.spec.nominal_speed_m_s) title << ", nominal speed " << *trial.spec.nominal_speed_m_s << " m/s";
+  if (trial.spec.nominal_speed_m_s)
+    title << ", nominal speed " << *trial.spec.nominal_speed_m_s << " m/s";
   if (trial.impact.success) title << " (e = " << trial.impact.e << ")";
   MultiPlot fig;
   fig.title = title.str();
@@ -233,7 +245,8 @@ std::vector<Series> SurfaceSeries(const std::vector<CellSummary>& cells) {
   std::vector<std::string> surfaces;
   for (const auto& c : cells) {
     levels.push_back(c.level);
-    if (std::find(surfaces.begin(), surfaces.end(), c.surface) == surfaces.end()) surfaces.push_back(c.surface);
+    if (std::find(surfaces.begin(), surfaces.end(), c.surface) == surfaces.end())
+      surfaces.push_back(c.surface);
   }
   std::sort(levels.begin(), levels.end());
   double spacing = 0.0;
@@ -241,14 +254,17 @@ std::vector<Series> SurfaceSeries(const std::vector<CellSummary>& cells) {
     if (levels[i] > levels[i - 1] && (spacing == 0.0 || levels[i] - levels[i - 1] < spacing))
       spacing = levels[i] - levels[i - 1];
   if (spacing == 0.0) spacing = 1.0;
-  static const char* const kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
+  static const char* const kColours[] = {"#1f77b4", "#d62728", "#2ca02c",
+                                         "#9467bd", "#ff7f0e", "#8c564b"};
   static const int kPointTypes[] = {7, 5, 9, 11, 13, 15};
   std::vector<Series> out;
   for (std::size_t k = 0; k < surfaces.size(); ++k) {
     Series s;
     s.title = surfaces[k];
-    s.options = std::string("lw 1.5 ps 1.3 lc rgb '") + kColours[k % 6] + "' pt " + std::to_string(kPointTypes[k % 6]);
-    const double shift = 0.05 * spacing * (static_cast<double>(k) - 0.5 * static_cast<double>(surfaces.size() - 1));
+    s.options = std::string("lw 1.5 ps 1.3 lc rgb '") + kColours[k % 6] + "' pt " +
+                std::to_string(kPointTypes[k % 6]);
+    const double shift =
+        0.05 * spacing * (static_cast<double>(k) - 0.5 * static_cast<double>(surfaces.size() - 1));
     for (const auto& c : cells)
       if (c.surface == surfaces[k]) {
         s.x.push_back(c.level + shift);
@@ -274,7 +290,8 @@ bool WriteStudyFigure(const studyfile::StudyResults& study, StudyQuantity quanti
   const bool e = quantity == StudyQuantity::kRestitution;
   const bool angle = factor == StudyFactor::kImpactAngle;
   std::ostringstream title;
-  title << (e ? "Coefficient of restitution" : "Effective coefficient of friction (oblique impacts)")
+  title << (e ? "Coefficient of restitution"
+              : "Effective coefficient of friction (oblique impacts)")
         << " by " << (angle ? "impact angle" : "nominal speed") << "\nmean ± s.d., n = " << n_min;
   if (n_max != n_min) title << "–" << n_max;
   title << " trials per point";
@@ -282,7 +299,8 @@ bool WriteStudyFigure(const studyfile::StudyResults& study, StudyQuantity quanti
   Plot plot;
   plot.title = title.str();
   plot.x_label = angle ? "impact angle {/Symbol f} (deg)" : "nominal impact speed (m/s)";
-  plot.y_label = e ? "coefficient of restitution e" : "effective coefficient of friction {/Symbol m}_{eff}";
+  plot.y_label =
+      e ? "coefficient of restitution e" : "effective coefficient of friction {/Symbol m}_{eff}";
   plot.key = "outside right top";
   plot.series = SurfaceSeries(cells);
   plot.width_px = 900;
@@ -298,10 +316,11 @@ std::vector<std::filesystem::path> WriteStudyFigures(const studyfile::StudyResul
     StudyQuantity quantity;
     StudyFactor factor;
   };
-  const Item items[] = {{"e_by_angle", StudyQuantity::kRestitution, StudyFactor::kImpactAngle},
-                        {"e_by_speed", StudyQuantity::kRestitution, StudyFactor::kSpeed},
-                        {"mu_eff_by_angle", StudyQuantity::kEffectiveFriction, StudyFactor::kImpactAngle},
-                        {"mu_eff_by_speed", StudyQuantity::kEffectiveFriction, StudyFactor::kSpeed}};
+  const Item items[] = {
+      {"e_by_angle", StudyQuantity::kRestitution, StudyFactor::kImpactAngle},
+      {"e_by_speed", StudyQuantity::kRestitution, StudyFactor::kSpeed},
+      {"mu_eff_by_angle", StudyQuantity::kEffectiveFriction, StudyFactor::kImpactAngle},
+      {"mu_eff_by_speed", StudyQuantity::kEffectiveFriction, StudyFactor::kSpeed}};
   std::vector<std::filesystem::path> written;
   for (const Item& item : items)
     for (const char* ext : {".png", ".svg"}) {

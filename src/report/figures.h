@@ -45,8 +45,7 @@ struct DisplacementCurves {
 /// trial's surface angle phi). `gravity_m_s2` as in kinematics::KinematicsOptions;
 /// samples_per_fit >= 2. Displacements are relative to the first valid pose when the fit failed.
 DisplacementCurves ComputeDisplacementCurves(const pipeline::TrialAnalysis& trial,
-                                             int samples_per_fit = 60,
-                                             double gravity_m_s2 = 9.81);
+                                             int samples_per_fit = 60, double gravity_m_s2 = 9.81);
 
 /// Figure 3 for one trial: (a) the displacement of C in S and (b) the angle against time, the
 /// measured points with the fitted curves and the impact time, as two panels of one image.

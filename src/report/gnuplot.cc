@@ -15,8 +15,8 @@
 #include <unistd.h>
 
 #include "io/atomic_file.h"
-#include "io/interrupt.h"
 #include "io/csv.h"
+#include "io/interrupt.h"
 
 namespace hoof::report {
 namespace {
@@ -90,18 +90,20 @@ void PlotCommands(std::ostream& os, const Plot& plot, const std::string& prefix)
   for (std::size_t i = 0; i < plot.series.size(); ++i) {
     const Series& s = plot.series[i];
     const std::string data = "$" + prefix + std::to_string(i);
-    const std::string look = " lt " + std::to_string(i + 1) + (s.options.empty() ? "" : " " + s.options);
+    const std::string look =
+        " lt " + std::to_string(i + 1) + (s.options.empty() ? "" : " " + s.options);
     os << (first ? "" : ", ") << data << " using 1:2 with " << s.style << look << " title "
        << Quote(s.title);
     // Error bars as a second plot of the same data: rows whose error is NaN are skipped there
     // only, so their point is still drawn.
-    if (!s.y_error.empty()) os << ", " << data << " using 1:2:3 with yerrorbars" << look << " notitle";
+    if (!s.y_error.empty())
+      os << ", " << data << " using 1:2:3 with yerrorbars" << look << " notitle";
     first = false;
   }
   for (double y : plot.horizontal_lines) {
     os << (first ? "" : ", ") << Number(y) << " with lines dt 2 lc rgb '#888888' "
        << (y == plot.horizontal_lines.front() ? "title " + Quote(plot.horizontal_lines_title)
-                                               : std::string("notitle"));
+                                              : std::string("notitle"));
     first = false;
   }
   os << "\nunset object\nunset arrow\nunset label\n";
@@ -114,7 +116,8 @@ void Render(const std::filesystem::path& output, const MakeScript& make_script) 
   const auto tmp_out = io::TemporaryPathFor(output).string() + output.extension().string();
   const auto script = io::TemporaryPathFor(output).string() + ".gp";
   const std::string err_path = script + ".err";
-  for (const auto& t : {tmp_out, script, err_path}) io::TrackTemporary(t);  // an interrupt removes them
+  for (const auto& t : {tmp_out, script, err_path})
+    io::TrackTemporary(t);  // an interrupt removes them
   std::error_code ec;
   if (output.has_parent_path()) {
     const io::CreatingTemporary creating;  // the folder may be a temporary (the report's figures)
@@ -135,7 +138,8 @@ void Render(const std::filesystem::path& output, const MakeScript& make_script) 
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
     posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(),
+                                     O_WRONLY | O_CREAT | O_TRUNC, 0600);
     std::string arg0 = "gnuplot", arg1 = script;
     char* argv[] = {arg0.data(), arg1.data(), nullptr};
     posix_spawnattr_t attributes;
@@ -173,9 +177,10 @@ void Render(const std::filesystem::path& output, const MakeScript& make_script) 
   if (rc != 0 || !std::filesystem::exists(tmp_out) || std::filesystem::file_size(tmp_out) == 0) {
     std::filesystem::remove(tmp_out, ec);
     io::UntrackTemporary(tmp_out);
-    throw std::runtime_error(output.string() + ": gnuplot failed" +
-                             (missing ? " (not installed? tools/install-deps installs gnuplot-nox)" : "") +
-                             (err.empty() ? "" : ": " + err));
+    throw std::runtime_error(
+        output.string() + ": gnuplot failed" +
+        (missing ? " (not installed? tools/install-deps installs gnuplot-nox)" : "") +
+        (err.empty() ? "" : ": " + err));
   }
   io::CommitTemporary(tmp_out, output);
 }
@@ -201,7 +206,8 @@ std::string GnuplotScript(const MultiPlot& figure, const std::filesystem::path& 
     s << "p" << p << "d";
     return s.str();
   };
-  for (std::size_t p = 0; p < figure.panels.size(); ++p) DataBlocks(os, figure.panels[p], prefix(p));
+  for (std::size_t p = 0; p < figure.panels.size(); ++p)
+    DataBlocks(os, figure.panels[p], prefix(p));
   os << "set multiplot layout " << rows << "," << cols << " title " << Quote(figure.title)
      << " noenhanced font ',13'\n";
   for (std::size_t p = 0; p < figure.panels.size(); ++p)

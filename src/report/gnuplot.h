@@ -14,7 +14,7 @@ namespace hoof::report {
 
 /// One data series.
 struct Series {
-  std::string title;                  ///< legend entry; empty = none
+  std::string title;  ///< legend entry; empty = none
   std::vector<double> x, y;
   /// Optional error bars (half-length, same length as y). A NaN entry draws the point without
   /// a bar (e.g. the standard deviation of a group of one).
@@ -31,8 +31,8 @@ struct Plot {
   std::string title, x_label, y_label;
   std::vector<Series> series;
   std::vector<std::pair<double, double>> shaded_x_ranges;  ///< e.g. fit windows
-  std::vector<double> horizontal_lines;                     ///< dashed reference lines
-  std::string horizontal_lines_title = "reference";         ///< their legend entry
+  std::vector<double> horizontal_lines;                    ///< dashed reference lines
+  std::string horizontal_lines_title = "reference";        ///< their legend entry
   /// Dashed vertical lines at x, each with a text label at its top (e.g. the impact time).
   std::vector<std::pair<double, std::string>> vertical_lines;
   std::string key = "inside bottom left";  ///< gnuplot legend placement

@@ -62,12 +62,24 @@ std::string JsonString(std::string_view text) {
   std::string out = "\"";
   for (char c : text) {
     switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '<': out += "\\u003c"; break;
-      case '>': out += "\\u003e"; break;
-      case '&': out += "\\u0026"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '<':
+        out += "\\u003c";
+        break;
+      case '>':
+        out += "\\u003e";
+        break;
+      case '&':
+        out += "\\u0026";
+        break;
       default:
         if (static_cast<unsigned char>(c) < 0x20) {
           char buf[8];
@@ -134,14 +146,13 @@ std::string RenderTable(const Table& t, const std::string& caption) {
       } else {
         const double v = Num(t, c.name, r);
         const bool small_p = c.name == "p" && std::isfinite(v) && v < 0.05;
-        h << "<td class=\"num" << (small_p ? " sig" : "") << "\">"
-          << Fmt(v, c.name == "p" ? 3 : 4) << "</td>";
+        h << "<td class=\"num" << (small_p ? " sig" : "") << "\">" << Fmt(v, c.name == "p" ? 3 : 4)
+          << "</td>";
       }
     }
     h << "</tr>";
   }
-  if (Rows(t) == 0)
-    h << "<tr><td colspan=\"" << t.columns.size() << "\">(no rows)</td></tr>";
+  if (Rows(t) == 0) h << "<tr><td colspan=\"" << t.columns.size() << "\">(no rows)</td></tr>";
   h << "</tbody></table>";
   return h.str();
 }
@@ -195,7 +206,7 @@ std::string ModelSection(const Table& surfaces) {
     const double lo = Num(surfaces, "zeta_ci_low", r), hi = Num(surfaces, "zeta_ci_high", r);
     h << "<td class=\"num\">" << Fmt(Num(surfaces, "zeta", r)) << "</td><td class=\"num\">"
       << (std::isfinite(lo) && std::isfinite(hi) ? Fmt(lo) + " .. " + Fmt(hi)
-                                                  : std::string("not available"))
+                                                 : std::string("not available"))
       << "</td><td class=\"num\">";
     const double mu = Num(surfaces, "mu", r), mu_se = Num(surfaces, "mu_se", r);
     if (Num(surfaces, "mu_only_lower_bound", r) == 1.0)
@@ -214,7 +225,8 @@ std::string StatsSection(const fs::path& h5) {
   h << "<section id=\"statistics\"><h2>Statistics</h2>";
   bool any = false;
   for (const std::string r : {"e", "mu_eff"}) {
-    const std::string label = r == "e" ? "e (restitution)" : "mu_eff (effective friction, oblique trials)";
+    const std::string label =
+        r == "e" ? "e (restitution)" : "mu_eff (effective friction, oblique trials)";
     std::ostringstream part;
     bool have = false;
     if (auto cells = TryReadTable(h5, "/stats/" + r + "/cells")) {
@@ -232,7 +244,8 @@ std::string StatsSection(const fs::path& h5) {
     }
     if (auto notes = TryReadTable(h5, "/stats/" + r + "/notes"); notes && Rows(*notes) > 0)
       part << RenderTable(*notes, "Notes");
-    if (have) h << "<h3>" << HtmlEscape(label) << "</h3><div class=\"tables\">" << part.str() << "</div>";
+    if (have)
+      h << "<h3>" << HtmlEscape(label) << "</h3><div class=\"tables\">" << part.str() << "</div>";
     any = any || have;
   }
   if (!any)
@@ -244,13 +257,16 @@ std::string StatsSection(const fs::path& h5) {
 /// A fresh folder for figures drawn only to be embedded, "hoofimpact-report.tmp-<pid>-<n>" in the
 /// system's temporary folder: an interrupt removes it, and the next report removes one that a
 /// killed process left (RemoveStaleReportFolders).
-fs::path TemporaryFigureDir() { return io::TemporaryPathFor(fs::temp_directory_path() / "hoofimpact-report"); }
+fs::path TemporaryFigureDir() {
+  return io::TemporaryPathFor(fs::temp_directory_path() / "hoofimpact-report");
+}
 
 void RemoveStaleReportFolders() {
   std::error_code ec;
   const fs::path tmp = fs::temp_directory_path(ec);
   if (ec) return;
-  io::RemoveStaleTemporaries(tmp, [](const std::string& name) { return name.rfind("hoofimpact-report.tmp-", 0) == 0; });
+  io::RemoveStaleTemporaries(
+      tmp, [](const std::string& name) { return name.rfind("hoofimpact-report.tmp-", 0) == 0; });
 }
 
 /// A PNG figure embedded as a data URI, captioned with its file stem.
@@ -306,7 +322,8 @@ std::string TrialsSection(const studyfile::StudyResults& study, const Table& cmp
       h << "<td colspan=\"6\" class=\"bad\">failed</td><td>" << HtmlEscape(t.error) << "</td></tr>";
       continue;
     }
-    h << "<td class=\"num\">" << Fmt(t.e) << " &plusmn; " << Fmt(t.e_se, 2) << "</td><td class=\"num\">"
+    h << "<td class=\"num\">" << Fmt(t.e) << " &plusmn; " << Fmt(t.e_se, 2)
+      << "</td><td class=\"num\">"
       // mu_eff is an oblique-impact measure (as in the paper): none for normal impacts.
       << (std::isfinite(t.mu_eff) && std::abs(t.surface_angle_deg) > 0
               ? Fmt(t.mu_eff) + " &plusmn; " + Fmt(t.mu_eff_se, 2)
@@ -664,9 +681,11 @@ std::vector<const studyfile::TrialResult*> PickReplays(const studyfile::StudyRes
     if (t.success) candidates.push_back(&t);
   std::set<std::string> surfaces;
   for (const auto* t : candidates)
-    if (static_cast<int>(picked.size()) < n && surfaces.insert(t->surface).second) picked.push_back(t);
+    if (static_cast<int>(picked.size()) < n && surfaces.insert(t->surface).second)
+      picked.push_back(t);
   for (const auto* t : candidates)
-    if (static_cast<int>(picked.size()) < n && std::find(picked.begin(), picked.end(), t) == picked.end())
+    if (static_cast<int>(picked.size()) < n &&
+        std::find(picked.begin(), picked.end(), t) == picked.end())
       picked.push_back(t);
   return picked;
 }
@@ -712,8 +731,9 @@ std::vector<std::string> EncodeFrames(const studyfile::TrialResult& t, const std
     small.convertTo(bytes, CV_8U, gain, -lo * gain);
     std::vector<uchar> jpeg;
     cv::imencode(".jpg", bytes, jpeg, {cv::IMWRITE_JPEG_QUALITY, o.jpeg_quality});
-    uris.push_back("data:image/jpeg;base64," +
-                   Base64(std::string_view(reinterpret_cast<const char*>(jpeg.data()), jpeg.size())));
+    uris.push_back(
+        "data:image/jpeg;base64," +
+        Base64(std::string_view(reinterpret_cast<const char*>(jpeg.data()), jpeg.size())));
   }
   return uris;
 }
@@ -750,11 +770,11 @@ std::string ReplayJson(const studyfile::TrialResult& t, const std::string& study
     const auto r = static_cast<std::size_t>(first + k);
     imgs += "<img class=\"frame\" id=\"f" + std::to_string(index) + "_" + std::to_string(k) +
             "\" alt=\"\" src=\"" + uris[static_cast<std::size_t>(k)] + "\">";
-    j << (k ? "," : "") << "{\"frame\":" << first + k << ",\"t_ms\":"
-      << JsonNumber(Num(frames_table, "t_s", r) * 1e3) << ",\"sim\":[";
+    j << (k ? "," : "") << "{\"frame\":" << first + k
+      << ",\"t_ms\":" << JsonNumber(Num(frames_table, "t_s", r) * 1e3) << ",\"sim\":[";
     for (std::size_t m = 0; m < markers.size(); ++m)
-      j << (m ? "," : "") << "[" << JsonNumber(Num(frames_table, markers[m] + "_sim_x_px", r)) << ","
-        << JsonNumber(Num(frames_table, markers[m] + "_sim_y_px", r)) << "]";
+      j << (m ? "," : "") << "[" << JsonNumber(Num(frames_table, markers[m] + "_sim_x_px", r))
+        << "," << JsonNumber(Num(frames_table, markers[m] + "_sim_y_px", r)) << "]";
     j << "],\"meas\":[";
     for (std::size_t m = 0; m < markers.size(); ++m)
       j << (m ? "," : "") << "[" << JsonNumber(Num(frames_table, markers[m] + "_meas_x_px", r))
@@ -765,7 +785,6 @@ std::string ReplayJson(const studyfile::TrialResult& t, const std::string& study
   return j.str();
 }
 
-
 std::string ReplaySection(const studyfile::StudyResults& study, const fs::path& h5,
                           const HtmlReportOptions& o, HtmlReportSummary& summary) {
   std::string json = "[", imgs;
@@ -773,7 +792,8 @@ std::string ReplaySection(const studyfile::StudyResults& study, const fs::path& 
     try {
       const Table frames = studyfile::ReadTable(h5, "/comparison/frames/" + t->id);
       std::string trial_imgs;
-      const std::string one = ReplayJson(*t, study.study_dir, frames, o, summary.replays, trial_imgs);
+      const std::string one =
+          ReplayJson(*t, study.study_dir, frames, o, summary.replays, trial_imgs);
       json += (summary.replays ? "," : "") + one;
       imgs += trial_imgs;
       ++summary.replays;
@@ -785,8 +805,8 @@ std::string ReplaySection(const studyfile::StudyResults& study, const fs::path& 
   std::ostringstream h;
   h << "<section id=\"replay\"><h2>Replay</h2>";
   if (summary.replays == 0) {
-    h << "<p>No replay: " << (o.replay_trials == 0 ? "none asked for" : "no trial's frames could be read")
-      << ".</p>";
+    h << "<p>No replay: "
+      << (o.replay_trials == 0 ? "none asked for" : "no trial's frames could be read") << ".</p>";
   } else {
     h << "<p class=\"note\">The " << o.frames_per_replay << " frames around the impact. "
       << "<span class=\"key meas\">&#9675; measured marker</span> "
@@ -805,9 +825,6 @@ std::string ReplaySection(const studyfile::StudyResults& study, const fs::path& 
   return h.str();
 }
 
-
-
-
 }  // namespace
 
 void HtmlReportOptions::Validate() const {
@@ -817,7 +834,8 @@ void HtmlReportOptions::Validate() const {
                                   std::to_string(value) + ": must be in " + range);
   };
   check(replay_trials >= 0 && replay_trials <= 50, "replay_trials", replay_trials, "0..50");
-  check(frames_per_replay >= 2 && frames_per_replay <= 400, "frames_per_replay", frames_per_replay, "2..400");
+  check(frames_per_replay >= 2 && frames_per_replay <= 400, "frames_per_replay", frames_per_replay,
+        "2..400");
   check(replay_max_width_px >= 64 && replay_max_width_px <= 4096, "replay_max_width_px",
         replay_max_width_px, "64..4096");
   check(jpeg_quality >= 1 && jpeg_quality <= 100, "jpeg_quality", jpeg_quality, "1..100");
@@ -828,12 +846,23 @@ std::string HtmlEscape(std::string_view text) {
   out.reserve(text.size());
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&#39;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&#39;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -847,13 +876,15 @@ std::string Base64(std::string_view bytes) {
   std::size_t i = 0;
   for (; i + 2 < bytes.size(); i += 3) {
     const std::uint32_t v = static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[i])) << 16 |
-                            static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[i + 1])) << 8 |
+                            static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[i + 1]))
+                                << 8 |
                             static_cast<unsigned char>(bytes[i + 2]);
     for (int s = 18; s >= 0; s -= 6) out += kAlphabet[(v >> s) & 63u];
   }
   if (i < bytes.size()) {
     std::uint32_t v = static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[i])) << 16;
-    if (i + 1 < bytes.size()) v |= static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[i + 1])) << 8;
+    if (i + 1 < bytes.size())
+      v |= static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[i + 1])) << 8;
     out += kAlphabet[(v >> 18) & 63u];
     out += kAlphabet[(v >> 12) & 63u];
     out += i + 1 < bytes.size() ? kAlphabet[(v >> 6) & 63u] : '=';
@@ -884,7 +915,8 @@ HtmlReportSummary WriteHtmlReport(const fs::path& study_h5, const fs::path& outp
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
     << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
     << "<title>hoofimpact report: " << HtmlEscape(study.name) << "</title>"
-    << "<script>" << assets::kErrorJs << "</script><style>" << assets::kReportCss << "</style></head><body>"
+    << "<script>" << assets::kErrorJs << "</script><style>" << assets::kReportCss
+    << "</style></head><body>"
     << "<header><h1>hoofimpact report: " << HtmlEscape(study.name) << "</h1><p>"
     << study.trials.size() << " trials &middot; " << HtmlEscape(study.created_utc)
     << "</p></header><nav><a href=\"#summary\">Study</a><a href=\"#model\">Contact model</a>"
@@ -894,8 +926,8 @@ HtmlReportSummary WriteHtmlReport(const fs::path& study_h5, const fs::path& outp
     << SummarySection(study, study_h5) << ModelSection(*surfaces)
     << ReplaySection(study, study_h5, options, summary)
     << FiguresSection(study, study_h5, summary.figures) << discovery_section
-    << TrialsSection(study, *cmp)
-    << StatsSection(study_h5) << "</main><script>" << assets::kReplayJs << "</script></body></html>\n";
+    << TrialsSection(study, *cmp) << StatsSection(study_h5) << "</main><script>"
+    << assets::kReplayJs << "</script></body></html>\n";
   summary.figures += discovery_figures;
   const std::string page = h.str();
   io::WriteTextAtomically(output, page);

@@ -34,13 +34,13 @@ struct HtmlReportOptions {
 
 /// What WriteHtmlReport did.
 struct HtmlReportSummary {
-  std::filesystem::path output;    ///< the page written
-  std::size_t bytes = 0;           ///< its size
-  int trials = 0;                  ///< rows of the trial table
-  int figures = 0;                 ///< figures embedded
-  int replays = 0;                 ///< trials with a replay
-  bool discovery = false;          ///< the page has a Discovery section (/discovery exists)
-  std::string notes;               ///< what was left out and why (e.g. frames not found), "" if none
+  std::filesystem::path output;  ///< the page written
+  std::size_t bytes = 0;         ///< its size
+  int trials = 0;                ///< rows of the trial table
+  int figures = 0;               ///< figures embedded
+  int replays = 0;               ///< trials with a replay
+  bool discovery = false;        ///< the page has a Discovery section (/discovery exists)
+  std::string notes;             ///< what was left out and why (e.g. frames not found), "" if none
 };
 
 /// Escapes text for HTML element content and attribute values (& < > " ').

@@ -46,11 +46,12 @@ std::string Join(const std::vector<std::string>& parts, const std::string& separ
   std::error_code ec;
   const auto bytes = std::filesystem::file_size(path, ec);
   if (e.getFuncName().find("H5File") != std::string::npos)
-    throw std::runtime_error(path.string() + ": cannot be opened: the HDF5 file is damaged or cut short (" +
+    throw std::runtime_error(path.string() +
+                             ": cannot be opened: the HDF5 file is damaged or cut short (" +
                              (ec ? std::string("size unknown") : std::to_string(bytes) + " bytes") +
                              "); write it again with hoofimpact analyze or run");
-  throw std::runtime_error(path.string() + ": cannot be read, the HDF5 file is damaged (in " + e.getFuncName() +
-                           ": " + e.getDetailMsg() + ")");
+  throw std::runtime_error(path.string() + ": cannot be read, the HDF5 file is damaged (in " +
+                           e.getFuncName() + ": " + e.getDetailMsg() + ")");
 }
 
 /// Runs `write` on a temporary file beside `path` and renames it over `path`; removes the
@@ -686,7 +687,8 @@ std::size_t Column::size() const {
 
 std::string Column::CsvCell(std::size_t row) const {
   if (const auto* d = std::get_if<std::vector<double>>(&values)) return io::CsvNumber((*d)[row]);
-  if (const auto* n = std::get_if<std::vector<std::int64_t>>(&values)) return std::to_string((*n)[row]);
+  if (const auto* n = std::get_if<std::vector<std::int64_t>>(&values))
+    return std::to_string((*n)[row]);
   return io::CsvEscape(std::get<std::vector<std::string>>(values)[row]);
 }
 
@@ -899,8 +901,8 @@ void WriteTables(const std::filesystem::path& path, const std::string& group,
         }
         for (const auto& [link, target] : soft_links) {
           if (h5::PathExists(root, link)) root.unlink(link);
-          if (H5Lcreate_soft(target.c_str(), root.getId(), link.c_str(), H5P_DEFAULT,
-                             H5P_DEFAULT) < 0)
+          if (H5Lcreate_soft(target.c_str(), root.getId(), link.c_str(), H5P_DEFAULT, H5P_DEFAULT) <
+              0)
             throw std::runtime_error(path.string() + ": cannot link " + link + " to " + target);
         }
         file.flush(H5F_SCOPE_GLOBAL);
@@ -1050,13 +1052,15 @@ StudyResults ReadStudyResults(const std::filesystem::path& path) {
 
 kinematics::KinematicsOptions ReadKinematicsOptions(const std::filesystem::path& path) {
   H5::Exception::dontPrint();
-  if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(path.string() + ": no such file");
+  if (!std::filesystem::is_regular_file(path))
+    throw std::runtime_error(path.string() + ": no such file");
   kinematics::KinematicsOptions k;
   try {
     const H5::H5File file(path.string(), H5F_ACC_RDONLY);
     const H5::Group root_group = file.openGroup("/");
     CheckFormat(root_group, path);
-    const GroupReader g = GroupReader(root_group, path.string() + ":").Group("study").Group("analysis_options");
+    const GroupReader g =
+        GroupReader(root_group, path.string() + ":").Group("study").Group("analysis_options");
     k.fit_frames = g.Int("fit_frames");
     k.min_fit_frames = g.Int("min_fit_frames");
     k.max_contact_s = g.Scalar("max_contact_s");

@@ -6,9 +6,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "support/run_command.h"
 #include "dynamics/impact_simulator.h"
 #include "io/csv.h"
+#include "support/run_command.h"
 
 namespace hoof::cli {
 namespace {
@@ -23,7 +23,8 @@ std::string WriteImpacts(const std::string& name, double k, double zeta) {
   std::ofstream out(path);
   out << "surface,v_before_m_s,v_after_m_s\n";
   for (double v : {1.5, 2.0, 2.5, 3.0, 3.5, 4.0}) {
-    const double after = sim.Simulate(dynamics::ImpactConditions::Paper(v, 0.0)).at_separation.v_SC.y();
+    const double after =
+        sim.Simulate(dynamics::ImpactConditions::Paper(v, 0.0)).at_separation.v_SC.y();
     out << "asphalt," << io::CsvNumber(v) << "," << io::CsvNumber(after) << "\n";
   }
   return path;
@@ -77,7 +78,9 @@ TEST(FitCommandTest, MissingColumnAndBadValuesAreNamed) {
   }
   r = RunHoofimpact("fit " + path);
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("e = v_after_m_s / v_before_m_s > 1 in 1 row(s), on line(s) 3"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("e = v_after_m_s / v_before_m_s > 1 in 1 row(s), on line(s) 3"),
+            std::string::npos)
+      << r.err;
   r = RunHoofimpact("fit /nonexistent.csv");
   EXPECT_EQ(r.exit_code, 2);  // CLI11 checks that the file exists
 }

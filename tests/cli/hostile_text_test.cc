@@ -55,7 +55,8 @@ class HostileTextTest : public ::testing::Test {
     nlohmann::json specimen = s["specimens"]["A"];
     nlohmann::json markers = nlohmann::json::object();
     int k = 0;
-    for (const auto& [name, p] : specimen["markers_B_m"].items()) markers[name + HostileId("RANmarker" + std::to_string(k++))] = p;
+    for (const auto& [name, p] : specimen["markers_B_m"].items())
+      markers[name + HostileId("RANmarker" + std::to_string(k++))] = p;
     specimen["markers_B_m"] = markers;
     s["specimens"] = {{HostileId("RANspecimen"), specimen}};
     std::ofstream(study / "study.json") << s.dump(1);
@@ -80,7 +81,9 @@ TEST_F(HostileTextTest, NoCommandRunsAndTheTextReadsAsWritten) {
     int exit_code;
   };
   const std::vector<Step> steps = {
-      {"analyze " + study.string() + " -o " + (out / "a.h5").string() + " --figures " + (out / "afig").string(), 0},
+      {"analyze " + study.string() + " -o " + (out / "a.h5").string() + " --figures " +
+           (out / "afig").string(),
+       0},
       {"track " + (study / first).string() + " --figures " + (out / "tfig").string(), 0},
       {"run " + study.string() + " -o " + (out / "run").string() + " --trial-figures", 0},
       {"figures " + (out / "run" / "study.h5").string() + " -o " + (out / "ffig").string(), 0},
@@ -89,7 +92,8 @@ TEST_F(HostileTextTest, NoCommandRunsAndTheTextReadsAsWritten) {
   for (const Step& s : steps) {
     const auto r = RunHoofimpact(s.args);
     EXPECT_EQ(r.exit_code, s.exit_code) << s.args << "\n" << r.out << r.err;
-    for (const auto& made : Made()) ADD_FAILURE() << s.args << " ran a command from the data: it made " << made;
+    for (const auto& made : Made())
+      ADD_FAILURE() << s.args << " ran a command from the data: it made " << made;
   }
   // The labels read as written: the surface in the report (HTML-escaped) and a trial's figure
   // named by its id.

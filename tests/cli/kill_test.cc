@@ -3,9 +3,9 @@
 // behind; Ctrl-C (SIGINT) during the same jobs ends them with exit code 130 and leaves no
 // temporary at all, at once.
 #include <fcntl.h>
-#include <stdlib.h>
 #include <signal.h>
 #include <spawn.h>
+#include <stdlib.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -78,8 +78,9 @@ fs::path SmallStudy() {
   const fs::path tmp = dir.string() + ".tmp-" + std::to_string(::getpid()) + "-0";
   fs::remove_all(tmp);
   fs::create_directories(tmp.parent_path());
-  const pid_t pid = Start({"synth", "--study", "-o", tmp.string(), "--surfaces", "steel", "--angles-deg", "0,20",
-                           "--speeds", "2,2.7,3.4,4", "--trials-per-cell", "1", "--seed", "13"});
+  const pid_t pid =
+      Start({"synth", "--study", "-o", tmp.string(), "--surfaces", "steel", "--angles-deg", "0,20",
+             "--speeds", "2,2.7,3.4,4", "--trials-per-cell", "1", "--seed", "13"});
   const int status = Wait(pid);
   EXPECT_EQ(status, 0) << LastStderr();
   std::error_code ec;
@@ -102,7 +103,8 @@ bool WaitUntilInterruptsHandled(pid_t pid) {
     std::ifstream status("/proc/" + std::to_string(pid) + "/status");
     std::string line;
     while (std::getline(status, line))
-      if (line.rfind("SigBlk:", 0) == 0 && (std::stoull(line.substr(7), nullptr, 16) >> (SIGINT - 1)) & 1u)
+      if (line.rfind("SigBlk:", 0) == 0 &&
+          (std::stoull(line.substr(7), nullptr, 16) >> (SIGINT - 1)) & 1u)
         return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
@@ -114,7 +116,8 @@ std::vector<std::string> Temporaries(const fs::path& dir) {
   std::vector<std::string> out;
   if (!fs::exists(dir)) return out;
   for (const auto& e : fs::directory_iterator(dir))
-    if (e.path().filename().string().find(".tmp-") != std::string::npos) out.push_back(e.path().string());
+    if (e.path().filename().string().find(".tmp-") != std::string::npos)
+      out.push_back(e.path().string());
   return out;
 }
 
@@ -147,7 +150,8 @@ struct Jobs {
     for (const auto& a : args) {
       const auto t0 = std::chrono::steady_clock::now();
       EXPECT_EQ(Wait(Start(a)), 0) << a[0] << LastStderr();
-      seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      seconds.push_back(
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
   }
 
@@ -159,7 +163,8 @@ struct Jobs {
     EXPECT_NO_THROW(hoof::studyfile::ReadTable(run / "study.h5", "/comparison/surfaces")) << when;
     EXPECT_NO_THROW(hoof::studyfile::ReadTable(run / "study.h5", "/stats/e/cells")) << when;
     EXPECT_NO_THROW(hoof::studyfile::ReadTable(discovered, "/discovery/summary")) << when;
-    EXPECT_THROW(hoof::studyfile::ReadTable(small_h5, "/discovery/summary"), std::exception) << when;
+    EXPECT_THROW(hoof::studyfile::ReadTable(small_h5, "/discovery/summary"), std::exception)
+        << when;
     EXPECT_EQ(fs::file_size(small_h5), small_bytes) << when;
     EXPECT_GT(fs::file_size(run / "report.html"), 1000u) << when;
     EXPECT_GT(fs::file_size(root / "report" / "report.html"), 1000u) << when;
@@ -210,9 +215,10 @@ TEST(KillTest, CtrlCEndsAJobWithCode130AndLeavesNoTemporary) {
     std::this_thread::sleep_for(std::chrono::duration<double>(delay));
     ::kill(pid, SIGINT);
     const int status = Wait(pid);
-    const std::string what = "interrupt " + std::to_string(i) + " of " + jobs.args[job][0] + " after " +
-                             std::to_string(delay) + " s";
-    ASSERT_TRUE(WIFEXITED(status)) << what << ": ended by signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+    const std::string what = "interrupt " + std::to_string(i) + " of " + jobs.args[job][0] +
+                             " after " + std::to_string(delay) + " s";
+    ASSERT_TRUE(WIFEXITED(status))
+        << what << ": ended by signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
     // 130 = 128 + SIGINT; 0 when the job finished before the signal came.
     EXPECT_TRUE(WEXITSTATUS(status) == 130 || WEXITSTATUS(status) == 0)
         << what << ": exit " << WEXITSTATUS(status) << LastStderr();
@@ -221,7 +227,8 @@ TEST(KillTest, CtrlCEndsAJobWithCode130AndLeavesNoTemporary) {
     // No temporary at all, without waiting for a later run to clean up.
     for (const fs::path& dir : jobs.Folders())
       for (const auto& t : Temporaries(dir)) ADD_FAILURE() << what << ": left behind: " << t;
-    for (const auto& e : fs::directory_iterator(jobs.tmpdir)) ADD_FAILURE() << what << ": left behind: " << e.path();
+    for (const auto& e : fs::directory_iterator(jobs.tmpdir))
+      ADD_FAILURE() << what << ": left behind: " << e.path();
   }
   // Not vacuous: most signals came while a job ran (0 means it had finished first).
   EXPECT_GE(interrupted, 12) << "most signals should come while a job runs";

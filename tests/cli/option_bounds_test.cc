@@ -20,7 +20,8 @@ std::vector<std::string> FloatOptions(const std::string& command) {
   const auto help = RunHoofimpact(command + " --help");
   std::vector<std::string> out;
   const std::regex option(R"((--[a-z0-9-]+) FLOAT)");
-  for (auto it = std::sregex_iterator(help.out.begin(), help.out.end(), option); it != std::sregex_iterator(); ++it)
+  for (auto it = std::sregex_iterator(help.out.begin(), help.out.end(), option);
+       it != std::sregex_iterator(); ++it)
     out.push_back((*it)[1]);
   return out;
 }
@@ -29,9 +30,14 @@ TEST(OptionBoundsTest, NoFloatingPointOptionTakesNanOrInfinity) {
   const std::string sample = std::string(HOOF_SOURCE_DIR) + "/sample_frames";
   // Each command with the arguments it needs to get as far as its options.
   const std::vector<std::pair<std::string, std::string>> commands = {
-      {"simulate", ""}, {"fit", ""}, {"synth", "-o /nonexistent-dir/x"}, {"analyze", sample + " -o /nonexistent-dir/x.h5"},
-      {"run", sample + " -o /nonexistent-dir/x"}, {"track", sample + "/steel_0deg_v3.00_r1"},
-      {"discover", "/nonexistent-dir/x.h5"}, {"score", sample}};
+      {"simulate", ""},
+      {"fit", ""},
+      {"synth", "-o /nonexistent-dir/x"},
+      {"analyze", sample + " -o /nonexistent-dir/x.h5"},
+      {"run", sample + " -o /nonexistent-dir/x"},
+      {"track", sample + "/steel_0deg_v3.00_r1"},
+      {"discover", "/nonexistent-dir/x.h5"},
+      {"score", sample}};
   int checked = 0;
   for (const auto& [command, args] : commands) {
     const auto options = FloatOptions(command);

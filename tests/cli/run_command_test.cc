@@ -17,10 +17,13 @@ namespace fs = std::filesystem;
 using hoof::testing::RunHoofimpact;
 
 TEST(RunCommandTest, TheWholeStudyEndToEnd) {
-  const fs::path base = fs::path(HOOF_BINARY_DIR) / "test-output" / ("run_" + std::to_string(::getpid()));
+  const fs::path base =
+      fs::path(HOOF_BINARY_DIR) / "test-output" / ("run_" + std::to_string(::getpid()));
   fs::remove_all(base);
-  auto r = RunHoofimpact("synth --study --no-scatter --surfaces steel,concrete --angles-deg 0,20 "
-                         "--speeds 2.5,3.5 --trials-per-cell 2 --seed 8 -o " + (base / "study").string());
+  auto r = RunHoofimpact(
+      "synth --study --no-scatter --surfaces steel,concrete --angles-deg 0,20 "
+      "--speeds 2.5,3.5 --trials-per-cell 2 --seed 8 -o " +
+      (base / "study").string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = RunHoofimpact("run " + (base / "study").string() + " -o " + (base / "out").string());
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
@@ -30,7 +33,8 @@ TEST(RunCommandTest, TheWholeStudyEndToEnd) {
   // three combined standard errors.
   const auto trials = studyfile::ReadTable(h5, "/comparison/trials");
   for (const char* z : {"z_v_x", "z_v_y", "z_w"})
-    for (double v : std::get<std::vector<double>>(trials.Get(z).values)) EXPECT_LT(std::abs(v), 3.0) << z;
+    for (double v : std::get<std::vector<double>>(trials.Get(z).values))
+      EXPECT_LT(std::abs(v), 3.0) << z;
   // Statistics stored, CSVs and figures written.
   EXPECT_NO_THROW(studyfile::ReadTable(h5, "/stats/e/by_surface/anova"));
   EXPECT_TRUE(fs::exists(base / "out" / "results.csv"));
@@ -43,7 +47,8 @@ TEST(RunCommandTest, TheWholeStudyEndToEnd) {
   EXPECT_TRUE(fs::exists(base / "out" / "figures" / "velocity_oblique.svg"));
   int energy = 0;
   for (const auto& e : fs::directory_iterator(base / "out" / "figures"))
-    energy += e.path().filename().string().rfind("energy_", 0) == 0 && e.path().extension() == ".png";
+    energy +=
+        e.path().filename().string().rfind("energy_", 0) == 0 && e.path().extension() == ".png";
   EXPECT_EQ(energy, 2);  // one oblique trial per surface
   EXPECT_NE(r.out.find("report.html"), std::string::npos);
   fs::remove_all(base);

@@ -55,10 +55,11 @@ std::map<std::string, std::vector<std::string>> ParseDigest(const std::string& t
 
 TEST(RunGoldenTest, SampleFramesGiveTheSameStudyFileAsBefore) {
   const fs::path out = hoof::testing::FreshDir("run_golden");
-  const auto r = hoof::testing::RunHoofimpact("run " + std::string(HOOF_SOURCE_DIR) + "/sample_frames -o " +
-                                              out.string() + " --jobs 2");
+  const auto r = hoof::testing::RunHoofimpact("run " + std::string(HOOF_SOURCE_DIR) +
+                                              "/sample_frames -o " + out.string() + " --jobs 2");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const std::string text = hoof::testing::DigestText(hoof::testing::DigestHdf5((out / "study.h5").string()));
+  const std::string text =
+      hoof::testing::DigestText(hoof::testing::DigestHdf5((out / "study.h5").string()));
   ASSERT_FALSE(text.empty());
   if (std::getenv("HOOF_WRITE_GOLDEN")) {
     std::ofstream(kGolden) << text;
@@ -79,8 +80,8 @@ TEST(RunGoldenTest, SampleFramesGiveTheSameStudyFileAsBefore) {
     }
     const auto& got = it->second;
     if (got.size() != want.size() || got.front() != want.front()) {
-      ADD_FAILURE() << key << ": " << got.size() - 1 << " values of kind " << got.front() << ", before "
-                    << want.size() - 1 << " of kind " << want.front();
+      ADD_FAILURE() << key << ": " << got.size() - 1 << " values of kind " << got.front()
+                    << ", before " << want.size() - 1 << " of kind " << want.front();
       continue;
     }
     for (std::size_t i = 1; i < want.size(); ++i) {
@@ -88,9 +89,11 @@ TEST(RunGoldenTest, SampleFramesGiveTheSameStudyFileAsBefore) {
         EXPECT_EQ(got[i], want[i]) << key << "[" << i - 1 << "]";
         continue;
       }
-      const double a = std::strtod(got[i].c_str(), nullptr), b = std::strtod(want[i].c_str(), nullptr);
+      const double a = std::strtod(got[i].c_str(), nullptr),
+                   b = std::strtod(want[i].c_str(), nullptr);
       if (std::isnan(a) && std::isnan(b)) continue;
-      EXPECT_NEAR(a, b, 1e-9 * std::max(std::abs(a), std::abs(b)) + 1e-12) << key << "[" << i - 1 << "]";
+      EXPECT_NEAR(a, b, 1e-9 * std::max(std::abs(a), std::abs(b)) + 1e-12)
+          << key << "[" << i - 1 << "]";
     }
   }
   for (const auto& [key, value] : now)

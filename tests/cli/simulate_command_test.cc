@@ -7,8 +7,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "support/run_command.h"
 #include "io/csv.h"
+#include "support/run_command.h"
 
 namespace hoof::cli {
 namespace {
@@ -16,8 +16,8 @@ namespace {
 using hoof::testing::RunHoofimpact;
 
 TEST(SimulateCommandTest, JsonMatchesThePapersObliqueReferenceCase) {
-  const auto r = RunHoofimpact(
-      "simulate --surface steel --angle-deg 20 --speed-m-s 3.28 --mu 0.12 --json");
+  const auto r =
+      RunHoofimpact("simulate --surface steel --angle-deg 20 --speed-m-s 3.28 --mu 0.12 --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   // The reference oblique case (kReference in tests/dynamics/impact_simulator_test.cc):
@@ -33,8 +33,8 @@ TEST(SimulateCommandTest, JsonMatchesThePapersObliqueReferenceCase) {
 
 TEST(SimulateCommandTest, OverridesReachTheModel) {
   // Frictionless normal impact with a chosen zeta and no gravity: e is the closed form.
-  const auto r = RunHoofimpact(
-      "simulate --k 1e8 --zeta 0.3 --mu 0 --gravity-m-s2 0 --mass-kg 0.01 --json");
+  const auto r =
+      RunHoofimpact("simulate --k 1e8 --zeta 0.3 --mu 0 --gravity-m-s2 0 --mass-kg 0.01 --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   const double z = 0.3;
@@ -47,15 +47,16 @@ TEST(SimulateCommandTest, OverridesReachTheModel) {
 TEST(SimulateCommandTest, TrajectoryCsvHasFrameTimesAndFreeFlight) {
   const std::string path = std::string(HOOF_BINARY_DIR) + "/traj_test.csv";
   std::filesystem::remove(path);
-  const auto r = RunHoofimpact(
-      "simulate --surface concrete --angle-deg 10 --speed-m-s 2 --trajectory " + path +
-      " --frames-before 5 --frames-after 7 --fps 8000");
+  const auto r =
+      RunHoofimpact("simulate --surface concrete --angle-deg 10 --speed-m-s 2 --trajectory " +
+                    path + " --frames-before 5 --frames-after 7 --fps 8000");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const io::CsvTable t = io::CsvTable::Read(path);
   ASSERT_EQ(t.rows(), 12u);
   const auto time = t.Numbers("t_s");
   const auto vy = t.Numbers("v_SC_y_m_s");
-  for (std::size_t i = 1; i < time.size(); ++i) EXPECT_NEAR(time[i] - time[i - 1], 1.0 / 8000, 1e-15);
+  for (std::size_t i = 1; i < time.size(); ++i)
+    EXPECT_NEAR(time[i] - time[i - 1], 1.0 / 8000, 1e-15);
   // Free flight before touch: v_SC.y changes by -g cos(phi) per unit time.
   EXPECT_NEAR((vy[1] - vy[0]) / (time[1] - time[0]), -9.81 * std::cos(10 * M_PI / 180), 1e-6);
   EXPECT_EQ(t.Texts("phase").front(), "flight_before");
@@ -69,12 +70,13 @@ TEST(SimulateCommandTest, BadInputGivesAClearErrorAndNonZeroExit) {
   EXPECT_NE(r.err.find("--mass-kg"), std::string::npos) << r.err;
   // Every bound of the physical inputs, and no NaN anywhere; the sampling options are checked
   // without --trajectory too.
-  for (const char* bad : {"--mass-kg 1e-12", "--speed-m-s 1e300", "--mu nan", "--k inf", "--zeta -1",
-                          "--hunt-crossley-n-s-m2 1e300", "--rolling-resistance-m 5", "--fps -1",
-                          "--touch-fraction nan", "--angle-deg 1e999"}) {
+  for (const char* bad : {"--mass-kg 1e-12", "--speed-m-s 1e300", "--mu nan", "--k inf",
+                          "--zeta -1", "--hunt-crossley-n-s-m2 1e300", "--rolling-resistance-m 5",
+                          "--fps -1", "--touch-fraction nan", "--angle-deg 1e999"}) {
     r = RunHoofimpact(std::string("simulate ") + bad);
     EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.err;
-    EXPECT_NE(r.err.find(std::string(bad).substr(0, std::string(bad).find(' '))), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(std::string(bad).substr(0, std::string(bad).find(' '))), std::string::npos)
+        << r.err;
   }
   r = RunHoofimpact("simulate --surface wood");
   EXPECT_EQ(r.exit_code, 2);
@@ -100,10 +102,11 @@ TEST(SimulateCommandTest, BadInputGivesAClearErrorAndNonZeroExit) {
 // value wrapped to 2^64 - 1 or taken as "all cores".
 TEST(CommandLineLimitsTest, NegativeSeedsAndThreadCountsAreRefused) {
   const std::string sample = std::string(HOOF_SOURCE_DIR) + "/sample_frames";
-  for (const auto& [args, option] : {std::pair<std::string, std::string>{"synth --seed -1 -o /nonexistent/x", "--seed"},
-                                     {"synth --study --threads -1 -o /nonexistent/x", "--threads"},
-                                     {"run " + sample + " --jobs -1 -o /nonexistent/x", "--jobs"},
-                                     {"score " + sample + " --jobs -5", "--jobs"}}) {
+  for (const auto& [args, option] :
+       {std::pair<std::string, std::string>{"synth --seed -1 -o /nonexistent/x", "--seed"},
+        {"synth --study --threads -1 -o /nonexistent/x", "--threads"},
+        {"run " + sample + " --jobs -1 -o /nonexistent/x", "--jobs"},
+        {"score " + sample + " --jobs -5", "--jobs"}}) {
     const auto r = RunHoofimpact(args);
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
     EXPECT_NE(r.err.find(option), std::string::npos) << args << "\n" << r.err;

@@ -1,7 +1,7 @@
 // Simulation against measurement on rendered studies without hidden effects: the model that
 // made the frames, fitted back from the measurements, must reproduce every trial.
-#include "compare/study_comparison.h"
 #include "compare/trial_comparison.h"
+#include "compare/study_comparison.h"
 
 #include <cmath>
 #include <filesystem>
@@ -13,10 +13,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include "pipeline/truth_score.h"
-#include "support/run_command.h"
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include "pipeline/truth_score.h"
+#include "support/run_command.h"
 
 namespace hoof::compare {
 namespace {
@@ -27,12 +27,13 @@ namespace fs = std::filesystem;
 /// law), so the surface model fitted to the measurements is the truth.
 const std::vector<pipeline::TrialAnalysis>& Trials() {
   static const std::vector<pipeline::TrialAnalysis> trials = [] {
-    const fs::path dir = fs::path(HOOF_BINARY_DIR) / "test-output" /
-                         ("compare_study_" + std::to_string(::getpid()));
+    const fs::path dir =
+        fs::path(HOOF_BINARY_DIR) / "test-output" / ("compare_study_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     const auto r = hoof::testing::RunHoofimpact(
         "synth --study --no-scatter --surfaces steel,asphalt --angles-deg 0,20 --speeds 2,3,4 "
-        "--trials-per-cell 1 --seed 4 -o " + dir.string());
+        "--trials-per-cell 1 --seed 4 -o " +
+        dir.string());
     EXPECT_EQ(r.exit_code, 0) << r.err;
     const auto study = pipeline::ReadStudy(dir);
     std::vector<pipeline::TrialAnalysis> out(study.trial_dirs.size());
@@ -71,7 +72,8 @@ TEST(TrialComparisonTest, SurfaceModelsRecoverTheRenderedContactLaw) {
 
 TEST(TrialComparisonTest, SimulatedVelocitiesAgreeWithinTheMeasurementUncertainty) {
   std::map<std::string, SurfaceModel> models;
-  for (const std::string surface : {"steel", "asphalt"}) models[surface] = FitSurfaceModel(surface, Trials());
+  for (const std::string surface : {"steel", "asphalt"})
+    models[surface] = FitSurfaceModel(surface, Trials());
   for (const auto& t : Trials()) {
     ASSERT_TRUE(t.success) << t.error;
     dynamics::ContactParameters c = models[t.spec.surface].Contact();
@@ -98,7 +100,8 @@ TEST(TrialComparisonTest, MarkersAfterImpactStayWithinHalfAPixelOnSteel) {
       for (double r : cmp.frames[static_cast<std::size_t>(f)].marker_residual_px)
         if (std::isfinite(r)) worst = std::max(worst, r);
     EXPECT_LT(worst, 0.5) << t.spec.id;
-    std::cout << t.spec.id << ": worst marker residual over 20 frames after impact " << worst << " px\n";
+    std::cout << t.spec.id << ": worst marker residual over 20 frames after impact " << worst
+              << " px\n";
   }
 }
 
@@ -112,8 +115,8 @@ TEST(StudyComparisonTest, TablesGoIntoTheStudyFileAndReadBack) {
   const auto& trials = Trials();
   const StudyComparison cmp = CompareStudy(trials, 2);
   ASSERT_EQ(cmp.surfaces.size(), 2u);
-  const fs::path file = fs::path(HOOF_BINARY_DIR) / "test-output" /
-                        ("compare_" + std::to_string(::getpid()) + ".h5");
+  const fs::path file =
+      fs::path(HOOF_BINARY_DIR) / "test-output" / ("compare_" + std::to_string(::getpid()) + ".h5");
   studyfile::StudyInfo info;
   info.name = "compare-test";
   studyfile::WriteStudyFile(file, info, trials);

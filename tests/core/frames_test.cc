@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include <Eigen/LU>
 #include <gtest/gtest.h>
+#include <Eigen/LU>
 
 namespace hoof::core {
 namespace {
@@ -41,8 +41,10 @@ TEST(FramesTest, GravityAndAVerticalDropInTheSurfaceFrame) {
   // 90 deg + phi from x_S.
   const double phi = DegToRad(20.0), g = kStandardGravity_m_s2, v = 3.0;
   const SurfaceRotation R(phi);
-  EXPECT_NEAR((R.GravityInS(g) - Eigen::Vector2d(g * std::sin(phi), -g * std::cos(phi))).norm(), 0.0, 1e-14);
-  EXPECT_NEAR((R.ToS({0.0, -v}) - Eigen::Vector2d(v * std::sin(phi), -v * std::cos(phi))).norm(), 0.0, 1e-15);
+  EXPECT_NEAR((R.GravityInS(g) - Eigen::Vector2d(g * std::sin(phi), -g * std::cos(phi))).norm(),
+              0.0, 1e-14);
+  EXPECT_NEAR((R.ToS({0.0, -v}) - Eigen::Vector2d(v * std::sin(phi), -v * std::cos(phi))).norm(),
+              0.0, 1e-15);
   EXPECT_NEAR(R.AngleToS(std::numbers::pi / 2), std::numbers::pi / 2 + phi, 1e-15);
   // The normal speed is the component along y_S, whatever the frame it is computed in.
   const Eigen::Vector2d v_W(0.4, -2.9);

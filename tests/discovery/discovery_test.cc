@@ -6,8 +6,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <random>
 #include <iostream>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -18,8 +18,8 @@
 #include "dynamics/parameters.h"
 #include "pipeline/study_analysis.h"
 #include "stats/distributions.h"
-#include "synth/options.h"
 #include "support/run_command.h"
+#include "synth/options.h"
 
 namespace fs = std::filesystem;
 using hoof::discovery::Discover;
@@ -46,24 +46,27 @@ fs::path RenderStudy(const std::string& name, const std::string& options) {
 /// One surface, normal and oblique impacts at three speeds, two repetitions, the paper's
 /// contact law in every trial (no per-trial scatter) and every camera effect on.
 /// (bench/discovery_explore uses the same design by default: keep the two alike.)
-const char* kDesign = "--surfaces steel --angles-deg 0,10,20,30 --speeds 1.5,2.75,4 --trials-per-cell 2 --no-scatter";
+const char* kDesign =
+    "--surfaces steel --angles-deg 0,10,20,30 --speeds 1.5,2.75,4 --trials-per-cell 2 --no-scatter";
 
-std::vector<hoof::pipeline::TrialAnalysis> MeasureStudy(const std::string& name, const std::string& options) {
+std::vector<hoof::pipeline::TrialAnalysis> MeasureStudy(const std::string& name,
+                                                        const std::string& options) {
   const fs::path dir = RenderStudy(name, options);
   const auto study = hoof::pipeline::ReadStudy(dir);
   return hoof::pipeline::AnalyzeStudy(study, {}, 2);
 }
 
 DiscoveryResult DiscoverStudy(const std::string& name, const std::string& options) {
-  return Discover(MeasureStudy(name, options), {}, [](const std::string& s) { std::cerr << s << "\n"; });
+  return Discover(MeasureStudy(name, options), {},
+                  [](const std::string& s) { std::cerr << s << "\n"; });
 }
 
 /// The design researchers often run: three surfaces, four angles, three trials per surface and
 /// angle at speeds drawn uniformly in [1.5, 4] m/s (one trial per condition, 36 trials), with
 /// the renderer's per-trial scatter of e and mu. Returns the synth options (a study config
 /// written beside the studies, and the seed).
-std::string UnreplicatedDesign(std::uint64_t seed, const std::vector<std::string>& surfaces = {"steel", "concrete",
-                                                                                               "asphalt"}) {
+std::string UnreplicatedDesign(std::uint64_t seed, const std::vector<std::string>& surfaces = {
+                                                       "steel", "concrete", "asphalt"}) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> speed(1.5, 4.0);
   nlohmann::json cells = nlohmann::json::array();
@@ -93,10 +96,12 @@ void Print(const DiscoveryResult& r) {
   for (const auto& rd : r.rounds) {
     std::cout << "round " << rd.index << ": " << rd.decision << "\n";
     for (const auto& c : rd.candidates)
-      std::cout << "   " << c.rank << " " << c.key << " " << c.estimate << " +- " << c.se << " LR " << c.lr_statistic
-                << " p " << c.p_value << " held-out " << c.cv_error_current << " -> " << c.cv_error << " ("
-                << ToString(c.identifiability) << ", " << ToString(c.form) << ", " << ToString(c.outcome)
-                << ", per-surface p " << c.p_per_surface << ", limit " << c.detection_limit << ")" << (c.significant ? " *" : "") << "\n";
+      std::cout << "   " << c.rank << " " << c.key << " " << c.estimate << " +- " << c.se << " LR "
+                << c.lr_statistic << " p " << c.p_value << " held-out " << c.cv_error_current
+                << " -> " << c.cv_error << " (" << ToString(c.identifiability) << ", "
+                << ToString(c.form) << ", " << ToString(c.outcome) << ", per-surface p "
+                << c.p_per_surface << ", limit " << c.detection_limit << ")"
+                << (c.significant ? " *" : "") << "\n";
   }
   std::cout << r.seconds << " s, " << r.simulations << " simulations\n";
 }
@@ -109,14 +114,15 @@ const hoof::discovery::Finding* FindingOf(const DiscoveryResult& r, const std::s
 
 int Confident(const DiscoveryResult& r) {
   int n = 0;
-  for (const auto& f : r.findings) n += f.status == FindingStatus::kNamed || f.status == FindingStatus::kTentative ? 1 : 0;
+  for (const auto& f : r.findings)
+    n += f.status == FindingStatus::kNamed || f.status == FindingStatus::kTentative ? 1 : 0;
   return n;
 }
 
 struct HiddenEffect {
-  std::string key;    // library key
-  std::string flag;   // synth flag
-  double truth;       // hidden value
+  std::string key;   // library key
+  std::string flag;  // synth flag
+  double truth;      // hidden value
   int seed;
 };
 
@@ -155,7 +161,8 @@ INSTANTIATE_TEST_SUITE_P(
     Effects, HiddenEffectTest,
     ::testing::Values(HiddenEffect{"hunt_crossley", "--hunt-crossley-n-s-m2", 2e7, 11},
                       HiddenEffect{"hertz_stiffness", "--stiffness-exponent-extra", 0.3, 13},
-                      HiddenEffect{"tangential_compliance", "--tangential-compliance-ratio", 1.0, 14},
+                      HiddenEffect{"tangential_compliance", "--tangential-compliance-ratio", 1.0,
+                                   14},
                       HiddenEffect{"rolling_resistance", "--rolling-resistance-m", 5e-4, 12}),
     [](const auto& p) { return p.param.key; });
 
@@ -163,8 +170,9 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(DiscoveryTest, NamesNothingInStudiesWithoutAHiddenEffect) {
   int clean = 0;
   for (int seed = 1; seed <= 20; ++seed) {
-    const DiscoveryResult r = DiscoverStudy("null_" + std::to_string(seed), std::string(kDesign) + " --seed " +
-                                                                                std::to_string(1000 + seed));
+    const DiscoveryResult r =
+        DiscoverStudy("null_" + std::to_string(seed),
+                      std::string(kDesign) + " --seed " + std::to_string(1000 + seed));
     ASSERT_TRUE(r.success) << r.message;
     const bool quiet = Confident(r) == 0 && !r.unexplained;
     clean += quiet ? 1 : 0;
@@ -177,10 +185,10 @@ TEST(DiscoveryTest, NamesNothingInStudiesWithoutAHiddenEffect) {
 // Dissipative restitution against a changed zeta in normal impacts: the data cannot separate
 // them, and the workflow says so (and names nothing).
 TEST(DiscoveryTest, DissipativeRestitutionIsIndistinguishableFromZetaInNormalImpacts) {
-  const DiscoveryResult r = DiscoverStudy(
-      "unloading_normal",
-      "--surfaces steel --angles-deg 0 --speeds 1.5,2.75,4 --trials-per-cell 3 --no-scatter --seed 16 "
-      "--unloading-stiffness-ratio 0.5");
+  const DiscoveryResult r = DiscoverStudy("unloading_normal",
+                                          "--surfaces steel --angles-deg 0 --speeds 1.5,2.75,4 "
+                                          "--trials-per-cell 3 --no-scatter --seed 16 "
+                                          "--unloading-stiffness-ratio 0.5");
   Print(r);
   ASSERT_TRUE(r.success) << r.message;
   const auto* f = FindingOf(r, "plastic_unloading");
@@ -198,8 +206,8 @@ TEST(DiscoveryTest, DissipativeRestitutionIsIndistinguishableFromZetaInNormalImp
 // An effect outside the library (friction that grows with slip speed) gives "unexplained
 // disagreement", never a confident wrong name.
 TEST(DiscoveryTest, AnEffectOutsideTheLibraryIsUnexplained) {
-  const DiscoveryResult r = DiscoverStudy("friction_speed", std::string(kDesign) +
-                                                                " --seed 17 --friction-speed-slope-s-m 0.5");
+  const DiscoveryResult r = DiscoverStudy(
+      "friction_speed", std::string(kDesign) + " --seed 17 --friction-speed-slope-s-m 0.5");
   Print(r);
   ASSERT_TRUE(r.success) << r.message;
   EXPECT_TRUE(r.unexplained) << r.verdict;
@@ -211,7 +219,8 @@ TEST(DiscoveryTest, AnEffectOutsideTheLibraryIsUnexplained) {
 // It is not named with confidence here, because the tilt also biases the measured velocities
 // (by up to 1 % at 30 deg), which the workflow then reports as unexplained.
 TEST(DiscoveryTest, OutOfPlaneTiltIsEstimatedFromTheMarkerDistance) {
-  const DiscoveryResult r = DiscoverStudy("tilt", std::string(kDesign) + " --seed 15 --tilt-deg 10");
+  const DiscoveryResult r =
+      DiscoverStudy("tilt", std::string(kDesign) + " --seed 15 --tilt-deg 10");
   Print(r);
   ASSERT_TRUE(r.success) << r.message;
   const auto* f = FindingOf(r, "out_of_plane");
@@ -220,7 +229,8 @@ TEST(DiscoveryTest, OutOfPlaneTiltIsEstimatedFromTheMarkerDistance) {
   EXPECT_GE(f->gap_shrink, 0.9);
   ASSERT_FALSE(r.rounds.empty());
   bool marker_test = false;
-  for (const auto& t : r.rounds.front().tests) marker_test |= t.quantity == "marker_ratio" && t.significant;
+  for (const auto& t : r.rounds.front().tests)
+    marker_test |= t.quantity == "marker_ratio" && t.significant;
   EXPECT_TRUE(marker_test);
 }
 
@@ -229,7 +239,8 @@ TEST(DiscoveryTest, OutOfPlaneTiltIsEstimatedFromTheMarkerDistance) {
 // are measured by bench/discovery_scorecard; these few seeds guard the rule.)
 TEST(DiscoveryUnderScatterTest, NamesNothingInUnreplicatedStudiesWithoutAHiddenEffect) {
   for (std::uint64_t seed : {201, 202, 203}) {
-    const DiscoveryResult r = DiscoverStudy("scatter_null_" + std::to_string(seed), UnreplicatedDesign(seed));
+    const DiscoveryResult r =
+        DiscoverStudy("scatter_null_" + std::to_string(seed), UnreplicatedDesign(seed));
     ASSERT_TRUE(r.success) << r.message;
     EXPECT_EQ(r.trials_used, 36);
     EXPECT_EQ(Confident(r), 0) << "seed " << seed << "\n" << r.verdict;
@@ -244,7 +255,8 @@ TEST(DiscoveryUnderScatterTest, NamesNothingInUnreplicatedStudiesWithoutAHiddenE
     const double high = std::sqrt(hoof::stats::ChiSquaredQuantile(0.9995, df) / df);
     for (const auto& s : r.final_model) {
       const double e_sd = std::abs(hoof::dynamics::RestitutionOfTwoPhaseLaw(s.zeta + s.zeta_sd) -
-                                   hoof::dynamics::RestitutionOfTwoPhaseLaw(s.zeta - s.zeta_sd)) / 2;
+                                   hoof::dynamics::RestitutionOfTwoPhaseLaw(s.zeta - s.zeta_sd)) /
+                          2;
       const double truth = hoof::synth::RestitutionSpread(hoof::dynamics::ParseSurface(s.surface));
       EXPECT_GT(e_sd, low * truth) << s.surface;
       EXPECT_LT(e_sd, high * truth) << s.surface;
@@ -254,7 +266,8 @@ TEST(DiscoveryUnderScatterTest, NamesNothingInUnreplicatedStudiesWithoutAHiddenE
 
 TEST(DiscoveryUnderScatterTest, NamesRollingResistanceWithoutReplicates) {
   const double truth = 1e-4;  // m; the printed detection limit of this design is of order 3e-6 m
-  const DiscoveryResult r = DiscoverStudy("scatter_rolling", UnreplicatedDesign(211) + " --rolling-resistance-m 1e-4");
+  const DiscoveryResult r =
+      DiscoverStudy("scatter_rolling", UnreplicatedDesign(211) + " --rolling-resistance-m 1e-4");
   Print(r);
   ASSERT_TRUE(r.success) << r.message;
   const auto* f = FindingOf(r, "rolling_resistance");
@@ -275,7 +288,8 @@ TEST(DiscoveryUnderScatterTest, NamesRollingResistanceWithoutReplicates) {
 // rate is measured within a few per cent, and no contact effect is named for the bias the
 // rotation put into the velocities.
 TEST(DiscoveryUnderScatterTest, NamesAnOutOfPlaneTiltThatGrowsThroughTheImpact) {
-  const DiscoveryResult r = DiscoverStudy("scatter_out_of_plane_rate_231", UnreplicatedDesign(231) + " --tilt-rate-deg-s 500");
+  const DiscoveryResult r = DiscoverStudy("scatter_out_of_plane_rate_231",
+                                          UnreplicatedDesign(231) + " --tilt-rate-deg-s 500");
   Print(r);
   ASSERT_TRUE(r.success) << r.message;
   const auto* f = FindingOf(r, "out_of_plane_rate");
@@ -290,7 +304,8 @@ TEST(DiscoveryUnderScatterTest, NamesAnOutOfPlaneTiltThatGrowsThroughTheImpact) 
 // It is measured, but not named, and the verdict says why.
 TEST(DiscoveryUnderScatterTest, ARollTheMarkersCannotSeeIsNotNamed) {
   const DiscoveryResult r =
-      DiscoverStudy("scatter_out_of_plane_roll_rate_232", UnreplicatedDesign(232) + " --roll-rate-deg-s -800.000000");
+      DiscoverStudy("scatter_out_of_plane_roll_rate_232",
+                    UnreplicatedDesign(232) + " --roll-rate-deg-s -800.000000");
   Print(r);
   ASSERT_TRUE(r.success) << r.message;
   EXPECT_EQ(FindingOf(r, "out_of_plane_roll_rate"), nullptr) << r.verdict;
@@ -300,7 +315,8 @@ TEST(DiscoveryUnderScatterTest, ARollTheMarkersCannotSeeIsNotNamed) {
     if (c.key == "out_of_plane_roll_rate") roll = &c;
   ASSERT_NE(roll, nullptr);
   EXPECT_EQ(roll->outcome, hoof::discovery::CandidateOutcome::kNotTested);
-  EXPECT_NE(roll->reason.find("does not change with this rotation"), std::string::npos) << roll->reason;
+  EXPECT_NE(roll->reason.find("does not change with this rotation"), std::string::npos)
+      << roll->reason;
   // The velocities alone measure it.
   EXPECT_NEAR(roll->estimate, -800.0, 4 * roll->se);
 }
@@ -308,11 +324,14 @@ TEST(DiscoveryUnderScatterTest, ARollTheMarkersCannotSeeIsNotNamed) {
 // An effect on one surface only is named with its surface: Hunt-Crossley damping hidden on
 // asphalt, the other two surfaces without it, all with half the paper's scatter.
 TEST(DiscoveryUnderScatterTest, NamesAnEffectOnOneSurfaceWithItsSurface) {
-  auto trials = MeasureStudy("scatter_sc", UnreplicatedDesign(221, {"steel", "concrete"}) + " --scatter-scale 0.5");
+  auto trials = MeasureStudy(
+      "scatter_sc", UnreplicatedDesign(221, {"steel", "concrete"}) + " --scatter-scale 0.5");
   const auto asphalt =
-      MeasureStudy("scatter_a_hc", UnreplicatedDesign(222, {"asphalt"}) + " --scatter-scale 0.5 --hunt-crossley-n-s-m2 3e8");
+      MeasureStudy("scatter_a_hc", UnreplicatedDesign(222, {"asphalt"}) +
+                                       " --scatter-scale 0.5 --hunt-crossley-n-s-m2 3e8");
   trials.insert(trials.end(), asphalt.begin(), asphalt.end());
-  const DiscoveryResult r = Discover(trials, {}, [](const std::string& s) { std::cerr << s << "\n"; });
+  const DiscoveryResult r =
+      Discover(trials, {}, [](const std::string& s) { std::cerr << s << "\n"; });
   Print(r);
   ASSERT_TRUE(r.success) << r.message;
   const auto* f = FindingOf(r, "hunt_crossley");
@@ -344,12 +363,14 @@ TEST(DiscoveryPlanTest, TwiceTheTrialsHoldTwiceTheInformation) {
   EXPECT_EQ(twice.trials, 2 * once.trials);
   EXPECT_NEAR(once.detection_limit / twice.detection_limit, std::sqrt(2.0), 0.02 * std::sqrt(2.0));
   EXPECT_NEAR(twice.trials_needed, once.trials_needed, 0.05 * once.trials_needed + 1);
-  const auto at_limit = hoof::discovery::PlanDetection(trials, "rolling_resistance", once.detection_limit);
+  const auto at_limit =
+      hoof::discovery::PlanDetection(trials, "rolling_resistance", once.detection_limit);
   EXPECT_NEAR(at_limit.power, 0.8, 0.02);
   // Normal impacts carry nothing about a contact torque: the information is in the oblique ones.
   ASSERT_FALSE(once.conditions.empty());
   EXPECT_GT(once.conditions.front().angle_deg, 0.0);
-  EXPECT_THROW(hoof::discovery::PlanDetection(trials, "rolling_resistance", -1), std::invalid_argument);
+  EXPECT_THROW(hoof::discovery::PlanDetection(trials, "rolling_resistance", -1),
+               std::invalid_argument);
   EXPECT_THROW(hoof::discovery::PlanDetection(trials, "out_of_plane", 1), std::invalid_argument);
 }
 
@@ -388,8 +409,9 @@ TEST(DiscoveryTest, TheLibraryHoldsItsNineEffects) {
     EXPECT_GT(e.upper, e.probe) << e.key;
     EXPECT_FALSE(e.separating_measurement.empty()) << e.key;
   }
-  EXPECT_EQ(keys, (std::vector<std::string>{"hunt_crossley", "hertz_stiffness", "plastic_unloading", "static_friction",
-                                            "tangential_compliance", "rolling_resistance", "out_of_plane",
+  EXPECT_EQ(keys, (std::vector<std::string>{"hunt_crossley", "hertz_stiffness", "plastic_unloading",
+                                            "static_friction", "tangential_compliance",
+                                            "rolling_resistance", "out_of_plane",
                                             "out_of_plane_rate", "out_of_plane_roll_rate"}));
 }
 

@@ -22,7 +22,8 @@ struct Design {
   std::vector<Sensitivity> sens;
   std::vector<TrialCovariance> ref;
   explicit Design(int n, int surfaces = 1) {
-    for (int s = 0; s < surfaces; ++s) ws.surfaces.push_back(std::string(1, static_cast<char>('a' + s)));
+    for (int s = 0; s < surfaces; ++s)
+      ws.surfaces.push_back(std::string(1, static_cast<char>('a' + s)));
     for (int i = 0; i < n; ++i) {
       Obs o;
       o.surface = i % surfaces;
@@ -49,7 +50,8 @@ double QuantileSe(double density) { return std::sqrt(kAlpha * (1 - kAlpha) / kDr
 TEST(NamingLevelTest, OneTestRepeatedIsOneTest) {
   const Design d(8);
   const auto c = d.Change({1, 2, 0, -1, 3, 0, 1, 1});
-  const NamingLevel l = CalibrateNamingLevel(d.ws, {c, c, c, c}, d.sens, d.ref, false, 0, kAlpha, kDraws);
+  const NamingLevel l =
+      CalibrateNamingLevel(d.ws, {c, c, c, c}, d.sens, d.ref, false, 0, kAlpha, kDraws);
   EXPECT_EQ(l.hypotheses, 4);
   EXPECT_DOUBLE_EQ(l.bonferroni, kAlpha / 4);
   // min p is the one p, uniform: its alpha-quantile is alpha.
@@ -60,7 +62,8 @@ TEST(NamingLevelTest, OppositeOneSidedTestsAddUp) {
   const Design d(8);
   const auto c = d.Change({1, 2, 0, -1, 3, 0, 1, 1});
   const auto minus = d.Change({-1, -2, 0, 1, -3, 0, -1, -1});
-  const NamingLevel l = CalibrateNamingLevel(d.ws, {c, minus}, d.sens, d.ref, false, 0, kAlpha, kDraws);
+  const NamingLevel l =
+      CalibrateNamingLevel(d.ws, {c, minus}, d.sens, d.ref, false, 0, kAlpha, kDraws);
   // At most one of the two is positive: P(min p < x) = 2 x, so the level is alpha / 2, which
   // is Bonferroni's.
   EXPECT_NEAR(l.level, kAlpha / 2, 4 * QuantileSe(2.0));
@@ -70,9 +73,11 @@ TEST(NamingLevelTest, OppositeOneSidedTestsAddUp) {
 TEST(NamingLevelTest, IndependentTestsGiveSidaksLevel) {
   const Design d(8);
   // Changes on disjoint obs: independent scores.
-  const NamingLevel l = CalibrateNamingLevel(
-      d.ws, {d.Change({1, 1, 0, 0, 0, 0, 0, 0}), d.Change({0, 0, 1, 2, 0, 0, 0, 0}), d.Change({0, 0, 0, 0, 5, 0, 0, 0})},
-      d.sens, d.ref, false, 2, kAlpha, kDraws);
+  const NamingLevel l =
+      CalibrateNamingLevel(d.ws,
+                           {d.Change({1, 1, 0, 0, 0, 0, 0, 0}), d.Change({0, 0, 1, 2, 0, 0, 0, 0}),
+                            d.Change({0, 0, 0, 0, 5, 0, 0, 0})},
+                           d.sens, d.ref, false, 2, kAlpha, kDraws);
   EXPECT_EQ(l.hypotheses, 5);
   const double sidak = 1 - std::pow(1 - kAlpha, 1.0 / 5);
   EXPECT_NEAR(l.level, sidak, 4 * QuantileSe(5 * std::pow(1 - sidak, 4)));
@@ -83,8 +88,9 @@ TEST(NamingLevelTest, WhatZetaAndMuTakeUpIsNoTest) {
   // The first candidate's change is exactly d prediction / d zeta: it is projected out and
   // leaves one hypothesis.
   for (int i = 0; i < 6; ++i) d.sens[static_cast<std::size_t>(i)](1, 0) = i + 1.0;
-  const NamingLevel l = CalibrateNamingLevel(d.ws, {d.Change({1, 2, 3, 4, 5, 6}), d.Change({1, -1, 1, -1, 1, -1})},
-                                             d.sens, d.ref, false, 0, kAlpha, kDraws);
+  const NamingLevel l =
+      CalibrateNamingLevel(d.ws, {d.Change({1, 2, 3, 4, 5, 6}), d.Change({1, -1, 1, -1, 1, -1})},
+                           d.sens, d.ref, false, 0, kAlpha, kDraws);
   EXPECT_EQ(l.hypotheses, 1);
   EXPECT_DOUBLE_EQ(l.level, kAlpha);
 }

@@ -57,7 +57,8 @@ TEST(ParametersTest, OverdampedRestitutionIsContinuousAndFalls) {
     previous = e;
   }
   EXPECT_NEAR(RestitutionOfTwoPhaseLaw(1000.0) * 2000.0, 1.0, 1e-3);
-  for (double e : {0.3, 0.1, 0.02}) EXPECT_NEAR(RestitutionOfTwoPhaseLaw(DampingRatioFromRestitution(e)), e, 1e-12);
+  for (double e : {0.3, 0.1, 0.02})
+    EXPECT_NEAR(RestitutionOfTwoPhaseLaw(DampingRatioFromRestitution(e)), e, 1e-12);
 }
 
 TEST(ParametersTest, DampingRatioFromRestitutionInvertsTheClosedForm) {

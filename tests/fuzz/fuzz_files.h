@@ -28,7 +28,8 @@ inline const std::filesystem::path& Scratch() {
 }
 
 /// Writes `size` bytes at `data` to `path` (replacing it).
-inline void WriteFile(const std::filesystem::path& path, const std::uint8_t* data, std::size_t size) {
+inline void WriteFile(const std::filesystem::path& path, const std::uint8_t* data,
+                      std::size_t size) {
   std::filesystem::create_directories(path.parent_path());
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));

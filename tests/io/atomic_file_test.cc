@@ -69,21 +69,25 @@ TEST(AtomicFileTest, StaleTemporariesOfDeadProcessesAreRemoved) {
   ASSERT_GT(child, 0);
   ::waitpid(child, nullptr, 0);
   const std::string dead = std::to_string(child), live = std::to_string(::getppid());
-  for (const std::string& name : {"study.h5.tmp-" + dead + "-0", "plot.png.tmp-" + dead + "-3.gp", ".t1.tmp-" + dead + "-2",
-                                   "study.h5.tmp-" + live + "-0", std::string("notes.tmp-x"), std::string("data.tmp-12"),
-                                   std::string("study.h5")})
+  for (const std::string& name :
+       {"study.h5.tmp-" + dead + "-0", "plot.png.tmp-" + dead + "-3.gp", ".t1.tmp-" + dead + "-2",
+        "study.h5.tmp-" + live + "-0", std::string("notes.tmp-x"), std::string("data.tmp-12"),
+        std::string("study.h5")})
     std::ofstream(dir / name) << "x";
   fs::create_directories(dir / (".frames.tmp-" + dead + "-1") / "inner");
   EXPECT_EQ(RemoveStaleTemporaries(dir), 4);
   std::vector<std::string> left;
   for (const auto& e : fs::directory_iterator(dir)) left.push_back(e.path().filename().string());
   std::sort(left.begin(), left.end());
-  EXPECT_EQ(left, (std::vector<std::string>{"data.tmp-12", "notes.tmp-x", "study.h5", "study.h5.tmp-" + live + "-0"}));
+  EXPECT_EQ(left, (std::vector<std::string>{"data.tmp-12", "notes.tmp-x", "study.h5",
+                                            "study.h5.tmp-" + live + "-0"}));
   EXPECT_EQ(RemoveStaleTemporaries(dir / "no-such-folder"), 0);
   // With a filter, only the temporaries it accepts.
   for (const std::string& name : {"study.h5.tmp-" + dead + "-1", "other.h5.tmp-" + dead + "-1"})
     std::ofstream(dir / name) << "x";
-  EXPECT_EQ(RemoveStaleTemporaries(dir, [](const std::string& name) { return name.rfind("study.h5.tmp-", 0) == 0; }), 1);
+  EXPECT_EQ(RemoveStaleTemporaries(
+                dir, [](const std::string& name) { return name.rfind("study.h5.tmp-", 0) == 0; }),
+            1);
   EXPECT_TRUE(fs::exists(dir / ("other.h5.tmp-" + dead + "-1")));
 }
 

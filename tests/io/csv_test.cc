@@ -21,7 +21,6 @@ const auto ExpectError = [](auto fn, const std::string& needle) {
   hoof::testing::ExpectErrorContaining(fn, needle);
 };
 
-
 TEST(CsvTest, ParsesQuotedFieldsAndNumbers) {
   const CsvTable t = ParseText(
       "surface,v_before_m_s,note\r\n"

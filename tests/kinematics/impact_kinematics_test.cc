@@ -65,7 +65,7 @@ TEST(ImpactKinematicsTest, ExactPosesGiveTheSimulatedImpact) {
   EXPECT_NEAR((k.v_SC_before - (s.truth.at_touch.v_SC + g_S * dt_b)).norm(), 0, 1e-9);
   EXPECT_NEAR((k.v_SC_after - (s.truth.at_separation.v_SC + g_S * dt_a)).norm(), 0, 1e-9);
   EXPECT_NEAR(k.w_after_rad_s, s.truth.at_separation.w_rad_s, 1e-7);
-  EXPECT_NEAR(k.e, s.truth.e, 2e-4);        // gravity over the contact offsets the two
+  EXPECT_NEAR(k.e, s.truth.e, 2e-4);  // gravity over the contact offsets the two
   EXPECT_NEAR(k.mu_eff, s.truth.mu_eff, 2e-4);
   // The fits meet inside the contact.
   EXPECT_GT(k.impact_time_s, s.touch_s);
@@ -82,7 +82,8 @@ TEST(ImpactKinematicsTest, StandardErrorsAreCalibrated) {
   // errors divided by their standard errors should have unit spread.
   std::vector<double> z_v, z_e, z_mu;
   for (unsigned seed = 0; seed < 200; ++seed) {
-    const Sequence s = MakeSequence(dynamics::Surface::kConcrete, 30, 2.5, 0.3, 0.5, 4e-6, 2e-4, seed);
+    const Sequence s =
+        MakeSequence(dynamics::Surface::kConcrete, 30, 2.5, 0.3, 0.5, 4e-6, 2e-4, seed);
     const ImpactKinematics k = MeasureImpact(s.poses, 8000, 30, BodyGeometry{});
     ASSERT_TRUE(k.success) << k.message;
     const ImpactKinematics exact = MeasureImpact(

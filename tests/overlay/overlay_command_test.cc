@@ -7,9 +7,9 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
-#include <unistd.h>
 
 #include "studyfile/study_file.h"
 #include "support/run_command.h"
@@ -25,8 +25,10 @@ class OverlayCommandTest : public ::testing::Test {
   static void SetUpTestSuite() {
     base_ = fs::path(HOOF_BINARY_DIR) / "test-output" / ("overlay_" + std::to_string(::getpid()));
     fs::remove_all(base_);
-    auto r = RunHoofimpact("synth --study --no-scatter --surfaces steel --angles-deg 0,20 --speeds 3 "
-                           "--trials-per-cell 1 -o " + (base_ / "study").string());
+    auto r = RunHoofimpact(
+        "synth --study --no-scatter --surfaces steel --angles-deg 0,20 --speeds 3 "
+        "--trials-per-cell 1 -o " +
+        (base_ / "study").string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     r = RunHoofimpact("run " + (base_ / "study").string() + " -o " + (base_ / "out").string());
     ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
@@ -48,13 +50,17 @@ std::vector<fs::path> PngsIn(const fs::path& dir) {
 TEST_F(OverlayCommandTest, FramesAndVideoOfTheObliqueTrial) {
   const auto results = studyfile::ReadStudyResults(H5());
   ASSERT_EQ(results.trials.size(), 2u);
-  const auto& trial = results.trials[1].surface_angle_deg > 0 ? results.trials[1] : results.trials[0];
+  const auto& trial =
+      results.trials[1].surface_angle_deg > 0 ? results.trials[1] : results.trials[0];
   const fs::path x = base_ / "overlay";
-  const auto r = RunHoofimpact("overlay " + H5().string() + " " + trial.id + " -o " + x.string() + " --slow 2");
+  const auto r = RunHoofimpact("overlay " + H5().string() + " " + trial.id + " -o " + x.string() +
+                               " --slow 2");
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
 
   // One PNG per input frame, the same size, in colour.
-  const auto inputs = PngsIn(fs::path(trial.dir).is_absolute() ? fs::path(trial.dir) : base_ / "study" / fs::path(trial.dir).filename());
+  const auto inputs =
+      PngsIn(fs::path(trial.dir).is_absolute() ? fs::path(trial.dir)
+                                               : base_ / "study" / fs::path(trial.dir).filename());
   const fs::path dir = x / trial.id;
   std::vector<fs::path> outputs;
   for (const auto& e : fs::directory_iterator(dir))
@@ -77,7 +83,9 @@ TEST_F(OverlayCommandTest, FramesAndVideoOfTheObliqueTrial) {
   int markers = 0;
   for (const auto& c : frames.columns) {
     const std::string suffix = "_sim_x_px";
-    if (c.name.size() < suffix.size() || c.name.compare(c.name.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
+    if (c.name.size() < suffix.size() ||
+        c.name.compare(c.name.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
     const std::string m = c.name.substr(0, c.name.size() - suffix.size());
     const double cx = std::get<std::vector<double>>(c.values)[12];
     const double cy = std::get<std::vector<double>>(frames.Get(m + "_sim_y_px").values)[12];
@@ -107,11 +115,13 @@ TEST_F(OverlayCommandTest, FramesAndVideoOfTheObliqueTrial) {
   int read = 0;
   for (cv::Mat f; cap.read(f);) ++read;
   EXPECT_EQ(read, 2 * static_cast<int>(inputs.size())) << video;
-  EXPECT_NEAR(cap.get(cv::CAP_PROP_FRAME_COUNT), 2.0 * static_cast<double>(inputs.size()), 1.0) << video;
+  EXPECT_NEAR(cap.get(cv::CAP_PROP_FRAME_COUNT), 2.0 * static_cast<double>(inputs.size()), 1.0)
+      << video;
 }
 
 TEST_F(OverlayCommandTest, AnUnknownTrialIsAClearError) {
-  const auto r = RunHoofimpact("overlay " + H5().string() + " no_such_trial -o " + (base_ / "bad").string());
+  const auto r =
+      RunHoofimpact("overlay " + H5().string() + " no_such_trial -o " + (base_ / "bad").string());
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("no_such_trial"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(base_ / "bad" / "no_such_trial"));

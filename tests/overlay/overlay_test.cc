@@ -55,7 +55,8 @@ TEST(OverlayTest, OutlineIsTheRoundEndAndTheBar) {
   const double x_meet = std::sqrt(0.010 * 0.010 - 0.006 * 0.006);
   for (const auto& p : outline) {
     const bool on_arc = std::abs(p.norm() - 0.010) < 1e-12 && p.x() <= x_meet + 1e-12;
-    const bool on_edge = std::abs(std::abs(p.y()) - 0.006) < 1e-12 && p.x() >= x_meet - 1e-12 && p.x() <= 0.05 + 1e-12;
+    const bool on_edge = std::abs(std::abs(p.y()) - 0.006) < 1e-12 && p.x() >= x_meet - 1e-12 &&
+                         p.x() <= 0.05 + 1e-12;
     const bool on_end = std::abs(p.x() - 0.05) < 1e-12 && std::abs(p.y()) <= 0.006 + 1e-12;
     EXPECT_TRUE(on_arc || on_edge || on_end) << p.transpose();
   }

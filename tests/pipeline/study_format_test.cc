@@ -76,13 +76,15 @@ TEST(StudyFormatTest, MissingOrWrongFieldsNameFileAndField) {
               "trial.json: a number is out of range");
   // A pattern of 200 000 characters (which crashed the tracker) and one with two conversions.
   trial = kTrial;
-  trial.replace(trial.find("frames/%06d.png"), 15, "frames/%06d" + std::string(200000, 'A') + ".png");
+  trial.replace(trial.find("frames/%06d.png"), 15,
+                "frames/%06d" + std::string(200000, 'A') + ".png");
   ExpectError([&] { ReadTrial(Write("format_longpattern", kStudy, trial) / "t1"); },
               "field \"frames.pattern\" is 200015 characters long; at most 4096 are accepted");
   trial = kTrial;
   trial.replace(trial.find("frames/%06d.png"), 15, "frames/%06d_%d.png");
-  ExpectError([&] { ReadTrial(Write("format_twoconversions", kStudy, trial) / "t1"); },
-              "field \"frames.pattern\" \"frames/%06d_%d.png\" must hold exactly one integer conversion");
+  ExpectError(
+      [&] { ReadTrial(Write("format_twoconversions", kStudy, trial) / "t1"); },
+      "field \"frames.pattern\" \"frames/%06d_%d.png\" must hold exactly one integer conversion");
   // Found by fuzzing: a specimen, frames or camera that is not an object is named as such.
   std::string study_bad = kStudy;
   study_bad.replace(study_bad.find("\"A\": {"), 6, "\"A\": 5.0, \"B\": {");
@@ -96,8 +98,10 @@ TEST(StudyFormatTest, MissingOrWrongFieldsNameFileAndField) {
   for (const char* count : {"4294967297", "18446744073709551615", "-1", "2.5"}) {
     trial = kTrial;
     trial.replace(trial.find("\"count\": 64"), 11, std::string("\"count\": ") + count);
-    ExpectError([&] { ReadTrial(Write("format_count", kStudy, trial) / "t1"); },
-                std::string("field \"frames.count\" must be an integer in [1, 2147483647], found ") + count);
+    ExpectError(
+        [&] { ReadTrial(Write("format_count", kStudy, trial) / "t1"); },
+        std::string("field \"frames.count\" must be an integer in [1, 2147483647], found ") +
+            count);
   }
   std::string study = kStudy;
   study.replace(study.find("\"M2\": [0.024, 0.0]"), 18, "\"M2\": [0.024]");
@@ -110,19 +114,23 @@ TEST(StudyFormatTest, MissingOrWrongFieldsNameFileAndField) {
 // An id names the trial's files (figures, overlay frames), and a trials entry a folder: neither
 // may lead outside the study or the output folder.
 TEST(StudyFormatTest, IdsAndTrialFoldersStayInside) {
-  for (const std::string& id : {std::string("../../x"), std::string("a/b"), std::string(".."), std::string("x\\u0001y")}) {
+  for (const std::string& id :
+       {std::string("../../x"), std::string("a/b"), std::string(".."), std::string("x\\u0001y")}) {
     std::string trial = kTrial;
     trial.replace(trial.find("\"id\": \"t1\""), 10, "\"id\": \"" + id + "\"");
-    ExpectError([&] { ReadTrial(Write("format_badid", kStudy, trial) / "t1"); }, "trial.json: field \"id\"");
+    ExpectError([&] { ReadTrial(Write("format_badid", kStudy, trial) / "t1"); },
+                "trial.json: field \"id\"");
   }
   std::string trial = kTrial;
   trial.replace(trial.find("\"id\": \"t1\""), 10, "\"id\": \"steel 20 deg (r1) x$y\"");
   EXPECT_EQ(ReadTrial(Write("format_oddid", kStudy, trial) / "t1").id, "steel 20 deg (r1) x$y");
-  for (const std::string& entry : {std::string("/etc"), std::string("../.."), std::string("t1/../../x"), std::string(".")}) {
+  for (const std::string& entry :
+       {std::string("/etc"), std::string("../.."), std::string("t1/../../x"), std::string(".")}) {
     std::string study = kStudy;
     study.insert(study.size() - 1, ", \"trials\": [\"" + entry + "\"]");
-    ExpectError([&] { ReadStudy(Write("format_badtrials", study, kTrial)); },
-                "study.json: field \"trials\" \"" + entry + "\" is not a folder inside the study folder");
+    ExpectError(
+        [&] { ReadStudy(Write("format_badtrials", study, kTrial)); },
+        "study.json: field \"trials\" \"" + entry + "\" is not a folder inside the study folder");
   }
   std::string study = kStudy;
   study.insert(study.size() - 1, ", \"trials\": [\"./t1\"]");

@@ -107,9 +107,10 @@ TEST(TrialAnalysisTest, EveryTrialOfAFullStudyMeetsTheAccuracyTargets) {
 }
 
 TEST(TrialAnalysisTest, OutOfPlaneRotationIsFlagged) {
-  const fs::path dir = RenderStudy(
-      "out_of_plane", "--seed 7 --surfaces concrete,asphalt --angles-deg 10,20 --speeds 3 "
-                      "--trials-per-cell 1 --tilt-deg 6 --tilt-rate-deg-s 3000");
+  const fs::path dir =
+      RenderStudy("out_of_plane",
+                  "--seed 7 --surfaces concrete,asphalt --angles-deg 10,20 --speeds 3 "
+                  "--trials-per-cell 1 --tilt-deg 6 --tilt-rate-deg-s 3000");
   const StudySpec study = ReadStudy(dir);
   ASSERT_EQ(study.trial_dirs.size(), 4u);
   for (const auto& r : AnalyzeAll(study)) {
@@ -124,9 +125,11 @@ TEST(TrialAnalysisTest, OutOfPlaneRotationIsFlagged) {
 // velocity. Re-measured with the rendered motion, the velocities are the body's again.
 TEST(TrialAnalysisTest, ATrialReMeasuredWithItsOutOfPlaneMotionHasTheTrueVelocities) {
   constexpr double kRateDegS = 1000.0;
-  const fs::path dir = RenderStudy(
-      "out_of_plane_rate", "--seed 11 --surfaces steel,asphalt --angles-deg 0,30 --speeds 3 "
-                           "--trials-per-cell 1 --tilt-rate-deg-s " + std::to_string(kRateDegS));
+  const fs::path dir =
+      RenderStudy("out_of_plane_rate",
+                  "--seed 11 --surfaces steel,asphalt --angles-deg 0,30 --speeds 3 "
+                  "--trials-per-cell 1 --tilt-rate-deg-s " +
+                      std::to_string(kRateDegS));
   const StudySpec study = ReadStudy(dir);
   ASSERT_EQ(study.trial_dirs.size(), 4u);
   OutOfPlaneMotion motion;
@@ -137,12 +140,14 @@ TEST(TrialAnalysisTest, ATrialReMeasuredWithItsOutOfPlaneMotionHasTheTrueVelocit
     const TrialAnalysis again = RemeasureOutOfPlane(r, motion, {});
     ASSERT_TRUE(again.success) << again.error;
     auto error = [&](const kinematics::ImpactKinematics& k) {
-      return std::max((k.v_SC_before - truth.v_SC_before).norm(), (k.v_SC_after - truth.v_SC_after).norm()) /
+      return std::max((k.v_SC_before - truth.v_SC_before).norm(),
+                      (k.v_SC_after - truth.v_SC_after).norm()) /
              truth.v_SC_before.norm();
     };
     const double before = error(r.impact), after = error(again.impact);
-    std::cout << r.spec.id << ": velocity error " << 100 * before << " % as measured, " << 100 * after
-              << " % re-measured; e " << r.impact.e << " -> " << again.impact.e << " (true " << truth.e << ")\n";
+    std::cout << r.spec.id << ": velocity error " << 100 * before << " % as measured, "
+              << 100 * after << " % re-measured; e " << r.impact.e << " -> " << again.impact.e
+              << " (true " << truth.e << ")\n";
     // Re-measured, the velocities meet the tracker's accuracy on trials without the rotation.
     EXPECT_GT(before, 5e-3) << r.spec.id << ": the rotation should bias the velocities";
     EXPECT_LT(after, 5e-4) << r.spec.id;
@@ -159,9 +164,10 @@ TEST(TrialAnalysisTest, ATrialReMeasuredWithItsOutOfPlaneMotionHasTheTrueVelocit
 
 // A motion of zero leaves the trial as measured.
 TEST(TrialAnalysisTest, ReMeasuringWithoutAnOutOfPlaneMotionChangesNothing) {
-  const fs::path dir = RenderStudy(
-      "out_of_plane_rate", "--seed 11 --surfaces steel,asphalt --angles-deg 0,30 --speeds 3 "
-                           "--trials-per-cell 1 --tilt-rate-deg-s 1000");
+  const fs::path dir =
+      RenderStudy("out_of_plane_rate",
+                  "--seed 11 --surfaces steel,asphalt --angles-deg 0,30 --speeds 3 "
+                  "--trials-per-cell 1 --tilt-rate-deg-s 1000");
   const StudySpec study = ReadStudy(dir);
   const TrialAnalysis r = AnalyzeTrial(ReadTrial(study.trial_dirs.at(0), study));
   ASSERT_TRUE(r.success) << r.error;
@@ -186,7 +192,8 @@ TEST(StudyAnalysisTest, ASecondTrialWithTheSameIdFailsNamingTheFirst) {
   ASSERT_EQ(results.size(), 4u);
   EXPECT_TRUE(results[0].success) << results[0].error;
   EXPECT_FALSE(results[1].success);
-  EXPECT_NE(results[1].error.find("field \"id\" is \"steel_0deg_v3.00_r1\", already the id of"), std::string::npos)
+  EXPECT_NE(results[1].error.find("field \"id\" is \"steel_0deg_v3.00_r1\", already the id of"),
+            std::string::npos)
       << results[1].error;
   EXPECT_NE(results[1].error.find("steel_0deg_v3.00_r1"), std::string::npos);
   EXPECT_TRUE(results[2].success && results[3].success);
@@ -198,15 +205,18 @@ class BadInputTest : public ::testing::Test {
  protected:
   /// A fresh copy of a one-trial study.
   fs::path Copy(const std::string& name) {
-    const fs::path base = RenderStudy("bad_input_base", "--seed 3 --surfaces steel --angles-deg 20 "
-                                                        "--speeds 3 --trials-per-cell 1");
+    const fs::path base = RenderStudy("bad_input_base",
+                                      "--seed 3 --surfaces steel --angles-deg 20 "
+                                      "--speeds 3 --trials-per-cell 1");
     const fs::path dir = OutDir("bad_input_" + name);
     fs::remove_all(dir);
     fs::copy(base, dir, fs::copy_options::recursive);
     return dir;
   }
   static fs::path Trial(const fs::path& study) { return ReadStudy(study).trial_dirs.at(0); }
-  static TrialAnalysis Analyze(const fs::path& study) { return AnalyzeTrial(ReadTrial(Trial(study))); }
+  static TrialAnalysis Analyze(const fs::path& study) {
+    return AnalyzeTrial(ReadTrial(Trial(study)));
+  }
   static void EditJson(const fs::path& file, const std::function<void(nlohmann::json&)>& edit) {
     nlohmann::json j = nlohmann::json::parse(std::ifstream(file));
     edit(j);
@@ -244,7 +254,8 @@ TEST_F(BadInputTest, CorruptImage) {
 TEST_F(BadInputTest, NoMarkers) {
   const fs::path study = Copy("no_markers");
   const cv::Mat blank(384, 512, CV_8U, cv::Scalar(30));
-  for (const auto& e : fs::directory_iterator(Trial(study) / "frames")) cv::imwrite(e.path().string(), blank);
+  for (const auto& e : fs::directory_iterator(Trial(study) / "frames"))
+    cv::imwrite(e.path().string(), blank);
   const TrialAnalysis r = Analyze(study);
   EXPECT_FALSE(r.success);
   EXPECT_NE(r.error.find("000000.png: found 0 marker(s)"), std::string::npos) << r.error;
@@ -295,7 +306,8 @@ TEST_F(BadInputTest, BadJsonField) {
     FAIL();
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("trial.json: field \"fps\" must be a number"),
-              std::string::npos) << e.what();
+              std::string::npos)
+        << e.what();
   }
 }
 

@@ -39,9 +39,11 @@ TEST(TruthScoreTest, ASampleTruthReadsWithItsNumbers) {
 }
 
 TEST(TruthScoreTest, ABrokenTruthNamesTheFileAndTheField) {
-  const auto expect = [](const std::string& name, const nlohmann::json& j, const std::string& needle) {
+  const auto expect = [](const std::string& name, const nlohmann::json& j,
+                         const std::string& needle) {
     const fs::path dir = WriteTruth(name, j);
-    hoof::testing::ExpectErrorContaining([&] { ReadTruth(dir); }, (dir / "truth.json").string() + ": " + needle);
+    hoof::testing::ExpectErrorContaining([&] { ReadTruth(dir); },
+                                         (dir / "truth.json").string() + ": " + needle);
   };
   nlohmann::json j = SampleTruth();
   j["frames"][3].erase("markers_px");

@@ -16,8 +16,8 @@
 #include "report/discovery_figures.h"
 #include "report/html_report.h"
 #include "studyfile/study_file.h"
-#include "support/test_util.h"
 #include "support/paper_specimen.h"
+#include "support/test_util.h"
 
 namespace hoof::report {
 namespace {
@@ -113,7 +113,8 @@ DiscoveryResult Result() {
   r.simulations = 123456;
   r.verdict =
       "The missing effect is velocity-dependent damping.\n\nWith it in the model no significant "
-      "disagreement remains.\n\nWhat these trials could have missed:\n  - rolling resistance: rho = 3e-06 m\n"
+      "disagreement remains.\n\nWhat these trials could have missed:\n  - rolling resistance: rho "
+      "= 3e-06 m\n"
       "  - Hertzian <stiffness>: p = 0.9\n";
   r.baseline = {{"concrete", 0.21, 0.01, 0.5, 0.02, 4.75e7, 2, 0.031, 0.012},
                 {"steel", 0.18, 0.01, 0.12, 0.01, 2.8e8, 2, 0.027, std::nan("")}};
@@ -527,7 +528,8 @@ TEST(HtmlReportDiscoveryTest, TheSectionShowsVerdictEvidenceAndFigures) {
   EXPECT_NE(html.find("<p>The missing effect is velocity-dependent damping.</p>"),
             std::string::npos);
   // Its lists as lists, escaped.
-  EXPECT_NE(html.find("<p>What these trials could have missed:</p><ul><li>rolling resistance: rho = 3e-06 m</li>"
+  EXPECT_NE(html.find("<p>What these trials could have missed:</p><ul><li>rolling resistance: rho "
+                      "= 3e-06 m</li>"
                       "<li>Hertzian &lt;stiffness&gt;: p = 0.9</li></ul>"),
             std::string::npos);
   EXPECT_NE(html.find("The missing effect is named: velocity-dependent (Hunt-Crossley) damping."),

@@ -5,9 +5,9 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <unistd.h>
 
 #include "support/run_command.h"
 #include "support/test_util.h"
@@ -19,7 +19,8 @@ namespace fs = std::filesystem;
 using hoof::testing::ReadAll;
 using hoof::testing::RunHoofimpact;
 
-const char* const kStudyFigures[] = {"e_by_angle", "e_by_speed", "mu_eff_by_angle", "mu_eff_by_speed"};
+const char* const kStudyFigures[] = {"e_by_angle", "e_by_speed", "mu_eff_by_angle",
+                                     "mu_eff_by_speed"};
 
 fs::path Root() {
   return fs::path(HOOF_BINARY_DIR) / "figures_command_test" / std::to_string(::getpid());
@@ -40,12 +41,14 @@ class FiguresCommandTest : public ::testing::Test {
   static void SetUpTestSuite() {
     fs::remove_all(Root());
     fs::create_directories(Root());
-    const auto s = RunHoofimpact("synth --study --surfaces steel,asphalt --angles-deg 0,20 --speeds 2,3"
-                                 " --trials-per-cell 2 --frames-before 26 --frames-after 26 --seed 5 -o " +
-                                 (Root() / "study").string());
+    const auto s = RunHoofimpact(
+        "synth --study --surfaces steel,asphalt --angles-deg 0,20 --speeds 2,3"
+        " --trials-per-cell 2 --frames-before 26 --frames-after 26 --seed 5 -o " +
+        (Root() / "study").string());
     ASSERT_EQ(s.exit_code, 0) << s.err;
-    const auto a = RunHoofimpact("analyze " + (Root() / "study").string() + " -o " + StudyFile().string() +
-                                 " --jobs 2 --figures " + (Root() / "analyze_figures").string());
+    const auto a =
+        RunHoofimpact("analyze " + (Root() / "study").string() + " -o " + StudyFile().string() +
+                      " --jobs 2 --figures " + (Root() / "analyze_figures").string());
     ASSERT_EQ(a.exit_code, 0) << a.out << a.err;
   }
   static void TearDownTestSuite() { fs::remove_all(Root()); }
@@ -88,11 +91,13 @@ TEST_F(FiguresCommandTest, MissingStudyFileFailsNamingIt) {
 TEST_F(FiguresCommandTest, TrackWritesFigureThree) {
   const fs::path dir = Root() / "track_figures";
   const std::string trial = "steel_20deg_v3.00_r1";
-  const auto r = RunHoofimpact("track " + (Root() / "study" / trial).string() + " --figures " + dir.string());
+  const auto r =
+      RunHoofimpact("track " + (Root() / "study" / trial).string() + " --figures " + dir.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ExpectFigure(dir / (trial + "_displacement.png"));
-  EXPECT_NE(ReadAll(dir / (trial + "_displacement.svg")).find(trial + ": steel, surface angle 20 deg"),
-            std::string::npos);
+  EXPECT_NE(
+      ReadAll(dir / (trial + "_displacement.svg")).find(trial + ": steel, surface angle 20 deg"),
+      std::string::npos);
 }
 
 }  // namespace

@@ -47,7 +47,8 @@ int RegularFiles(const fs::path& dir) {
 pipeline::TrialAnalysis FlaggedTrial() {
   pipeline::TrialAnalysis t;
   t.spec.id = "concrete_20deg_tilted";
-  for (int f = 0; f < 60; ++f) t.marker_distance_ratio.push_back(std::cos(0.002 * f * f * M_PI / 180));
+  for (int f = 0; f < 60; ++f)
+    t.marker_distance_ratio.push_back(std::cos(0.002 * f * f * M_PI / 180));
   t.marker_distance_ratio[30] = NAN;  // a frame without both markers
   t.out_of_plane_change = 0.01;
   t.out_of_plane_noise = 5e-5;
@@ -226,8 +227,9 @@ TEST(StudySummaryTest, FrictionUsesObliqueSuccessfulTrialsOnly) {
   // steel 20: 0.15 alone; asphalt 20: 0.20 0.30 0.25 0.29 -> 0.26, deviations
   // -0.06 0.04 -0.01 0.03 -> sqrt(0.0062 / 3). By speed: asphalt 2: 0.20 0.30 -> 0.25,
   // sqrt(0.005); asphalt 3: 0.25 0.29 -> 0.27, sqrt(0.0008).
-  ExpectCells(SummarizeByCell(SmallTable(), StudyQuantity::kEffectiveFriction, StudyFactor::kImpactAngle),
-              {{"steel", 20, 1, 0.15, NAN}, {"asphalt", 20, 4, 0.26, std::sqrt(0.0062 / 3)}});
+  ExpectCells(
+      SummarizeByCell(SmallTable(), StudyQuantity::kEffectiveFriction, StudyFactor::kImpactAngle),
+      {{"steel", 20, 1, 0.15, NAN}, {"asphalt", 20, 4, 0.26, std::sqrt(0.0062 / 3)}});
   ExpectCells(SummarizeByCell(SmallTable(), StudyQuantity::kEffectiveFriction, StudyFactor::kSpeed),
               {{"steel", 3, 1, 0.15, NAN},
                {"asphalt", 2, 2, 0.25, std::sqrt(0.005)},
@@ -240,7 +242,8 @@ TEST(StudySummaryTest, TrialsWithoutSpeedOrValueAreLeftOut) {
   EXPECT_TRUE(SummarizeByCell(t, StudyQuantity::kRestitution, StudyFactor::kSpeed).empty());
   ExpectCells(SummarizeByCell(t, StudyQuantity::kRestitution, StudyFactor::kImpactAngle),
               {{"steel", 0, 1, 0.8, NAN}});
-  EXPECT_TRUE(SummarizeByCell(t, StudyQuantity::kEffectiveFriction, StudyFactor::kImpactAngle).empty());
+  EXPECT_TRUE(
+      SummarizeByCell(t, StudyQuantity::kEffectiveFriction, StudyFactor::kImpactAngle).empty());
 }
 
 TEST(StudyFiguresTest, AllFourStudyFiguresRender) {
@@ -368,7 +371,8 @@ TEST(DisplacementFigureTest, FittedCurvesPassThroughTheMeasuredPoints) {
   }
   EXPECT_EQ(checked, 41);
   // After the impact the angle grows at w = 40 rad/s: at frame 41, 20.5 frames after t*.
-  EXPECT_NEAR(c.fit_after.theta_deg.back(), 90.0 + 40.0 * 20.5 / kFps * 180 / std::numbers::pi, 1e-9);
+  EXPECT_NEAR(c.fit_after.theta_deg.back(), 90.0 + 40.0 * 20.5 / kFps * 180 / std::numbers::pi,
+              1e-9);
 }
 
 TEST(DisplacementFigureTest, WithoutFitOnlyTheMeasuredPoints) {
@@ -394,7 +398,8 @@ TEST(DisplacementFigureTest, RendersAsPngAndSvg) {
   EXPECT_EQ(RegularFiles(dir), 2);
   pipeline::TrialAnalysis empty;
   empty.spec.id = "no_poses";
-  ExpectErrorContaining([&] { WriteDisplacementFigure(empty, dir / "e.png"); }, (dir / "e.png").string());
+  ExpectErrorContaining([&] { WriteDisplacementFigure(empty, dir / "e.png"); },
+                        (dir / "e.png").string());
 }
 
 }  // namespace

@@ -5,18 +5,18 @@
 #include "report/html_report.h"
 
 #include <algorithm>
-#include <cstdlib>
 #include <cmath>
-#include <map>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <string>
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <unistd.h>
 
 #include "support/run_command.h"
 #include "support/test_util.h"
@@ -55,7 +55,9 @@ TEST(HtmlReportOptionsTest, ValidateNamesTheField) {
   }
 }
 
-fs::path Root() { return fs::path(HOOF_BINARY_DIR) / "html_report_test" / std::to_string(::getpid()); }
+fs::path Root() {
+  return fs::path(HOOF_BINARY_DIR) / "html_report_test" / std::to_string(::getpid());
+}
 
 /// Runs headless Chromium on `page` with `what` (--dump-dom or --screenshot=FILE); returns its
 /// stdout, and its stderr in `err`.
@@ -64,12 +66,14 @@ std::string Chromium(const fs::path& page, const std::string& what, std::string&
   const fs::path dir = Root() / ("chromium" + std::to_string(++run));
   fs::create_directories(dir);
   const std::string cmd =
-      "cd " + dir.string() + " && timeout 60 chromium --headless --no-sandbox --disable-gpu "
+      "cd " + dir.string() +
+      " && timeout 60 chromium --headless --no-sandbox --disable-gpu "
       "--disable-quic --no-first-run --disable-background-networking --disable-component-update "
-      "--disable-sync --hide-scrollbars --user-data-dir=" + (dir / "profile").string() +
-      " --enable-logging=stderr --v=0 --virtual-time-budget=10000 --window-size=1280,2000 " +
-      what + " file://" + fs::absolute(page).string() + " >" + (dir / "out.txt").string() +
-      " 2>" + (dir / "err.txt").string();
+      "--disable-sync --hide-scrollbars --user-data-dir=" +
+      (dir / "profile").string() +
+      " --enable-logging=stderr --v=0 --virtual-time-budget=10000 --window-size=1280,2000 " + what +
+      " file://" + fs::absolute(page).string() + " >" + (dir / "out.txt").string() + " 2>" +
+      (dir / "err.txt").string();
   const int rc = std::system(cmd.c_str());
   EXPECT_EQ(rc, 0) << cmd;
   err = ReadAll(dir / "err.txt");
@@ -88,8 +92,10 @@ class HtmlReportPageTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     fs::remove_all(Root());
-    auto r = RunHoofimpact("synth --study --no-scatter --surfaces steel,asphalt --angles-deg 0,20 "
-                           "--speeds 3 --trials-per-cell 1 --seed 3 -o " + (Root() / "study").string());
+    auto r = RunHoofimpact(
+        "synth --study --no-scatter --surfaces steel,asphalt --angles-deg 0,20 "
+        "--speeds 3 --trials-per-cell 1 --seed 3 -o " +
+        (Root() / "study").string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     r = RunHoofimpact("run " + (Root() / "study").string() + " -o " + (Root() / "out").string());
     ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
@@ -113,15 +119,17 @@ TEST_F(HtmlReportPageTest, ScriptsRunWithoutErrorAndDrawTheReplay) {
   EXPECT_FALSE(std::regex_search(dom, std::regex("<html[^>]* data-js-error=")));
   EXPECT_EQ(err.find("Uncaught"), std::string::npos) << err;
   // The replay script drew a frame of the first replay (it marks the body and the canvas).
-  EXPECT_TRUE(std::regex_search(dom, std::regex("<body[^>]* data-replay-drawn=\"[^\"]+\""))) << dom.substr(0, 3000);
+  EXPECT_TRUE(std::regex_search(dom, std::regex("<body[^>]* data-replay-drawn=\"[^\"]+\"")))
+      << dom.substr(0, 3000);
   EXPECT_TRUE(std::regex_search(dom, std::regex("<canvas[^>]* data-drawn-frame=\"[0-9]+\"")));
   // Every section, and the trial selector filled with the four replays.
   for (const char* id : {"summary", "model", "replay", "figures", "trials", "statistics"})
     EXPECT_NE(dom.find(std::string("<section id=\"") + id + "\""), std::string::npos) << id;
   EXPECT_EQ(Count(dom, "<option value="), 4);
   EXPECT_EQ(Count(dom, "<tr class=\"trial\">"), 4);  // the synthetic trials all measure
-  for (const char* text : {"k not identified", "One-way ANOVA by surface", "One-way ANOVA by angle",
-                           "Mean (s.d., n) per surface x angle", "steel", "asphalt", "mu_eff_by_angle"})
+  for (const char* text :
+       {"k not identified", "One-way ANOVA by surface", "One-way ANOVA by angle",
+        "Mean (s.d., n) per surface x angle", "steel", "asphalt", "mu_eff_by_angle"})
     EXPECT_NE(dom.find(text), std::string::npos) << text;
 }
 
@@ -133,7 +141,8 @@ TEST_F(HtmlReportPageTest, TheErrorTrapCatchesAScriptError) {
   { std::ofstream(broken) << html; }
   std::string err;
   const std::string dom = Chromium(broken, "--dump-dom", err);
-  EXPECT_TRUE(std::regex_search(dom, std::regex("<title>JS-ERROR[^<]*notDefinedAnywhere"))) << dom.substr(0, 600);
+  EXPECT_TRUE(std::regex_search(dom, std::regex("<title>JS-ERROR[^<]*notDefinedAnywhere")))
+      << dom.substr(0, 600);
   EXPECT_NE(err.find("Uncaught"), std::string::npos);
 }
 
@@ -177,10 +186,10 @@ TEST_F(HtmlReportPageTest, TheScreenshotIsNotBlankAndShowsTheOverlay) {
 
 TEST_F(HtmlReportPageTest, NeedsNoNetwork) {
   const std::string html = ReadAll(Page());
-  EXPECT_FALSE(std::regex_search(html, std::regex("(src|href)\\s*=\\s*[\"']?\\s*(https?:)?//",
-                                                  std::regex::icase)));
+  EXPECT_FALSE(std::regex_search(
+      html, std::regex("(src|href)\\s*=\\s*[\"']?\\s*(https?:)?//", std::regex::icase)));
   EXPECT_EQ(html.find("<link"), std::string::npos);  // no external style sheets
-  EXPECT_LT(fs::file_size(Page()), 3u << 20);          // and stays small enough to mail
+  EXPECT_LT(fs::file_size(Page()), 3u << 20);        // and stays small enough to mail
 }
 
 TEST_F(HtmlReportPageTest, AStudyFileWithoutTheComparisonIsAClearError) {

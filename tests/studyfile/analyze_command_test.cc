@@ -151,9 +151,12 @@ TEST_F(AnalyzeCommandTest, ASurfaceAngleTheImageContradictsIsAWarning) {
   nlohmann::json j = nlohmann::json::parse(std::ifstream(trial));
   j["surface_angle_deg"] = 0.0;
   std::ofstream(trial) << j.dump(1);
-  const auto r = RunHoofimpact("analyze " + study.string() + " -o " + (Root() / "angle.h5").string());
+  const auto r =
+      RunHoofimpact("analyze " + study.string() + " -o " + (Root() / "angle.h5").string());
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("WARNING steel_20deg_v3.00_r1: the surface in the image is at 20"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("WARNING steel_20deg_v3.00_r1: the surface in the image is at 20"),
+            std::string::npos)
+      << r.out;
   EXPECT_NE(r.out.find("trial.json says 0 deg"), std::string::npos) << r.out;
 }
 

@@ -1,10 +1,10 @@
 #pragma once
 // Runs the built hoofimpact program from a test and captures what it prints.
+#include <sys/wait.h>
+#include <unistd.h>
 #include <array>
 #include <cstdio>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace hoof::testing {
 
@@ -17,9 +17,9 @@ struct CommandResult {
 /// Runs `HOOF_CLI_PATH args` through the shell; stdout and stderr are captured separately.
 inline CommandResult RunHoofimpact(const std::string& args) {
   static int counter = 0;
-  const std::string err_path =
-      std::string(HOOF_BINARY_DIR) + "/cli-test-stderr-" + std::to_string(::getpid()) + "-" +
-      std::to_string(++counter) + ".txt";  // ctest runs tests in parallel processes
+  const std::string err_path = std::string(HOOF_BINARY_DIR) + "/cli-test-stderr-" +
+                               std::to_string(::getpid()) + "-" + std::to_string(++counter) +
+                               ".txt";  // ctest runs tests in parallel processes
   const std::string cmd = std::string(HOOF_CLI_PATH) + " " + args + " 2>" + err_path;
   CommandResult r;
   FILE* pipe = ::popen(cmd.c_str(), "r");

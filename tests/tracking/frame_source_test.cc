@@ -56,8 +56,8 @@ TEST(FrameSourceTest, MissingAndCorruptFramesNameTheFile) {
     std::string png = "\x89PNG\r\n\x1a\n";
     auto chunk = [&png](const std::string& type, const std::string& data) {
       const auto be = [](std::uint32_t v) {
-        return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8),
-                           static_cast<char>(v)};
+        return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16),
+                           static_cast<char>(v >> 8), static_cast<char>(v)};
       };
       png += be(static_cast<std::uint32_t>(data.size())) + type + data;
       const std::string crc_in = type + data;
@@ -74,7 +74,8 @@ TEST(FrameSourceTest, MissingAndCorruptFramesNameTheFile) {
     ihdr += ihdr;
     ihdr += std::string{1, 0, 0, 0, 0};  // 1-bit grey
     chunk("IHDR", ihdr);
-    chunk("IDAT", std::string("\x78\x01\x01\x00\x00\xff\xff\x00\x00\x00\x01", 11));  // an empty zlib stream
+    chunk("IDAT",
+          std::string("\x78\x01\x01\x00\x00\xff\xff\x00\x00\x00\x01", 11));  // an empty zlib stream
     chunk("IEND", "");
     std::ofstream(dir / "frames/000000.png", std::ios::binary) << png;
     ImageSequenceSource huge(dir, "frames/%06d.png", 0, 1);
@@ -95,7 +96,8 @@ TEST(FrameSourceTest, MissingAndCorruptFramesNameTheFile) {
     // Damaged in the middle (bytes of the image data flipped): named by the chunk whose CRC
     // fails, and again libpng prints nothing.
     std::string damaged = bytes;
-    for (std::size_t i = 60; i < 90 && i < damaged.size() - 12; ++i) damaged[i] = static_cast<char>(damaged[i] ^ 0x5a);
+    for (std::size_t i = 60; i < 90 && i < damaged.size() - 12; ++i)
+      damaged[i] = static_cast<char>(damaged[i] ^ 0x5a);
     std::ofstream(dir / "frames/000004.png", std::ios::binary | std::ios::trunc) << damaged;
     ::testing::internal::CaptureStderr();
     ExpectError([&] { cut.Read(1); }, "000004.png: frame 1 is damaged: its PNG chunk");
@@ -110,12 +112,14 @@ TEST(FrameSourceTest, MissingAndCorruptFramesNameTheFile) {
     ASSERT_TRUE(cv::imwrite(good.string(), image));
     std::ifstream in(good, std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    std::ofstream(dir / ("frames/000006." + ext), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    std::ofstream(dir / ("frames/000006." + ext), std::ios::binary)
+        << bytes.substr(0, bytes.size() / 2);
     ImageSequenceSource cut(dir, "frames/%06d." + ext, 5, 2);
     EXPECT_NO_THROW(cut.Read(0)) << ext;
     ::testing::internal::CaptureStderr();
-    ExpectError([&] { cut.Read(1); }, "000006." + ext + ": frame 1 " +
-                                          (ext == "jpg" ? "is cut short: a JPEG" : "cannot be decoded"));
+    ExpectError([&] { cut.Read(1); },
+                "000006." + ext + ": frame 1 " +
+                    (ext == "jpg" ? "is cut short: a JPEG" : "cannot be decoded"));
     EXPECT_EQ(::testing::internal::GetCapturedStderr(), "") << ext;
   }
   EXPECT_THROW(ImageSequenceSource(dir, "frames/x.png", 0, 3), std::invalid_argument);

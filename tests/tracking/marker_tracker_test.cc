@@ -35,7 +35,8 @@ std::vector<Eigen::Vector2d> Positions(int i) {
 
 VectorSource FallingSequence(int n) {
   VectorSource src;
-  for (int i = 0; i < n; ++i) src.frames.push_back(hoof::testing::DrawDots(320, 320, Positions(i), 7.5, 15, 0.01, i + 1));
+  for (int i = 0; i < n; ++i)
+    src.frames.push_back(hoof::testing::DrawDots(320, 320, Positions(i), 7.5, 15, 0.01, i + 1));
   return src;
 }
 
@@ -63,7 +64,8 @@ TEST(MarkerTrackerTest, ALostMarkerIsRecordedNotInvented) {
   VectorSource src = FallingSequence(12);
   // Frame 5: M2's dot is covered (its patch painted over).
   const auto p = Positions(5)[1];
-  cv::rectangle(src.frames[5], cv::Rect(static_cast<int>(p.x()) - 16, static_cast<int>(p.y()) - 16, 33, 33),
+  cv::rectangle(src.frames[5],
+                cv::Rect(static_cast<int>(p.x()) - 16, static_cast<int>(p.y()) - 16, 33, 33),
                 cv::Scalar(115), cv::FILLED);
   const MarkerTracks t = TrackMarkers(src, kLayout, 2e-4, {0, 1});
   EXPECT_FALSE(t.frames[5][1].found);
@@ -98,11 +100,13 @@ TEST(MarkerTrackerTest, NoMarkersOrAWrongLayoutAreErrors) {
     TrackMarkers(blank, kLayout, 2e-4, {0, 1});
     FAIL();
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("memory frame 0: found 0 marker(s)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("memory frame 0: found 0 marker(s)"), std::string::npos)
+        << e.what();
   }
   VectorSource src = FallingSequence(3);
   // The layout says the markers are 36 mm apart; the image shows 18 mm.
-  const std::vector<std::pair<std::string, Eigen::Vector2d>> wrong = {{"M1", {0.006, 0.0}}, {"M2", {0.042, 0.0}}};
+  const std::vector<std::pair<std::string, Eigen::Vector2d>> wrong = {{"M1", {0.006, 0.0}},
+                                                                      {"M2", {0.042, 0.0}}};
   try {
     TrackMarkers(src, wrong, 2e-4, {0, 1});
     FAIL();

@@ -17,11 +17,15 @@ inline cv::Mat DrawDots(int width, int height, const std::vector<Eigen::Vector2d
                         unsigned seed = 1) {
   cv::Mat img(height, width, CV_32F, cv::Scalar(0.45f));
   for (const auto& c : centres) {
-    for (int y = static_cast<int>(c.y() - patch_half); y <= static_cast<int>(c.y() + patch_half); ++y)
-      for (int x = static_cast<int>(c.x() - patch_half); x <= static_cast<int>(c.x() + patch_half); ++x)
+    for (int y = static_cast<int>(c.y() - patch_half); y <= static_cast<int>(c.y() + patch_half);
+         ++y)
+      for (int x = static_cast<int>(c.x() - patch_half); x <= static_cast<int>(c.x() + patch_half);
+           ++x)
         if (x >= 0 && y >= 0 && x < width && y < height) img.at<float>(y, x) = 0.05f;
-    for (int y = static_cast<int>(c.y() - radius - 2); y <= static_cast<int>(c.y() + radius + 2); ++y)
-      for (int x = static_cast<int>(c.x() - radius - 2); x <= static_cast<int>(c.x() + radius + 2); ++x) {
+    for (int y = static_cast<int>(c.y() - radius - 2); y <= static_cast<int>(c.y() + radius + 2);
+         ++y)
+      for (int x = static_cast<int>(c.x() - radius - 2); x <= static_cast<int>(c.x() + radius + 2);
+           ++x) {
         int inside = 0;
         for (int sy = 0; sy < 16; ++sy)
           for (int sx = 0; sx < 16; ++sx) {
