@@ -27,6 +27,7 @@
 #include "discovery/discovery.h"
 #include "pipeline/study_analysis.h"
 #include "pipeline/study_format.h"
+#include "support/discovery_print.h"
 
 namespace {
 
@@ -66,20 +67,7 @@ fs::path RenderStudy(const std::string& name, const std::string& options) {
   return dir;
 }
 
-void Print(const DiscoveryResult& r) {
-  std::cout << r.verdict << "\n";
-  for (const auto& rd : r.rounds) {
-    std::cout << "round " << rd.index << ": " << rd.decision << "\n";
-    for (const auto& c : rd.candidates)
-      std::cout << "   " << c.rank << " " << c.key << " " << c.estimate << " +- " << c.se << " LR "
-                << c.lr_statistic << " p " << c.p_value << " held-out " << c.cv_error_current
-                << " -> " << c.cv_error << " (" << ToString(c.identifiability) << ", "
-                << ToString(c.form) << ", " << ToString(c.outcome) << ", per-surface p "
-                << c.p_per_surface << ", limit " << c.detection_limit << ")"
-                << (c.significant ? " *" : "") << "\n";
-  }
-  std::cout << r.seconds << " s, " << r.simulations << " simulations\n";
-}
+void Print(const DiscoveryResult& r) { hoof::testing::PrintDiscoveryRounds(std::cout, r); }
 
 }  // namespace
 

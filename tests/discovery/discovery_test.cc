@@ -18,6 +18,7 @@
 #include "dynamics/parameters.h"
 #include "pipeline/study_analysis.h"
 #include "stats/distributions.h"
+#include "support/discovery_print.h"
 #include "support/run_command.h"
 #include "synth/options.h"
 
@@ -91,20 +92,7 @@ std::string UnreplicatedDesign(std::uint64_t seed, const std::vector<std::string
   return "--study-config " + config.string() + " --seed " + std::to_string(seed);
 }
 
-void Print(const DiscoveryResult& r) {
-  std::cout << r.verdict << "\n";
-  for (const auto& rd : r.rounds) {
-    std::cout << "round " << rd.index << ": " << rd.decision << "\n";
-    for (const auto& c : rd.candidates)
-      std::cout << "   " << c.rank << " " << c.key << " " << c.estimate << " +- " << c.se << " LR "
-                << c.lr_statistic << " p " << c.p_value << " held-out " << c.cv_error_current
-                << " -> " << c.cv_error << " (" << ToString(c.identifiability) << ", "
-                << ToString(c.form) << ", " << ToString(c.outcome) << ", per-surface p "
-                << c.p_per_surface << ", limit " << c.detection_limit << ")"
-                << (c.significant ? " *" : "") << "\n";
-  }
-  std::cout << r.seconds << " s, " << r.simulations << " simulations\n";
-}
+void Print(const DiscoveryResult& r) { hoof::testing::PrintDiscoveryRounds(std::cout, r); }
 
 const hoof::discovery::Finding* FindingOf(const DiscoveryResult& r, const std::string& key) {
   for (const auto& f : r.findings)
