@@ -24,6 +24,7 @@
 #include "pipeline/study_format.h"
 #include "pipeline/trial_analysis.h"
 #include "report/figures.h"
+#include "report/gnuplot.h"
 #include "studyfile/study_file.h"
 
 namespace hoof::cli {
@@ -82,10 +83,7 @@ void Run(AnalyzeArgs& a, RunState& state) {
       return name.rfind(study_tmp, 0) == 0;
     });
     if (!a.figures_dir.empty())
-      stale += io::RemoveStaleTemporaries(a.figures_dir, [](const std::string& name) {
-        return name.find(".png.tmp-") != std::string::npos ||
-               name.find(".svg.tmp-") != std::string::npos;
-      });
+      stale += io::RemoveStaleTemporaries(a.figures_dir, report::IsFigureTemporary);
     if (stale > 0)
       std::cerr << "hoofimpact: removed " << stale << " temporary file(s) a killed run left\n";
   }

@@ -231,4 +231,8 @@ void RenderPlot(const MultiPlot& figure, const std::filesystem::path& output) {
   Render(output, [&](const std::string& tmp) { return GnuplotScript(figure, tmp); });
 }
 
+bool IsFigureTemporary(const std::string& name) {
+  return name.find(".png.tmp-") != std::string::npos || name.find(".svg.tmp-") != std::string::npos;
+}
+
 }  // namespace hoof::report

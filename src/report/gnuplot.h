@@ -57,6 +57,10 @@ std::string GnuplotScript(const MultiPlot& figure, const std::filesystem::path& 
 /// file when there is no series, or gnuplot is missing or fails; `output` is written only when
 /// complete, and no temporary file is left behind.
 void RenderPlot(const Plot& plot, const std::filesystem::path& output);
+/// Whether a file name is one of RenderPlot's temporaries ("<figure>.png.tmp-<pid>-<n>.png",
+/// its script and its error log; the same for SVG): what a killed run leaves in a figure folder,
+/// for io::RemoveStaleTemporaries.
+bool IsFigureTemporary(const std::string& name);
 /// Renders the panels of `figure` to `output`; otherwise as RenderPlot (every panel needs a
 /// series).
 void RenderPlot(const MultiPlot& figure, const std::filesystem::path& output);

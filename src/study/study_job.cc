@@ -10,6 +10,7 @@
 #include "pipeline/study_analysis.h"
 #include "report/comparison_figures.h"
 #include "report/figures.h"
+#include "report/gnuplot.h"
 #include "studyfile/study_file.h"
 
 namespace hoof::study {
@@ -30,11 +31,8 @@ int RemoveStaleOutputs(const fs::path& out) {
       if (name.rfind(prefix, 0) == 0) return true;
     return false;
   };
-  const auto figure = [](const std::string& name) {
-    return name.find(".png.tmp-") != std::string::npos ||
-           name.find(".svg.tmp-") != std::string::npos;
-  };
-  return io::RemoveStaleTemporaries(out, own) + io::RemoveStaleTemporaries(out / "figures", figure);
+  return io::RemoveStaleTemporaries(out, own) +
+         io::RemoveStaleTemporaries(out / "figures", report::IsFigureTemporary);
 }
 
 /// The comparison's headline numbers: the worst disagreement after impact, in standard errors
