@@ -1,9 +1,12 @@
 // A model of the discovery workflow fitted to measured trials under the noise model
 // (docs/discovery.md, "Fits"): per-surface zeta and mu and the free effects, by Ceres
-// (Levenberg-Marquardt on whitened residuals, central numeric derivatives of the simulator, one
-// residual block per trial), alternating with the maximum-likelihood noise model.
+// (Levenberg-Marquardt on whitened residuals, numeric derivatives of the simulator that stay
+// inside the parameters' bounds, one residual block per trial), alternating with the
+// maximum-likelihood noise model.
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <memory>
 #include <numeric>
 
 #include <ceres/ceres.h>
@@ -19,6 +22,12 @@ namespace {
 /// Log-likelihood gain below which the alternation of model and noise has converged (a
 /// likelihood ratio of 0.02, far below any that counts).
 constexpr double kConverged = 0.01;
+
+/// Bounds of the fitted zeta and mu.
+constexpr double kZetaLower = 1e-4, kZetaUpper = 5.0;
+constexpr double kMuLower = 0.0, kMuUpper = 2.0;
+/// Difference step of an effect, in units of its probe size.
+constexpr double kRelativeEffectStep = 1e-4;
 
 /// Ceres cost of one trial: its used residual components, whitened by the noise model.
 struct TrialCost {
@@ -50,6 +59,71 @@ struct TrialCost {
     for (Eigen::Index i = 0; i < w.size(); ++i) residuals[i] = w[i];
     return true;
   }
+};
+
+/// The bounds of one scalar parameter block and its smallest difference step.
+struct BlockBounds {
+  double lower = -std::numeric_limits<double>::infinity();
+  double upper = std::numeric_limits<double>::infinity();
+  double min_step = 0.0;
+};
+
+/// Numeric derivatives of a TrialCost that never leave the parameters' bounds. Ceres's own
+/// numeric differentiation steps to both sides of the point, also at a bound, where the
+/// simulator refuses the value (a negative damping coefficient, an exponent above 1): every
+/// effect fit that reaches 0 or its upper bound then saw a derivative made of the failure value,
+/// which held it there and gave it a standard error of nothing. Inside the box the difference is
+/// central; within a step of a bound it is one-sided and of the same (second) order,
+/// (-3 f(x) + 4 f(x + h) - f(x + 2h)) / 2h, toward the inside.
+class BoundedDiffCost final : public ceres::CostFunction {
+ public:
+  BoundedDiffCost(std::unique_ptr<TrialCost> f, std::vector<BlockBounds> bounds, int residuals)
+      : f_(std::move(f)), bounds_(std::move(bounds)) {
+    for (std::size_t b = 0; b < bounds_.size(); ++b) mutable_parameter_block_sizes()->push_back(1);
+    set_num_residuals(residuals);
+  }
+
+  bool Evaluate(double const* const* p, double* residuals, double** jacobians) const override {
+    if (!(*f_)(p, residuals)) return false;
+    if (!jacobians) return true;
+    const auto n = static_cast<std::size_t>(num_residuals());
+    const std::size_t blocks = bounds_.size();
+    std::vector<double> x(blocks);
+    std::vector<const double*> at(blocks);
+    for (std::size_t b = 0; b < blocks; ++b) x[b] = p[b][0], at[b] = &x[b];
+    std::vector<double> r1(n), r2(n);
+    auto eval = [&](std::size_t b, double v, std::vector<double>& out) {
+      x[b] = v;
+      const bool ok = (*f_)(at.data(), out.data());
+      x[b] = p[b][0];
+      return ok;
+    };
+    for (std::size_t b = 0; b < blocks; ++b) {
+      if (!jacobians[b]) continue;
+      const BlockBounds& bb = bounds_[b];
+      const double x0 = p[b][0];
+      const double h = std::max({kRelativeStep * std::abs(x0), bb.min_step, kMinStep});
+      double* J = jacobians[b];
+      if (x0 - h >= bb.lower && x0 + h <= bb.upper) {
+        if (!eval(b, x0 + h, r1) || !eval(b, x0 - h, r2)) return false;
+        for (std::size_t i = 0; i < n; ++i) J[i] = (r1[i] - r2[i]) / (2 * h);
+      } else {
+        // Toward the inside of the box: forward at a lower bound, backward at an upper one.
+        const double d = x0 + 2 * h <= bb.upper ? h : -h;
+        if (!eval(b, x0 + d, r1) || !eval(b, x0 + 2 * d, r2)) return false;
+        for (std::size_t i = 0; i < n; ++i)
+          J[i] = (-3 * residuals[i] + 4 * r1[i] - r2[i]) / (2 * d);
+      }
+    }
+    return true;
+  }
+
+ private:
+  static constexpr double kRelativeStep = 1e-4;
+  /// Ceres's floor of the step, sqrt(machine epsilon).
+  static constexpr double kMinStep = 1.4901161193847656e-08;
+  std::unique_ptr<TrialCost> f_;
+  std::vector<BlockBounds> bounds_;
 };
 
 }  // namespace
@@ -111,31 +185,42 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
       const Obs& o = ws.obs[static_cast<std::size_t>(which[i])];
       const auto s = static_cast<std::size_t>(o.surface);
       const TrialCovariance cov = Covariance(ws, o, sens[i], fit.noise);
-      auto* f = new TrialCost{
-          &ws,          &o,    cov.whiten, cov.components, !o.normal && surface_oblique[s], mu[s],
-          free_effects, scale, {}};
+      auto f = std::make_unique<TrialCost>(TrialCost{&ws,
+                                                     &o,
+                                                     cov.whiten,
+                                                     cov.components,
+                                                     !o.normal && surface_oblique[s],
+                                                     mu[s],
+                                                     free_effects,
+                                                     scale,
+                                                     {}});
       for (const auto& [key, p] : fixed) Apply(key, p.At(o.surface), f->fixed);
-      ceres::NumericDiffOptions nd;
-      nd.relative_step_size = 1e-4;
-      auto* cost = new ceres::DynamicNumericDiffCostFunction<TrialCost, ceres::CENTRAL>(
-          f, ceres::TAKE_OWNERSHIP, nd);
       std::vector<double*> params{&zeta[s]};
-      if (f->mu_free) params.push_back(&mu[s]);
-      for (std::size_t j = 0; j < u.size(); ++j)
+      std::vector<BlockBounds> bounds{{kZetaLower, kZetaUpper}};
+      if (f->mu_free) {
+        params.push_back(&mu[s]);
+        bounds.push_back({kMuLower, kMuUpper});
+      }
+      for (std::size_t j = 0; j < u.size(); ++j) {
         params.push_back(&u[j][form[j] == EffectForm::kShared ? 0 : s]);
-      for (std::size_t b = 0; b < params.size(); ++b) cost->AddParameterBlock(1);
-      cost->SetNumResiduals(static_cast<int>(f->components.size()));
+        // The effects are scaled to their probe size, so a step of 1e-4 is 1e-4 of the probe,
+        // also at 0 (where a relative step would be below the simulator's own tolerance).
+        bounds.push_back({Entry(free_effects[j]).smallest / scale[j],
+                          Entry(free_effects[j]).upper / scale[j], kRelativeEffectStep});
+      }
+      const int residuals = static_cast<int>(f->components.size());
+      auto* cost = new BoundedDiffCost(std::move(f), bounds, residuals);
       problem->AddResidualBlock(cost, nullptr, params);
       ++blocks;
     }
     if (blocks == 0) break;
     for (std::size_t s = 0; s < S; ++s) {
       if (!surface_used[s]) continue;
-      problem->SetParameterLowerBound(&zeta[s], 0, 1e-4);
-      problem->SetParameterUpperBound(&zeta[s], 0, 5.0);
+      problem->SetParameterLowerBound(&zeta[s], 0, kZetaLower);
+      problem->SetParameterUpperBound(&zeta[s], 0, kZetaUpper);
       if (surface_oblique[s] && problem->HasParameterBlock(&mu[s])) {
-        problem->SetParameterLowerBound(&mu[s], 0, 0.0);
-        problem->SetParameterUpperBound(&mu[s], 0, 2.0);
+        problem->SetParameterLowerBound(&mu[s], 0, kMuLower);
+        problem->SetParameterUpperBound(&mu[s], 0, kMuUpper);
       }
     }
     for (std::size_t j = 0; j < u.size(); ++j)
