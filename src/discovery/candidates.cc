@@ -491,11 +491,12 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
     d << " per surface (";
     for (std::size_t i = 0; i < w.values.size(); ++i)
       d << (i ? ", " : "") << w.values[i].surface << " " << w.parameter << " = "
-        << Fmt(w.values[i].value) << " +- " << Fmt(w.values[i].se);
+        << Fmt(w.values[i].value) << " +- " << Fmt(w.values[i].se)
+        << UpperBoundNote(w.key, w.values[i].value);
     d << UnitSuffix(w.unit) << ")";
   } else {
     d << " (" << w.parameter << " = " << Fmt(w.estimate) << " +- " << Fmt(w.se)
-      << UnitSuffix(w.unit) << ")";
+      << UnitSuffix(w.unit) << UpperBoundNote(w.key, w.estimate) << ")";
   }
   d << ": likelihood ratio " << Fmt(w.lr_statistic) << ", p = " << FmtP(w.p_value)
     << "; held-out error " << Fmt(w.cv_error_current) << " -> " << Fmt(w.cv_error) << " ("

@@ -63,6 +63,13 @@ struct LibraryEntry {
 /// The library, in a fixed order.
 const std::vector<LibraryEntry>& Library();
 
+/// True when `value` of the library effect `key` lies on the largest value the fit may take
+/// (LibraryEntry::upper): the data may call for more than the library allows, and the estimate's
+/// s.e. describes the curvature there, not an interval around an optimum.
+bool AtUpperBound(const std::string& key, double value);
+/// " (the library's upper bound)" when AtUpperBound, else nothing.
+std::string UpperBoundNote(const std::string& key, double value);
+
 /// Settings of the workflow.
 struct DiscoveryOptions {
   /// Family-wise significance level: of the structure tests (Holm) and of naming a candidate

@@ -126,6 +126,16 @@ const std::vector<LibraryEntry>& Library() {
   return library;
 }
 
+bool AtUpperBound(const std::string& key, double value) {
+  for (const auto& e : Library())
+    if (e.key == key) return std::isfinite(value) && value >= e.upper * (1 - 1e-6);
+  return false;
+}
+
+std::string UpperBoundNote(const std::string& key, double value) {
+  return AtUpperBound(key, value) ? " (the library's upper bound)" : "";
+}
+
 namespace {
 
 template <typename E, std::size_t N>

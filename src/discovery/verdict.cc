@@ -20,11 +20,13 @@ std::string Scope(const Finding& f) {
 std::string Estimate(const Finding& f) {
   std::ostringstream v;
   if (f.form == EffectForm::kShared) {
-    v << f.parameter << " = " << Fmt(f.estimate) << " +- " << Fmt(f.se) << UnitSuffix(f.unit);
+    v << f.parameter << " = " << Fmt(f.estimate) << " +- " << Fmt(f.se) << UnitSuffix(f.unit)
+      << UpperBoundNote(f.key, f.estimate);
   } else {
     for (std::size_t i = 0; i < f.values.size(); ++i)
       v << (i ? ", " : "") << f.values[i].surface << " " << f.parameter << " = "
-        << Fmt(f.values[i].value) << " +- " << Fmt(f.values[i].se);
+        << Fmt(f.values[i].value) << " +- " << Fmt(f.values[i].se)
+        << UpperBoundNote(f.key, f.values[i].value);
     v << UnitSuffix(f.unit);
   }
   return v.str();

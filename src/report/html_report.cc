@@ -450,18 +450,19 @@ std::string ValuesHtml(const std::vector<discovery::EffectValue>& values,
     out += (out.empty() ? "" : "<br>") +
            HtmlEscape(v.surface.empty() ? std::string("all surfaces") : v.surface) + ": " +
            (parameter.empty() ? "" : HtmlEscape(parameter) + " = ") +
-           EstimateHtml(v.value, v.se, unit);
+           EstimateHtml(v.value, v.se, unit) +
+           HtmlEscape(discovery::UpperBoundNote(v.key, v.value));
   return out;
 }
 
 /// The estimate cell: the shared value, or every surface value of a per-surface effect.
-std::string EstimateCellHtml(discovery::EffectForm form, double estimate, double se,
-                             const std::vector<discovery::EffectValue>& values,
+std::string EstimateCellHtml(const std::string& key, discovery::EffectForm form, double estimate,
+                             double se, const std::vector<discovery::EffectValue>& values,
                              const std::string& parameter, const std::string& unit) {
   if (form == discovery::EffectForm::kPerSurface && !values.empty())
     return ValuesHtml(values, parameter, unit);
   return (parameter.empty() ? "" : HtmlEscape(parameter) + " = ") +
-         EstimateHtml(estimate, se, unit);
+         EstimateHtml(estimate, se, unit) + HtmlEscape(discovery::UpperBoundNote(key, estimate));
 }
 
 std::string CandidatesTableHtml(const discovery::Round& round) {
@@ -487,7 +488,7 @@ std::string CandidatesTableHtml(const discovery::Round& round) {
       continue;
     }
     h << "<td>" << HtmlEscape(discovery::ToString(c.form)) << "</td><td class=\"num\">"
-      << EstimateCellHtml(c.form, c.estimate, c.se, c.values, c.parameter, c.unit) << "</td>"
+      << EstimateCellHtml(c.key, c.form, c.estimate, c.se, c.values, c.parameter, c.unit) << "</td>"
       << PCell(c.p_value, c.significant) << "<td class=\"num\">" << Fmt(c.delta_aic, 3)
       << "</td><td class=\"num\">" << Fmt(c.delta_bic, 3) << "</td><td class=\"num"
       << (c.cv_error < c.cv_error_current ? " ok" : "") << "\">" << Fmt(c.cv_error, 3) << " vs "
@@ -523,8 +524,8 @@ std::string FindingsTableHtml(const std::vector<discovery::Finding>& findings) {
     h << "<tr><td>" << HtmlEscape(f.name.empty() ? f.key : f.name) << " <code>" << HtmlEscape(f.key)
       << "</code></td><td class=\"" << cls << "\">" << HtmlEscape(discovery::ToString(f.status))
       << "</td><td>" << HtmlEscape(scope) << "</td><td class=\"num\">"
-      << EstimateCellHtml(f.form, f.estimate, f.se, f.values, f.parameter, f.unit) << "</td><td>"
-      << HtmlEscape(f.partner) << "</td><td>" << HtmlEscape(f.separating_measurement)
+      << EstimateCellHtml(f.key, f.form, f.estimate, f.se, f.values, f.parameter, f.unit)
+      << "</td><td>" << HtmlEscape(f.partner) << "</td><td>" << HtmlEscape(f.separating_measurement)
       << "</td><td class=\"num\">" << PercentHtml(f.gap_shrink) << "</td></tr>";
   }
   if (findings.empty()) h << "<tr><td colspan=\"7\">(no effect found)</td></tr>";

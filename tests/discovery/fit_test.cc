@@ -89,6 +89,10 @@ TEST(DiscoveryFitTest, AnEstimateOnTheUpperBoundHasTheStandardErrorOfItsCurvatur
   ASSERT_TRUE(bound.ok) << bound.message;
   EXPECT_NEAR(inside.model.effects.at("hertz_stiffness").value.at(0), 0.9, 1e-3);
   EXPECT_NEAR(bound.model.effects.at("hertz_stiffness").value.at(0), 1.0, 1e-3);
+  // And the verdict says which of the two lies on the bound.
+  EXPECT_FALSE(
+      AtUpperBound("hertz_stiffness", inside.model.effects.at("hertz_stiffness").value[0]));
+  EXPECT_TRUE(AtUpperBound("hertz_stiffness", bound.model.effects.at("hertz_stiffness").value[0]));
   const double se_inside = inside.effect_se.at("hertz_stiffness").at(0);
   const double se_bound = bound.effect_se.at("hertz_stiffness").at(0);
   ASSERT_GT(se_inside, 0);
