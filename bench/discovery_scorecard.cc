@@ -113,6 +113,18 @@ struct Effect {
   std::string library_prefix;
 };
 
+/// Sets the contact extension of the discovery library's effect `key` (its
+/// LibraryEntry::extension, a row of dynamics::ContactExtensionFields()).
+std::function<void(hoof::synth::HiddenEffects&, double)> SetsExtensionOf(const std::string& key) {
+  for (const auto& e : hoof::discovery::Library())
+    if (e.key == key)
+      if (const auto* f = hoof::dynamics::FindContactExtension(e.extension))
+        return [member = f->member](hoof::synth::HiddenEffects& h, double v) {
+          h.contact.*member = v;
+        };
+  throw std::logic_error("scorecard: no contact extension for the library effect '" + key + "'");
+}
+
 std::vector<Effect> AllEffects() {
   using hoof::synth::HiddenEffects;
   return {
@@ -121,25 +133,25 @@ std::vector<Effect> AllEffects() {
        "hunt-crossley",
        "N s/m^2",
        {2e7, 4e7},
-       [](HiddenEffects& h, double v) { h.contact.hunt_crossley_N_s_m2 = v; },
+       SetsExtensionOf("hunt_crossley"),
        "hunt_crossley"},
       {"hertz_stiffness",
        "hertz-stiffness",
        "1",
        {0.3, 0.6},
-       [](HiddenEffects& h, double v) { h.contact.stiffness_exponent_extra = v; },
+       SetsExtensionOf("hertz_stiffness"),
        "hertz_stiffness"},
       {"rolling_resistance",
        "rolling-resistance",
        "m",
        {5e-4, 1e-3},
-       [](HiddenEffects& h, double v) { h.contact.rolling_resistance_m = v; },
+       SetsExtensionOf("rolling_resistance"),
        "rolling_resistance"},
       {"tangential_compliance",
        "tangential-compliance",
        "1",
        {1.0, 2.0},
-       [](HiddenEffects& h, double v) { h.contact.tangential_compliance_ratio = v; },
+       SetsExtensionOf("tangential_compliance"),
        "tangential_compliance"},
       // A tilt that grows from 0 at touch: the marker distance drifts in time instead of
       // standing off by a constant cos(tilt).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -36,39 +37,64 @@ void SpecimenParameters::Validate() const {
   if (d_EC_m < 0) ThrowField(kOwner, "d_EC_m", d_EC_m, "must be >= 0");
 }
 
+const std::vector<ContactExtensionField>& ContactExtensionFields() {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  using X = ContactExtensions;
+  static const std::vector<ContactExtensionField> fields = {
+      {"hunt_crossley_N_s_m2", &X::hunt_crossley_N_s_m2, "--hunt-crossley-n-s-m2",
+       "Hunt-Crossley damping c: P gains -c |delta| delta' in compression (N s/m^2; 0 to 1e11)",
+       0.0, kInf, false, 0.0, 1e11, true},
+      {"stiffness_exponent_extra", &X::stiffness_exponent_extra, "--stiffness-exponent-extra",
+       "p in k |delta| (|delta|/delta_ref)^p; 0.5 is Hertzian (0 to 1)", 0.0, 1.0, false, 0.0, 1.0,
+       true},
+      {"stiffness_reference_depth_m", &X::stiffness_reference_depth_m,
+       "--stiffness-reference-depth-m", "delta_ref of the nonlinear stiffness (m; 1e-9 to 10)", 0.0,
+       kInf, true, 1e-9, 10.0, false},
+      {"unloading_stiffness_ratio", &X::unloading_stiffness_ratio, "--unloading-stiffness-ratio",
+       "r: plastic unloading with stiffness k (1 + r) (0 to 1e6)", 0.0, kInf, false, 0.0, 1e6,
+       true},
+      {"static_friction_excess", &X::static_friction_excess, "--static-friction-excess",
+       "mu_static - mu: stick holds up to (mu + this) P (0 to 100)", 0.0, kInf, false, 0.0, 100.0,
+       true},
+      {"tangential_compliance_ratio", &X::tangential_compliance_ratio,
+       "--tangential-compliance-ratio",
+       "k / k_t of a tangential spring at T (0 = rigid stick; up to 100)", 0.0, kInf, false, 0.0,
+       100.0, true},
+      {"rolling_resistance_m", &X::rolling_resistance_m, "--rolling-resistance-m",
+       "rho: rolling-resistance torque -rho P w / (|w| + 1 rad/s) (m; 0 to 1)", 0.0, kInf, false,
+       0.0, 1.0, true},
+      {"friction_speed_slope_s_m", &X::friction_speed_slope_s_m, "--friction-speed-slope-s-m",
+       "s: sliding friction mu (1 + s |v_T|) P (s/m; 0 to 100); not in the discovery library", 0.0,
+       kInf, false, 0.0, 100.0, true},
+  };
+  return fields;
+}
+
+const ContactExtensionField* FindContactExtension(std::string_view key) {
+  for (const auto& f : ContactExtensionFields())
+    if (key == f.key) return &f;
+  return nullptr;
+}
+
 bool ContactExtensions::Any() const {
-  return hunt_crossley_N_s_m2 != 0 || stiffness_exponent_extra != 0 ||
-         unloading_stiffness_ratio != 0 || static_friction_excess != 0 ||
-         tangential_compliance_ratio != 0 || rolling_resistance_m != 0 ||
-         friction_speed_slope_s_m != 0;
+  for (const auto& f : ContactExtensionFields())
+    if (f.effect && this->*f.member != 0) return true;
+  return false;
 }
 
 void ContactExtensions::Validate() const {
   constexpr std::string_view kOwner = "contact.extensions";
-  RequireFinite(kOwner, "hunt_crossley_N_s_m2", hunt_crossley_N_s_m2);
-  RequireFinite(kOwner, "stiffness_exponent_extra", stiffness_exponent_extra);
-  RequireFinite(kOwner, "stiffness_reference_depth_m", stiffness_reference_depth_m);
-  RequireFinite(kOwner, "unloading_stiffness_ratio", unloading_stiffness_ratio);
-  RequireFinite(kOwner, "static_friction_excess", static_friction_excess);
-  RequireFinite(kOwner, "tangential_compliance_ratio", tangential_compliance_ratio);
-  RequireFinite(kOwner, "rolling_resistance_m", rolling_resistance_m);
-  RequireFinite(kOwner, "friction_speed_slope_s_m", friction_speed_slope_s_m);
-  if (hunt_crossley_N_s_m2 < 0)
-    ThrowField(kOwner, "hunt_crossley_N_s_m2", hunt_crossley_N_s_m2, "must be >= 0");
-  if (stiffness_exponent_extra < 0 || stiffness_exponent_extra > 1)
-    ThrowField(kOwner, "stiffness_exponent_extra", stiffness_exponent_extra, "must be in [0, 1]");
-  if (stiffness_reference_depth_m <= 0)
-    ThrowField(kOwner, "stiffness_reference_depth_m", stiffness_reference_depth_m, "must be > 0");
-  if (unloading_stiffness_ratio < 0)
-    ThrowField(kOwner, "unloading_stiffness_ratio", unloading_stiffness_ratio, "must be >= 0");
-  if (static_friction_excess < 0)
-    ThrowField(kOwner, "static_friction_excess", static_friction_excess, "must be >= 0");
-  if (tangential_compliance_ratio < 0)
-    ThrowField(kOwner, "tangential_compliance_ratio", tangential_compliance_ratio, "must be >= 0");
-  if (rolling_resistance_m < 0)
-    ThrowField(kOwner, "rolling_resistance_m", rolling_resistance_m, "must be >= 0");
-  if (friction_speed_slope_s_m < 0)
-    ThrowField(kOwner, "friction_speed_slope_s_m", friction_speed_slope_s_m, "must be >= 0");
+  for (const auto& f : ContactExtensionFields()) RequireFinite(kOwner, f.key, this->*f.member);
+  for (const auto& f : ContactExtensionFields()) {
+    const double v = this->*f.member;
+    std::ostringstream need;
+    if (std::isfinite(f.valid_upper))
+      need << "must be in [" << f.valid_lower << ", " << f.valid_upper << "]";
+    else
+      need << "must be " << (f.lower_open ? "> " : ">= ") << f.valid_lower;
+    if (v < f.valid_lower || (f.lower_open && v == f.valid_lower) || v > f.valid_upper)
+      ThrowField(kOwner, f.key, v, need.str());
+  }
   // With a tangential spring the slider, not the body point T, slides, and its speed would
   // need a state of its own; the speed-dependent law is defined for rigid stick only.
   if (friction_speed_slope_s_m > 0 && tangential_compliance_ratio > 0)

@@ -6,6 +6,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/frames.h"
 
@@ -74,6 +75,28 @@ struct ContactExtensions {
   /// Throws std::invalid_argument naming the field.
   void Validate() const;
 };
+
+/// One field of ContactExtensions, as every part of the program names, bounds and describes it.
+/// ContactExtensionFields() is the one list of them: the command-line options, the hidden
+/// effects of trial.json and study.json, the JSON the commands print, the validation and the
+/// discovery library's effects are all made from it, so a new extension is one row here (and
+/// its physics in the simulator).
+struct ContactExtensionField {
+  const char* key;  ///< name in JSON files and output, e.g. "rolling_resistance_m"
+  double ContactExtensions::*member;  ///< the field
+  const char* flag;                   ///< command-line option, e.g. "--rolling-resistance-m"
+  const char* help;                   ///< for --help: the law, the unit and the option's range
+  /// The model's valid range: Validate() refuses a value outside it.
+  double valid_lower, valid_upper;
+  bool lower_open;  ///< the lower bound itself is refused (> rather than >=)
+  /// The command line's range: far beyond what a hoof, a ball or a specimen shows and inside
+  /// what the integrator finishes; a value outside is a command-line error.
+  double option_lower, option_upper;
+  bool effect;  ///< non-zero switches an effect on (false for a shape parameter of one)
+};
+const std::vector<ContactExtensionField>& ContactExtensionFields();
+/// The field named `key`, or nullptr.
+const ContactExtensionField* FindContactExtension(std::string_view key);
 
 /// Two-phase contact law (paper eqs. 1-2) and Coulomb friction.
 /// Compression: P = -k delta - b delta'. Restitution: P = -k delta. P >= 0 always.

@@ -27,55 +27,19 @@ void AddSpecimenOptions(CLI::App* app, dynamics::SpecimenParameters& specimen) {
 }
 
 void AddExtensionOptions(CLI::App* app, dynamics::ContactExtensions& ext) {
-  // Each bound is far beyond what a hoof, a ball or a specimen shows, and inside what the
-  // integrator finishes; a value outside is a command-line error (exit 2).
   const std::string group = "Effects beyond the paper's model (0 = off)";
-  app->add_option(
-         "--hunt-crossley-n-s-m2", ext.hunt_crossley_N_s_m2,
-         "Hunt-Crossley damping c: P gains -c |delta| delta' in compression (N s/m^2; 0 to 1e11)")
-      ->check(CLI::Range(0.0, 1e11))
-      ->group(group);
-  app->add_option("--stiffness-exponent-extra", ext.stiffness_exponent_extra,
-                  "p in k |delta| (|delta|/delta_ref)^p; 0.5 is Hertzian (0 to 1)")
-      ->check(CLI::Range(0.0, 1.0))
-      ->group(group);
-  app->add_option("--stiffness-reference-depth-m", ext.stiffness_reference_depth_m,
-                  "delta_ref of the nonlinear stiffness (m; 1e-9 to 10)")
-      ->check(CLI::Range(1e-9, 10.0))
-      ->group(group)
-      ->capture_default_str();
-  app->add_option("--unloading-stiffness-ratio", ext.unloading_stiffness_ratio,
-                  "r: plastic unloading with stiffness k (1 + r) (0 to 1e6)")
-      ->check(CLI::Range(0.0, 1e6))
-      ->group(group);
-  app->add_option("--static-friction-excess", ext.static_friction_excess,
-                  "mu_static - mu: stick holds up to (mu + this) P (0 to 100)")
-      ->check(CLI::Range(0.0, 100.0))
-      ->group(group);
-  app->add_option("--tangential-compliance-ratio", ext.tangential_compliance_ratio,
-                  "k / k_t of a tangential spring at T (0 = rigid stick; up to 100)")
-      ->check(CLI::Range(0.0, 100.0))
-      ->group(group);
-  app->add_option("--rolling-resistance-m", ext.rolling_resistance_m,
-                  "rho: rolling-resistance torque -rho P w / (|w| + 1 rad/s) (m; 0 to 1)")
-      ->check(CLI::Range(0.0, 1.0))
-      ->group(group);
-  app->add_option(
-         "--friction-speed-slope-s-m", ext.friction_speed_slope_s_m,
-         "s: sliding friction mu (1 + s |v_T|) P (s/m; 0 to 100); not in the discovery library")
-      ->check(CLI::Range(0.0, 100.0))
-      ->group(group);
+  for (const auto& f : dynamics::ContactExtensionFields()) {
+    CLI::Option* o = app->add_option(f.flag, ext.*f.member, f.help)
+                         ->check(CLI::Range(f.option_lower, f.option_upper))
+                         ->group(group);
+    if (!f.effect) o->capture_default_str();  // a shape parameter has a default worth showing
+  }
 }
 
 nlohmann::json ExtensionsJson(const dynamics::ContactExtensions& ext) {
-  return {{"hunt_crossley_N_s_m2", ext.hunt_crossley_N_s_m2},
-          {"stiffness_exponent_extra", ext.stiffness_exponent_extra},
-          {"stiffness_reference_depth_m", ext.stiffness_reference_depth_m},
-          {"unloading_stiffness_ratio", ext.unloading_stiffness_ratio},
-          {"static_friction_excess", ext.static_friction_excess},
-          {"tangential_compliance_ratio", ext.tangential_compliance_ratio},
-          {"rolling_resistance_m", ext.rolling_resistance_m},
-          {"friction_speed_slope_s_m", ext.friction_speed_slope_s_m}};
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& f : dynamics::ContactExtensionFields()) j[f.key] = ext.*f.member;
+  return j;
 }
 
 void RequireFiniteNumbers(CLI::App& app) {

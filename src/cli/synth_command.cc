@@ -140,22 +140,8 @@ void ApplyStudyConfig(const std::string& path, SynthArgs& a) {
         synth::OutOfPlane& o = d.hidden.out_of_plane;
         for (const auto& [k, v] : value.items()) {
           const double val = v.get<double>();
-          if (k == "hunt_crossley_N_s_m2")
-            x.hunt_crossley_N_s_m2 = val;
-          else if (k == "stiffness_exponent_extra")
-            x.stiffness_exponent_extra = val;
-          else if (k == "stiffness_reference_depth_m")
-            x.stiffness_reference_depth_m = val;
-          else if (k == "unloading_stiffness_ratio")
-            x.unloading_stiffness_ratio = val;
-          else if (k == "static_friction_excess")
-            x.static_friction_excess = val;
-          else if (k == "tangential_compliance_ratio")
-            x.tangential_compliance_ratio = val;
-          else if (k == "rolling_resistance_m")
-            x.rolling_resistance_m = val;
-          else if (k == "friction_speed_slope_s_m")
-            x.friction_speed_slope_s_m = val;
+          if (const auto* f = dynamics::FindContactExtension(k))
+            x.*f->member = val;
           else if (k == "tilt_deg")
             o.tilt_deg = val;
           else if (k == "roll_deg")
@@ -362,15 +348,12 @@ void Run(SynthArgs& a, RunState& state, CLI::App* cmd) {
   if (a.study) {
     if (cmd->count("--no-scatter") > 0) a.design.scatter_parameters = false;
     // CLI hidden effects apply on top of the config's when given.
-    for (const char* name :
-         {"--hunt-crossley-n-s-m2", "--stiffness-exponent-extra", "--stiffness-reference-depth-m",
-          "--unloading-stiffness-ratio", "--static-friction-excess",
-          "--tangential-compliance-ratio", "--rolling-resistance-m", "--friction-speed-slope-s-m",
-          "--tilt-deg", "--roll-deg", "--tilt-rate-deg-s", "--roll-rate-deg-s"})
-      if (cmd->count(name) > 0) {
-        a.design.hidden = a.hidden;
-        break;
-      }
+    bool hidden_given = false;
+    for (const auto& f : dynamics::ContactExtensionFields())
+      hidden_given = hidden_given || cmd->count(f.flag) > 0;
+    for (const char* name : {"--tilt-deg", "--roll-deg", "--tilt-rate-deg-s", "--roll-rate-deg-s"})
+      hidden_given = hidden_given || cmd->count(name) > 0;
+    if (hidden_given) a.design.hidden = a.hidden;
     const auto progress = [tty](int done, int total, const std::string& id) {
       if (tty)
         std::cerr << "\r[" << done << "/" << total << "] " << id << "          " << std::flush;

@@ -58,6 +58,9 @@ struct LibraryEntry {
   /// A measurement effect that grows through the clip: the trials are re-measured with it
   /// (a tilt or roll rate, docs/discovery.md "Out-of-plane rotation that grows").
   bool rotation_rate = false;
+  /// The contact extension it sets (a key of dynamics::ContactExtensionFields()); empty for a
+  /// measurement effect.
+  std::string extension;
 };
 
 /// The library, in a fixed order.

@@ -30,20 +30,9 @@ CandidateResult CandidateOf(const std::string& key) {
 }
 
 void Apply(const std::string& key, double value, dynamics::ContactExtensions& x) {
-  if (key == "hunt_crossley")
-    x.hunt_crossley_N_s_m2 = value;
-  else if (key == "hertz_stiffness")
-    x.stiffness_exponent_extra = value;
-  else if (key == "plastic_unloading")
-    x.unloading_stiffness_ratio = value;
-  else if (key == "static_friction")
-    x.static_friction_excess = value;
-  else if (key == "tangential_compliance")
-    x.tangential_compliance_ratio = value;
-  else if (key == "rolling_resistance")
-    x.rolling_resistance_m = value;
-  else
-    throw std::invalid_argument("no contact extension for '" + key + "'");
+  const auto* field = dynamics::FindContactExtension(Entry(key).extension);
+  if (!field) throw std::invalid_argument("no contact extension for '" + key + "'");
+  x.*field->member = value;
 }
 
 std::string Fmt(double v, int precision) {
@@ -83,45 +72,110 @@ using internal::Fmt;
 
 const std::vector<LibraryEntry>& Library() {
   static const std::vector<LibraryEntry> library = {
-      {"hunt_crossley", "velocity-dependent (Hunt-Crossley) damping", "c", "N s/m^2", 2e7, 5e8,
-       false, "extra damping c |delta| delta' in compression: e falls as the impact speed rises",
-       "impacts over a wider range of speeds, or the force through the contact (its hysteresis "
-       "loop grows with speed)"},
-      {"hertz_stiffness", "nonlinear (Hertzian) stiffness", "p", "1", 0.5, 1.0, false,
-       "elastic force k |delta| (|delta| / delta_ref)^p: the effective damping ratio changes with "
-       "speed, e rises with speed",
-       "the contact duration against impact speed (it shortens with speed only for a stiffening "
-       "contact), or the force through the contact"},
-      {"plastic_unloading", "dissipative (plastic) restitution", "r", "1", 0.5, 10.0, false,
-       "unloading stiffer than loading, k (1 + r): lower e at every speed",
-       "the force through the contact (unloading path) or the residual indentation of the surface"},
-      {"static_friction", "static friction above kinetic", "mu_s - mu", "1", 0.1, 1.0, false,
-       "stick holds up to (mu + excess) P: the impulse ratio at angles near the stick limit",
-       "oblique impacts at angles near the stick limit (tan(angle) close to mu)"},
-      {"tangential_compliance", "tangential contact compliance", "k/k_t", "1", 1.0, 10.0, false,
-       "a tangential spring at the contact point: spin and v_C.x after small-angle impacts, T's "
-       "tangential velocity can reverse",
-       "the tangential velocity of the contact point through the contact, filmed at a higher rate",
-       0.01},
-      {"rolling_resistance", "rolling resistance (contact torque)", "rho", "m", 5e-4, 1e-2, false,
-       "a contact torque: less spin after oblique impacts, v_C nearly unchanged",
-       "spin after impacts with a known initial spin"},
-      {"out_of_plane", "out-of-plane rotation (a measurement effect)", "tilt", "deg", 10.0, 60.0,
-       true, "the projected marker distance shrinks by cos(tilt): apparent changes of the pose",
-       "a second camera or a mirror view (stereo)"},
-      {"out_of_plane_rate", "out-of-plane tilt growing through the impact (a measurement effect)",
-       "dtilt/dt", "deg/s", 500.0, 1e4, true,
-       "the marker distance dips toward the impact and recovers after it, and the markers on the "
-       "face "
-       "slide sideways: both velocities carry a bias of (thickness / 2) dtilt/dt along x_B",
-       "a second camera or a mirror view (stereo), or markers at two depths", 0.0, true},
-      {"out_of_plane_roll_rate",
-       "out-of-plane roll growing through the impact (a measurement effect)", "droll/dt", "deg/s",
-       500.0, 1e4, true,
-       "the marker distance across the specimen dips toward the impact, and the markers on the "
-       "face "
-       "slide along y_B: both velocities carry a bias of (thickness / 2) droll/dt",
-       "a second camera or a mirror view (stereo), or markers at two depths", 0.0, true},
+      {.key = "hunt_crossley",
+       .name = "velocity-dependent (Hunt-Crossley) damping",
+       .parameter = "c",
+       .unit = "N s/m^2",
+       .probe = 2e7,
+       .upper = 5e8,
+       .signature = "extra damping c |delta| delta' in compression: e falls as the impact speed "
+                    "rises",
+       .separating_measurement = "impacts over a wider range of speeds, or the force through the "
+                                 "contact (its hysteresis loop grows with speed)",
+       .extension = "hunt_crossley_N_s_m2"},
+      {.key = "hertz_stiffness",
+       .name = "nonlinear (Hertzian) stiffness",
+       .parameter = "p",
+       .unit = "1",
+       .probe = 0.5,
+       .upper = 1.0,
+       .signature = "elastic force k |delta| (|delta| / delta_ref)^p: the effective damping ratio "
+                    "changes with speed, e rises with speed",
+       .separating_measurement = "the contact duration against impact speed (it shortens with "
+                                 "speed only for a stiffening contact), or the force through the "
+                                 "contact",
+       .extension = "stiffness_exponent_extra"},
+      {.key = "plastic_unloading",
+       .name = "dissipative (plastic) restitution",
+       .parameter = "r",
+       .unit = "1",
+       .probe = 0.5,
+       .upper = 10.0,
+       .signature = "unloading stiffer than loading, k (1 + r): lower e at every speed",
+       .separating_measurement = "the force through the contact (unloading path) or the residual "
+                                 "indentation of the surface",
+       .extension = "unloading_stiffness_ratio"},
+      {.key = "static_friction",
+       .name = "static friction above kinetic",
+       .parameter = "mu_s - mu",
+       .unit = "1",
+       .probe = 0.1,
+       .upper = 1.0,
+       .signature = "stick holds up to (mu + excess) P: the impulse ratio at angles near the "
+                    "stick limit",
+       .separating_measurement = "oblique impacts at angles near the stick limit (tan(angle) "
+                                 "close to mu)",
+       .extension = "static_friction_excess"},
+      {.key = "tangential_compliance",
+       .name = "tangential contact compliance",
+       .parameter = "k/k_t",
+       .unit = "1",
+       .probe = 1.0,
+       .upper = 10.0,
+       .signature = "a tangential spring at the contact point: spin and v_C.x after small-angle "
+                    "impacts, T's tangential velocity can reverse",
+       .separating_measurement = "the tangential velocity of the contact point through the "
+                                 "contact, filmed at a higher rate",
+       .smallest = 0.01,
+       .extension = "tangential_compliance_ratio"},
+      {.key = "rolling_resistance",
+       .name = "rolling resistance (contact torque)",
+       .parameter = "rho",
+       .unit = "m",
+       .probe = 5e-4,
+       .upper = 1e-2,
+       .signature = "a contact torque: less spin after oblique impacts, v_C nearly unchanged",
+       .separating_measurement = "spin after impacts with a known initial spin",
+       .extension = "rolling_resistance_m"},
+      {.key = "out_of_plane",
+       .name = "out-of-plane rotation (a measurement effect)",
+       .parameter = "tilt",
+       .unit = "deg",
+       .probe = 10.0,
+       .upper = 60.0,
+       .measurement_effect = true,
+       .signature = "the projected marker distance shrinks by cos(tilt): apparent changes of the "
+                    "pose",
+       .separating_measurement = "a second camera or a mirror view (stereo)",
+       .extension = ""},
+      {.key = "out_of_plane_rate",
+       .name = "out-of-plane tilt growing through the impact (a measurement effect)",
+       .parameter = "dtilt/dt",
+       .unit = "deg/s",
+       .probe = 500.0,
+       .upper = 1e4,
+       .measurement_effect = true,
+       .signature = "the marker distance dips toward the impact and recovers after it, and the "
+                    "markers on the face slide sideways: both velocities carry a bias of "
+                    "(thickness / 2) dtilt/dt along x_B",
+       .separating_measurement = "a second camera or a mirror view (stereo), or markers at two "
+                                 "depths",
+       .rotation_rate = true,
+       .extension = ""},
+      {.key = "out_of_plane_roll_rate",
+       .name = "out-of-plane roll growing through the impact (a measurement effect)",
+       .parameter = "droll/dt",
+       .unit = "deg/s",
+       .probe = 500.0,
+       .upper = 1e4,
+       .measurement_effect = true,
+       .signature = "the marker distance across the specimen dips toward the impact, and the "
+                    "markers on the face slide along y_B: both velocities carry a bias of "
+                    "(thickness / 2) droll/dt",
+       .separating_measurement = "a second camera or a mirror view (stereo), or markers at two "
+                                 "depths",
+       .rotation_rate = true,
+       .extension = ""},
   };
   return library;
 }

@@ -80,21 +80,14 @@ nlohmann::json TrialJson(const TrialTruth& t, const RenderOptions& o) {
 }
 
 nlohmann::json HiddenEffectsJson(const HiddenEffects& h) {
-  const dynamics::ContactExtensions& x = h.contact;
   const OutOfPlane& o = h.out_of_plane;
-  return {{"hunt_crossley_N_s_m2", x.hunt_crossley_N_s_m2},
-          {"stiffness_exponent_extra", x.stiffness_exponent_extra},
-          {"stiffness_reference_depth_m", x.stiffness_reference_depth_m},
-          {"unloading_stiffness_ratio", x.unloading_stiffness_ratio},
-          {"static_friction_excess", x.static_friction_excess},
-          {"tangential_compliance_ratio", x.tangential_compliance_ratio},
-          {"rolling_resistance_m", x.rolling_resistance_m},
-          {"friction_speed_slope_s_m", x.friction_speed_slope_s_m},
-          {"out_of_plane",
-           {{"tilt_deg", o.tilt_deg},
-            {"roll_deg", o.roll_deg},
-            {"tilt_rate_deg_s", o.tilt_rate_deg_s},
-            {"roll_rate_deg_s", o.roll_rate_deg_s}}}};
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& f : dynamics::ContactExtensionFields()) j[f.key] = h.contact.*f.member;
+  j["out_of_plane"] = {{"tilt_deg", o.tilt_deg},
+                       {"roll_deg", o.roll_deg},
+                       {"tilt_rate_deg_s", o.tilt_rate_deg_s},
+                       {"roll_rate_deg_s", o.roll_rate_deg_s}};
+  return j;
 }
 
 nlohmann::json CameraEffectsJson(const CameraEffects& c) {

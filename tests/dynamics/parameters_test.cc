@@ -1,6 +1,8 @@
 #include "dynamics/parameters.h"
 
+#include <cctype>
 #include <cmath>
+#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -107,6 +109,56 @@ TEST(ParametersTest, SurfaceNamesRoundTrip) {
   for (Surface s : {Surface::kSteel, Surface::kConcrete, Surface::kAsphalt})
     EXPECT_EQ(ParseSurface(SurfaceName(s)), s);
   EXPECT_EQ(ParseSurface("Concrete"), Surface::kConcrete);
+}
+
+TEST(ParametersTest, TheExtensionTableHoldsEveryFieldOnce) {
+  const auto& fields = ContactExtensionFields();
+  // Every field of ContactExtensions is a double: a field added without its row changes the
+  // size and fails here.
+  EXPECT_EQ(sizeof(ContactExtensions), fields.size() * sizeof(double));
+  std::set<std::string> keys, flags;
+  ContactExtensions x;
+  for (const auto& f : fields) {
+    EXPECT_TRUE(keys.insert(f.key).second) << f.key;
+    EXPECT_TRUE(flags.insert(f.flag).second) << f.flag;
+    // The flag is the key spelled as an option.
+    std::string spelled = "--";
+    for (char c : std::string(f.key))
+      spelled += c == '_' ? '-' : static_cast<char>(std::tolower(c));
+    EXPECT_EQ(spelled, f.flag);
+    EXPECT_EQ(FindContactExtension(f.key), &f);
+    // Each row points at its own field: setting it through the row changes that field only.
+    x.*f.member = 0.5;
+    EXPECT_EQ(x.*f.member, 0.5);
+    // The option's range lies within the model's valid range.
+    EXPECT_GE(f.option_lower, f.valid_lower) << f.key;
+    EXPECT_LE(f.option_upper, f.valid_upper) << f.key;
+  }
+  EXPECT_EQ(FindContactExtension("no_such_effect"), nullptr);
+  // All rows set to 0.5 set every field to 0.5.
+  EXPECT_EQ(x.hunt_crossley_N_s_m2, 0.5);
+  EXPECT_EQ(x.stiffness_exponent_extra, 0.5);
+  EXPECT_EQ(x.stiffness_reference_depth_m, 0.5);
+  EXPECT_EQ(x.unloading_stiffness_ratio, 0.5);
+  EXPECT_EQ(x.static_friction_excess, 0.5);
+  EXPECT_EQ(x.tangential_compliance_ratio, 0.5);
+  EXPECT_EQ(x.rolling_resistance_m, 0.5);
+  EXPECT_EQ(x.friction_speed_slope_s_m, 0.5);
+}
+
+TEST(ParametersTest, EachExtensionRefusesAValueBelowItsRangeByName) {
+  for (const auto& f : ContactExtensionFields()) {
+    ContactExtensions x;
+    x.*f.member = f.lower_open ? f.valid_lower : f.valid_lower - 1e-3;
+    ExpectInvalid([&] { x.Validate(); }, f.key);
+    x = ContactExtensions{};
+    x.*f.member = f.option_lower;
+    EXPECT_NO_THROW(x.Validate()) << f.key;
+    // An effect switches Any() on; a shape parameter does not.
+    x = ContactExtensions{};
+    if (f.effect) x.*f.member = f.option_upper;
+    EXPECT_EQ(x.Any(), f.effect) << f.key;
+  }
 }
 
 }  // namespace
