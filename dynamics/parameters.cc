@@ -25,18 +25,6 @@ void RequireFinite(std::string_view owner, std::string_view field, double value)
 
 }  // namespace
 
-void SpecimenParameters::Validate() const {
-  constexpr std::string_view kOwner = "specimen";
-  RequireFinite(kOwner, "mass_kg", mass_kg);
-  RequireFinite(kOwner, "inertia_kg_m2", inertia_kg_m2);
-  RequireFinite(kOwner, "end_radius_m", end_radius_m);
-  RequireFinite(kOwner, "d_EC_m", d_EC_m);
-  if (mass_kg <= 0) ThrowField(kOwner, "mass_kg", mass_kg, "must be > 0");
-  if (inertia_kg_m2 <= 0) ThrowField(kOwner, "inertia_kg_m2", inertia_kg_m2, "must be > 0");
-  if (end_radius_m <= 0) ThrowField(kOwner, "end_radius_m", end_radius_m, "must be > 0");
-  if (d_EC_m < 0) ThrowField(kOwner, "d_EC_m", d_EC_m, "must be >= 0");
-}
-
 const std::vector<ContactExtensionField>& ContactExtensionFields() {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   using X = ContactExtensions;

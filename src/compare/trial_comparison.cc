@@ -20,13 +20,9 @@ core::SurfaceRotation SurfaceAxes(const pipeline::TrialAnalysis& t) {
   return core::SurfaceRotation::FromDegrees(t.spec.surface_angle_deg);
 }
 
+/// The rigid body of the trial's specimen (without what the camera sees of it).
 dynamics::SpecimenParameters Specimen(const pipeline::TrialAnalysis& t) {
-  dynamics::SpecimenParameters s;
-  s.mass_kg = t.spec.specimen.mass_kg;
-  s.inertia_kg_m2 = t.spec.specimen.inertia_kg_m2;
-  s.end_radius_m = t.spec.specimen.end_radius_m;
-  s.d_EC_m = t.spec.specimen.d_EC_m;
-  return s;
+  return static_cast<const core::SpecimenParameters&>(t.spec.specimen);
 }
 
 Eigen::Vector2d Dir(double angle) { return {std::cos(angle), std::sin(angle)}; }

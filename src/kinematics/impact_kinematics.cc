@@ -43,7 +43,7 @@ LineFit FitLine(const std::vector<double>& tau, const std::vector<double>& y) {
 
 /// Fits frames [idx] with the parabola for C and a line for theta, about t_ref.
 FlightFit FitFlight(const std::vector<PoseSample>& poses, const std::vector<int>& idx, double t_ref,
-                    const BodyGeometry& body, double g) {
+                    const core::SpecimenParameters& body, double g) {
   std::vector<double> tau, x, y, th;
   for (int i : idx) {
     const PoseSample& p = poses[static_cast<std::size_t>(i)];
@@ -88,7 +88,7 @@ FlightFit Shift(FlightFit f, double dt, double g) {
 /// Height of the contact point T above a surface through the origin, along y_S, at time t
 /// (relative to the fit's reference time) for a flight fit.
 double HeightOfT(const FlightFit& f, double t, const core::SurfaceRotation& S,
-                 const BodyGeometry& body, double g) {
+                 const core::SpecimenParameters& body, double g) {
   const Eigen::Vector2d c = f.p_WC + f.v_WC * t + Eigen::Vector2d(0, -0.5 * g * t * t);
   const double th = f.theta_W_rad + f.w_rad_s * t;
   const Eigen::Vector2d e = c - body.d_EC_m * Eigen::Vector2d(std::cos(th), std::sin(th));
@@ -97,7 +97,8 @@ double HeightOfT(const FlightFit& f, double t, const core::SurfaceRotation& S,
 
 /// Velocity of the body point at T: v_C + w x (p_T - p_C), with p_T = p_E - R y_S.
 Eigen::Vector2d ContactPointVelocity(const Eigen::Vector2d& v_WC, double w, double theta,
-                                     const core::SurfaceRotation& S, const BodyGeometry& body) {
+                                     const core::SurfaceRotation& S,
+                                     const core::SpecimenParameters& body) {
   const Eigen::Vector2d r = -body.d_EC_m * Eigen::Vector2d(std::cos(theta), std::sin(theta)) -
                             body.end_radius_m * S.y_S();
   return v_WC + w * Eigen::Vector2d(-r.y(), r.x());
@@ -105,7 +106,7 @@ Eigen::Vector2d ContactPointVelocity(const Eigen::Vector2d& v_WC, double w, doub
 
 /// (e, mu_eff) from the parameters (vb_x, vb_y, wb, thb, va_x, va_y, wa, tha) in W.
 Eigen::Vector2d Measures(const Eigen::Matrix<double, 8, 1>& q, const core::SurfaceRotation& S,
-                         const BodyGeometry& body) {
+                         const core::SpecimenParameters& body) {
   const Eigen::Vector2d vb{q(0), q(1)}, va{q(4), q(5)};
   const Eigen::Vector2d tb = ContactPointVelocity(vb, q(2), q(3), S, body);
   const Eigen::Vector2d ta = ContactPointVelocity(va, q(6), q(7), S, body);
@@ -130,7 +131,7 @@ void KinematicsOptions::Validate() const {
 }
 
 ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
-                               double surface_angle_deg, const BodyGeometry& body,
+                               double surface_angle_deg, const core::SpecimenParameters& body,
                                const KinematicsOptions& options) {
   options.Validate();
   if (!(fps > 0)) throw std::invalid_argument("fps must be > 0");

@@ -14,6 +14,8 @@
 
 #include <Eigen/Core>
 
+#include "core/specimen.h"
+
 namespace hoof::kinematics {
 
 /// One frame's body pose in the world frame W (from tracking).
@@ -22,14 +24,6 @@ struct PoseSample {
   bool valid = false;          ///< false when too few markers were found
   Eigen::Vector2d p_WE{0, 0};  ///< centre of the round end (m)
   double theta_W_rad = 0.0;    ///< angle of x_B from x_W (rad)
-};
-
-/// Geometry needed to go from E to C and to the contact point T.
-struct BodyGeometry {
-  double d_EC_m = 0.0135;
-  double end_radius_m = 0.009;
-  double mass_kg = 0.008;
-  double inertia_kg_m2 = 1.5207e-6;
 };
 
 /// Settings of the impact measurement.
@@ -83,7 +77,7 @@ struct ImpactKinematics {
 /// `surface_angle_deg`. Expected failures (no impact, too few frames) come back in
 /// ImpactKinematics::success and message; invalid options throw std::invalid_argument.
 ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
-                               double surface_angle_deg, const BodyGeometry& body,
+                               double surface_angle_deg, const core::SpecimenParameters& body,
                                const KinematicsOptions& options = {});
 
 }  // namespace hoof::kinematics

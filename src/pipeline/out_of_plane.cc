@@ -54,9 +54,8 @@ TrialAnalysis RemeasureOutOfPlane(const TrialAnalysis& trial, const OutOfPlaneMo
     if (f < out.marker_distance_ratio.size() && std::isfinite(out.marker_distance_ratio[f]))
       out.marker_distance_ratio[f] /= MarkerDistanceRatio(spec.specimen, tilt, roll);
   }
-  const kinematics::BodyGeometry body{spec.specimen.d_EC_m, spec.specimen.end_radius_m,
-                                      spec.specimen.mass_kg, spec.specimen.inertia_kg_m2};
-  out.impact = kinematics::MeasureImpact(samples, spec.fps, spec.surface_angle_deg, body, options);
+  out.impact =
+      kinematics::MeasureImpact(samples, spec.fps, spec.surface_angle_deg, spec.specimen, options);
   if (!out.impact.success) {
     out.success = false;
     out.error = (spec.dir / "trial.json").string() +

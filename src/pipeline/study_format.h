@@ -12,14 +12,13 @@
 
 #include <Eigen/Core>
 
+#include "core/specimen.h"
+
 namespace hoof::pipeline {
 
-/// A specimen of study.json.
-struct SpecimenSpec {
-  double mass_kg = 0.0;
-  double inertia_kg_m2 = 0.0;
-  double end_radius_m = 0.0;
-  double d_EC_m = 0.0;
+/// A specimen of study.json: the rigid body (the project's one specimen type) and what the
+/// camera sees of it.
+struct SpecimenSpec : core::SpecimenParameters {
   double length_m = 0.0, width_m = 0.0, thickness_m = 0.0;  ///< 0 when not given
   /// Centres of the white dots in the body frame B (origin E, x toward C), in metres, in the
   /// order of the file.

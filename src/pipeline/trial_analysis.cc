@@ -161,9 +161,7 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
       out.poses.push_back(pose);
       samples.push_back({f / spec.fps, pose.valid, pose.p_WE, pose.theta_W_rad});
     }
-    kinematics::BodyGeometry body{spec.specimen.d_EC_m, spec.specimen.end_radius_m,
-                                  spec.specimen.mass_kg, spec.specimen.inertia_kg_m2};
-    out.impact = kinematics::MeasureImpact(samples, spec.fps, spec.surface_angle_deg, body,
+    out.impact = kinematics::MeasureImpact(samples, spec.fps, spec.surface_angle_deg, spec.specimen,
                                            options.kinematics);
     for (const auto& w : out.impact.warnings) out.warnings.push_back(w);
     for (const auto& f : out.impact.flags) out.flags.push_back(f);

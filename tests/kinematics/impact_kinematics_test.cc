@@ -55,7 +55,7 @@ Sequence MakeSequence(dynamics::Surface surface, double phi_deg, double speed, d
 
 TEST(ImpactKinematicsTest, ExactPosesGiveTheSimulatedImpact) {
   const Sequence s = MakeSequence(dynamics::Surface::kSteel, 20, 3.28, 0.12, 0.37, 0, 0, 1);
-  const ImpactKinematics k = MeasureImpact(s.poses, 8000, 20, BodyGeometry{});
+  const ImpactKinematics k = MeasureImpact(s.poses, 8000, 20, core::SpecimenParameters{});
   ASSERT_TRUE(k.success) << k.message;
   // Free flight is exactly a parabola, so the fits recover the states at touch/separation,
   // moved to the impact time by gravity alone.
@@ -84,11 +84,11 @@ TEST(ImpactKinematicsTest, StandardErrorsAreCalibrated) {
   for (unsigned seed = 0; seed < 200; ++seed) {
     const Sequence s =
         MakeSequence(dynamics::Surface::kConcrete, 30, 2.5, 0.3, 0.5, 4e-6, 2e-4, seed);
-    const ImpactKinematics k = MeasureImpact(s.poses, 8000, 30, BodyGeometry{});
+    const ImpactKinematics k = MeasureImpact(s.poses, 8000, 30, core::SpecimenParameters{});
     ASSERT_TRUE(k.success) << k.message;
     const ImpactKinematics exact = MeasureImpact(
         MakeSequence(dynamics::Surface::kConcrete, 30, 2.5, 0.3, 0.5, 0, 0, seed).poses, 8000, 30,
-        BodyGeometry{});
+        core::SpecimenParameters{});
     z_v.push_back((k.v_SC_after.y() - exact.v_SC_after.y()) / k.v_SC_after_se.y());
     z_e.push_back((k.e - exact.e) / k.e_se);
     z_mu.push_back((k.mu_eff - exact.mu_eff) / k.mu_eff_se);
@@ -108,7 +108,7 @@ TEST(ImpactKinematicsTest, StandardErrorsAreCalibrated) {
 TEST(ImpactKinematicsTest, NoImpactIsReported) {
   Sequence s = MakeSequence(dynamics::Surface::kSteel, 0, 3.0, 0.2, 0.5, 0, 0, 1);
   s.poses.resize(28);  // the sequence ends before the impact
-  const ImpactKinematics k = MeasureImpact(s.poses, 8000, 0, BodyGeometry{});
+  const ImpactKinematics k = MeasureImpact(s.poses, 8000, 0, core::SpecimenParameters{});
   EXPECT_FALSE(k.success);
   EXPECT_NE(k.message.find("no impact"), std::string::npos) << k.message;
 }
@@ -123,7 +123,7 @@ TEST(ImpactKinematicsTest, SecondBounceIsFlaggedAndLeftOutOfTheFit) {
     b.poses[static_cast<std::size_t>(i)].p_WE.y() =
         i < 56 ? base + v_down * t : base + v_down * 4 / 8000.0 + v_up * (t - 4 / 8000.0);
   }
-  const ImpactKinematics k2 = MeasureImpact(b.poses, 8000, 0, BodyGeometry{});
+  const ImpactKinematics k2 = MeasureImpact(b.poses, 8000, 0, core::SpecimenParameters{});
   ASSERT_TRUE(k2.success) << k2.message;
   ASSERT_FALSE(k2.flags.empty());
   EXPECT_EQ(k2.flags[0], "second_bounce");
@@ -137,10 +137,10 @@ TEST(ImpactKinematicsTest, TooFewPosesAreReported) {
   Sequence s = MakeSequence(dynamics::Surface::kSteel, 0, 3.0, 0.2, 0.5, 0, 0, 1);
   for (std::size_t i = 0; i < 60; ++i)
     if (i % 6 != 0) s.poses[i].valid = false;  // markers lost in most frames: 10 poses left
-  const ImpactKinematics k = MeasureImpact(s.poses, 8000, 0, BodyGeometry{});
+  const ImpactKinematics k = MeasureImpact(s.poses, 8000, 0, core::SpecimenParameters{});
   EXPECT_FALSE(k.success);
   EXPECT_FALSE(k.message.empty());
-  EXPECT_THROW(MeasureImpact(s.poses, 0.0, 0, BodyGeometry{}), std::invalid_argument);
+  EXPECT_THROW(MeasureImpact(s.poses, 0.0, 0, core::SpecimenParameters{}), std::invalid_argument);
 }
 
 }  // namespace
