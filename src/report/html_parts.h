@@ -1,0 +1,35 @@
+#pragma once
+/// @file
+/// Parts of the HTML report (html_report.cc) that its Discovery section (discovery_html.cc)
+/// shares. Internal to hoof::report.
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "report/html_report.h"
+#include "studyfile/study_file.h"
+
+namespace hoof::report::internal {
+
+/// A number for the page, or a dash when it is not finite.
+std::string Fmt(double v, int precision = 4);
+/// The table at `path` of the study file, or nothing when it is absent.
+std::optional<studyfile::Table> TryReadTable(const std::filesystem::path& h5,
+                                             const std::string& path);
+/// A cell of a numeric or text column (NaN or empty when the column is absent).
+double Num(const studyfile::Table& t, const std::string& name, std::size_t row);
+std::string Text(const studyfile::Table& t, const std::string& name, std::size_t row);
+/// Rows of a table (0 without columns).
+std::size_t Rows(const studyfile::Table& t);
+/// A fresh folder for figures drawn only to be embedded (removed by an interrupt).
+std::filesystem::path TemporaryFigureDir();
+/// A PNG figure embedded as a data URI, captioned with its file stem.
+std::string FigureHtml(const std::filesystem::path& png);
+
+/// The Discovery section of the study file's /discovery, or nothing without one
+/// (discovery_html.cc).
+std::string DiscoverySection(const std::filesystem::path& h5, HtmlReportSummary& summary);
+
+}  // namespace hoof::report::internal
