@@ -6,11 +6,11 @@
 //
 //   build/bench/discovery_explore NAME [--design "SYNTH OPTIONS"] [--args "SYNTH OPTIONS"]
 //
-// Studies live in build/test-output/discovery/NAME, the folder of tests/discovery's studies, so
-// NAME may also be one the tests rendered (e.g. hunt_crossley, null_3, scatter_rolling); a study
-// already there is used as it is, whatever the options. Without --design, the tests' design (one
-// surface, 24 trials, no per-trial scatter); --args adds synth options (a hidden effect, a seed).
-// The environment variables the test read still work as defaults: HOOF_EXPLORE (NAME),
+// Studies live in build/test-output/discovery/NAME; a study already there is used as it is,
+// whatever the options. (The tests' own studies are under build/test-output/studies/, one folder
+// per name, options and build: tests/support/rendered_study.h.) Without --design, the tests' design
+// (one surface, 24 trials, no per-trial scatter); --args adds synth options (a hidden effect, a
+// seed). The environment variables the test read still work as defaults: HOOF_EXPLORE (NAME),
 // HOOF_EXPLORE_DESIGN, HOOF_EXPLORE_ARGS.
 #include <unistd.h>
 

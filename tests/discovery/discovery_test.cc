@@ -19,6 +19,7 @@
 #include "pipeline/study_analysis.h"
 #include "stats/distributions.h"
 #include "support/discovery_print.h"
+#include "support/rendered_study.h"
 #include "support/run_command.h"
 #include "synth/options.h"
 
@@ -29,19 +30,10 @@ using hoof::discovery::FindingStatus;
 
 namespace {
 
-/// Renders a study with `hoofimpact synth --study` unless it is already there.
+/// Renders a study with `hoofimpact synth --study`, once per build
+/// (tests/support/rendered_study.h).
 fs::path RenderStudy(const std::string& name, const std::string& options) {
-  const fs::path dir = fs::path(HOOF_BINARY_DIR) / "test-output" / "discovery" / name;
-  if (fs::exists(dir / "study.json")) return dir;
-  const fs::path tmp = dir.string() + ".tmp-" + std::to_string(::getpid());
-  fs::remove_all(tmp);
-  fs::create_directories(tmp.parent_path());
-  const auto r = hoof::testing::RunHoofimpact("synth --study -o " + tmp.string() + " " + options);
-  EXPECT_EQ(r.exit_code, 0) << r.err;
-  std::error_code ec;
-  fs::rename(tmp, dir, ec);
-  if (ec) fs::remove_all(tmp);
-  return dir;
+  return hoof::testing::RenderedStudy("discovery-" + name, options);
 }
 
 /// One surface, normal and oblique impacts at three speeds, two repetitions, the paper's

@@ -21,6 +21,7 @@
 #include "pipeline/out_of_plane.h"
 #include "pipeline/study_analysis.h"
 #include "pipeline/truth_score.h"
+#include "support/rendered_study.h"
 #include "support/run_command.h"
 
 namespace hoof::pipeline {
@@ -32,20 +33,10 @@ fs::path OutDir(const std::string& name) {
   return fs::path(HOOF_BINARY_DIR) / "test-output" / name;
 }
 
-/// Renders a study with `hoofimpact synth --study` unless it is already there.
+/// Renders a study with `hoofimpact synth --study`, once per build
+/// (tests/support/rendered_study.h).
 fs::path RenderStudy(const std::string& name, const std::string& options) {
-  const fs::path dir = OutDir(name);
-  if (fs::exists(dir / "study.json")) return dir;
-  // ctest runs test cases as parallel processes: render into a folder of our own, then rename
-  // it into place; whoever renames second keeps the first one's copy.
-  const fs::path tmp = dir.string() + ".tmp-" + std::to_string(::getpid());
-  fs::remove_all(tmp);
-  const auto r = hoof::testing::RunHoofimpact("synth --study -o " + tmp.string() + " " + options);
-  EXPECT_EQ(r.exit_code, 0) << r.err;
-  std::error_code ec;
-  fs::rename(tmp, dir, ec);
-  if (ec) fs::remove_all(tmp);
-  return dir;
+  return hoof::testing::RenderedStudy(name, options);
 }
 
 std::vector<TrialAnalysis> AnalyzeAll(const StudySpec& study) {
