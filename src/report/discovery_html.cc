@@ -298,9 +298,10 @@ std::string DiscoverySection(const fs::path& h5, HtmlReportSummary& summary) {
   h << "<div class=\"tables\">" << FindingsTableHtml(r.findings) << SurfacesTableHtml(r)
     << NoiseTableHtml(r) << "</div>";
 
-  const fs::path dir = TemporaryFigureDir();
+  const TemporaryFigureFolder folder;
+  const fs::path& dir = folder.path();
   std::vector<fs::path> figures;
-  try {
+  {
     figures = WriteDiscoveryFigures(r, dir);
     const auto figure_of = [&](const std::string& stem) -> std::string {
       for (const auto& p : figures)
@@ -337,13 +338,7 @@ std::string DiscoverySection(const fs::path& h5, HtmlReportSummary& summary) {
     else
       h << TestsTableHtml(r.remaining, "Significant disagreements that remain");
     h << figure_of("discovery_residuals");
-  } catch (...) {
-    fs::remove_all(dir);
-    io::UntrackTemporary(dir);
-    throw;
   }
-  fs::remove_all(dir);
-  io::UntrackTemporary(dir);
   h << "</section>";
   return h.str();
 }

@@ -25,6 +25,19 @@ std::string Text(const studyfile::Table& t, const std::string& name, std::size_t
 std::size_t Rows(const studyfile::Table& t);
 /// A fresh folder for figures drawn only to be embedded (removed by an interrupt).
 std::filesystem::path TemporaryFigureDir();
+/// A TemporaryFigureDir() owned for one section: removed, and forgotten by the interrupt
+/// handler, when it goes out of scope, whether the section was written or threw.
+class TemporaryFigureFolder {
+ public:
+  TemporaryFigureFolder();
+  ~TemporaryFigureFolder();
+  TemporaryFigureFolder(const TemporaryFigureFolder&) = delete;
+  TemporaryFigureFolder& operator=(const TemporaryFigureFolder&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
 /// A PNG figure embedded as a data URI, captioned with its file stem.
 std::string FigureHtml(const std::filesystem::path& png);
 

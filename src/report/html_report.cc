@@ -263,6 +263,14 @@ fs::path TemporaryFigureDir() {
   return io::TemporaryPathFor(fs::temp_directory_path() / "hoofimpact-report");
 }
 
+TemporaryFigureFolder::TemporaryFigureFolder() : path_(TemporaryFigureDir()) {}
+
+TemporaryFigureFolder::~TemporaryFigureFolder() {
+  std::error_code ec;
+  fs::remove_all(path_, ec);
+  io::UntrackTemporary(path_);
+}
+
 void RemoveStaleReportFolders() {
   std::error_code ec;
   const fs::path tmp = fs::temp_directory_path(ec);
@@ -280,10 +288,11 @@ std::string FigureHtml(const fs::path& png) {
 
 std::string FiguresSection(const studyfile::StudyResults& study, const fs::path& study_h5,
                            int& count) {
-  const fs::path dir = TemporaryFigureDir();
+  const TemporaryFigureFolder folder;
+  const fs::path& dir = folder.path();
   std::ostringstream h;
   h << "<section id=\"figures\"><h2>Figures</h2><div class=\"figures\">";
-  try {
+  {
     // Figures 4-5 (e and mu_eff by angle and speed) and 6-8 (velocities after normal and
     // oblique impacts against the simulation, kinetic energy through an impact).
     std::vector<fs::path> paths = WriteStudyFigures(study, dir);
@@ -293,13 +302,7 @@ std::string FiguresSection(const studyfile::StudyResults& study, const fs::path&
       h << FigureHtml(path);
       ++count;
     }
-  } catch (...) {
-    fs::remove_all(dir);
-    io::UntrackTemporary(dir);
-    throw;
   }
-  fs::remove_all(dir);
-  io::UntrackTemporary(dir);
   if (count == 0) h << "<p>No figure: no trial was measured.</p>";
   h << "</div></section>";
   return h.str();
