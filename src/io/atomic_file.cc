@@ -25,6 +25,13 @@ std::filesystem::path TemporaryPathFor(const std::filesystem::path& path) {
   return tmp;
 }
 
+void CreateFolder(const std::filesystem::path& dir) {
+  const CreatingTemporary creating;
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw std::runtime_error("cannot create directory " + dir.string() + ": " + ec.message());
+}
+
 void CommitTemporary(const std::filesystem::path& temporary, const std::filesystem::path& path) {
   const CreatingTemporary creating;  // `path` may itself be a temporary (run's study file)
   std::error_code ec;

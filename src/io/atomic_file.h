@@ -25,6 +25,11 @@ void WriteTextAtomically(const std::filesystem::path& path, std::string_view con
 /// CommitTemporary().
 std::filesystem::path TemporaryPathFor(const std::filesystem::path& path);
 
+/// Creates `dir` and its missing parents while holding a CreatingTemporary (interrupt.h): `dir`
+/// may be, or lie inside, a temporary folder that an interrupt removes, and a folder made again
+/// after that would be left behind. Throws std::runtime_error naming the folder.
+void CreateFolder(const std::filesystem::path& dir);
+
 /// Renames `temporary` over `path`; on failure removes `temporary` and throws
 /// std::runtime_error naming both.
 void CommitTemporary(const std::filesystem::path& temporary, const std::filesystem::path& path);

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "io/atomic_file.h"
 #include "report/gnuplot.h"
 #include "studyfile/study_file.h"
 
@@ -103,7 +104,7 @@ std::vector<std::filesystem::path> WriteComparisonFigures(const std::filesystem:
       oblique.series.push_back(oy);
     }
   }
-  std::filesystem::create_directories(dir);
+  io::CreateFolder(dir);  // `dir` may be the report's temporary folder
   if (!normal.series.empty()) Render(normal, dir, "velocity_normal", written);
   if (!oblique.series.empty()) {
     const double pad = 0.05 * (hi - lo + 1e-9);

@@ -6,6 +6,7 @@
 #include <string>
 #include <tuple>
 
+#include "io/atomic_file.h"
 #include "report/gnuplot.h"
 
 namespace hoof::report {
@@ -165,7 +166,7 @@ void ResidualFigure(const discovery::DiscoveryResult& r, const fs::path& dir,
 std::vector<fs::path> WriteDiscoveryFigures(const discovery::DiscoveryResult& result,
                                             const fs::path& dir) {
   std::vector<fs::path> written;
-  fs::create_directories(dir);
+  io::CreateFolder(dir);  // `dir` may be the report's temporary folder
   for (std::size_t i = 0; i < result.rounds.size(); ++i) {
     const auto& round = result.rounds[i];
     if (round.accepted.empty() || round.gap.empty()) continue;
