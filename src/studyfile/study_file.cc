@@ -119,6 +119,12 @@ void WriteOptions(const H5::Group& g, const pipeline::TrialAnalysisOptions& o) {
            "sub-pixel dot centre method");
   h5::Scalar(g, "min_significance", t.detector.min_significance, "1",
              "dot contrast over noise for a dot to count");
+  h5::Integers(g, "centroid_iterations", {t.detector.centroid_iterations}, {}, "1",
+               "re-centring passes of the weighted centroid");
+  h5::Scalar(g, "min_radius_px", t.detector.min_radius_px, "px",
+             "smallest dot radius the full-frame search considers");
+  h5::Scalar(g, "max_radius_px", t.detector.max_radius_px, "px",
+             "largest dot radius the full-frame search considers");
   h5::Scalar(g, "search_radius_px", t.search_radius_px, "px",
              "tracker search radius (0 = automatic)");
   h5::Integers(g, "max_consecutive_misses", {t.max_consecutive_misses}, {}, "frame",
