@@ -3,9 +3,9 @@
 // (docs/discovery.md). Only arguments, reading, storing and printing live here; the workflow is
 // in hoof::discovery, its tables in discovery/discovery_tables.h, its figures in hoof::report.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
-#include <initializer_list>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -85,10 +85,10 @@ std::string ValuesText(const std::vector<discovery::EffectValue>& values,
 }
 
 /// Width of a column of enum texts: the longest text, and two spaces.
-template <typename Enum>
-int TextWidth(std::initializer_list<Enum> values) {
+template <typename Values>
+int TextWidth(const Values& values) {
   std::size_t width = 0;
-  for (Enum v : values) width = std::max(width, std::string(discovery::ToString(v)).size());
+  for (auto v : values) width = std::max(width, std::string(discovery::ToString(v)).size());
   return static_cast<int>(width) + 2;
 }
 
@@ -100,7 +100,8 @@ bool SaysWhy(const discovery::CandidateResult& c) {
          c.outcome == CandidateOutcome::kIndistinguishable ||
          c.outcome == CandidateOutcome::kWeakerThanAdded ||
          c.outcome == CandidateOutcome::kWorseHeldOut ||
-         c.outcome == CandidateOutcome::kBelowResolution;
+         c.outcome == CandidateOutcome::kBelowResolution ||
+         c.outcome == CandidateOutcome::kAtSmallestValue;
 }
 
 void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std::string& h5) {
@@ -117,15 +118,11 @@ void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std:
     os << (line.empty() ? "" : "  ") << line << "\n";
   using discovery::CandidateOutcome;
   using discovery::Identifiability;
-  const int outcome_width = TextWidth(
-      {CandidateOutcome::kAdded, CandidateOutcome::kIndistinguishable,
-       CandidateOutcome::kWeakerThanAdded, CandidateOutcome::kNotSignificant,
-       CandidateOutcome::kWorseHeldOut, CandidateOutcome::kBelowResolution,
-       CandidateOutcome::kNotTested, CandidateOutcome::kConfounded, CandidateOutcome::kNotFitted});
-  const int identifiability_width = TextWidth(
-      {Identifiability::kIdentified, Identifiability::kNotTested, Identifiability::kConfounded});
+  const int outcome_width = TextWidth(discovery::AllCandidateOutcomes());
+  const int identifiability_width = TextWidth(std::array{
+      Identifiability::kIdentified, Identifiability::kNotTested, Identifiability::kConfounded});
   const int form_width =
-      TextWidth({discovery::EffectForm::kShared, discovery::EffectForm::kPerSurface});
+      TextWidth(std::array{discovery::EffectForm::kShared, discovery::EffectForm::kPerSurface});
   for (std::size_t i = 0; i < r.rounds.size(); ++i) {
     const auto& round = r.rounds[i];
     os << "\nRound " << i + 1 << ": " << round.decision << "\n";
@@ -187,9 +184,9 @@ void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std:
   if (r.findings.empty()) os << "  none\n";
   for (const auto& f : r.findings) {
     os << "  " << std::left
-       << std::setw(
-              TextWidth({discovery::FindingStatus::kNamed, discovery::FindingStatus::kTentative,
-                         discovery::FindingStatus::kIndistinguishable}))
+       << std::setw(TextWidth(std::array{discovery::FindingStatus::kNamed,
+                                         discovery::FindingStatus::kTentative,
+                                         discovery::FindingStatus::kIndistinguishable}))
        << discovery::ToString(f.status) << std::right << f.key;
     if (f.form == discovery::EffectForm::kPerSurface) {
       std::string on;

@@ -30,6 +30,8 @@ struct Evaluation {
   std::shared_ptr<const std::vector<pipeline::TrialAnalysis>> remeasured;
   std::shared_ptr<Workspace> remeasured_ws;
   CrossValidation velocity_cv;
+  // Another optimum of the candidate's fit that fits nearly as well, in words (empty if none).
+  std::string other_optimum;
 };
 
 std::string Moved(const Workspace& ws, const Fit& probe, const Fit& current) {
@@ -105,9 +107,13 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
   int n_ratio = 0;
   for (const Obs& o : ws.obs) n_ratio += std::isfinite(o.marker_ratio) ? 1 : 0;
   // Each contact candidate at its probe size, without refitting: the residual change per unit
-  // (a secant), for the naming level, the identifiability probe and the detection limit.
+  // (a secant), for the naming level and the identifiability probe. And at a ladder of sizes,
+  // for where its fit starts, for the directions of its change that the secant misses, and for
+  // its detection limit.
   std::map<std::string, std::vector<Eigen::Vector3d>> residual_probe, change;
+  std::map<std::string, SizeLadder> ladder;
   std::vector<std::vector<Eigen::Vector3d>> changes;
+  std::vector<std::vector<LadderRay>> rays;
   int independent = 0;
   for (const auto& key : to_try) {
     const LibraryEntry& e = Entry(key);
@@ -123,11 +129,13 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
     for (std::size_t i = 0; i < ws.obs.size(); ++i)
       d_r[i] = (residual_current[i] - residual_probe[key][i]) / e.probe;
     changes.push_back(d_r);
+    ladder[key] = Ladder(ws, current.model, key, residual_current, sens, ref);
+    rays.push_back(LadderRays(ws, ladder[key], d_r, sens, ref));
   }
   // The naming level: min-P over the hypotheses tried, each candidate once per form (shared and,
   // with two or more surfaces, per surface: the form is chosen from the same data).
-  const NamingLevel naming =
-      CalibrateNamingLevel(ws, changes, sens, ref, options.per_surface, independent, options.alpha);
+  const NamingLevel naming = CalibrateNamingLevel(ws, changes, sens, ref, options.per_surface,
+                                                  independent, options.alpha, 20000, rays);
   const double level = naming.level;
   rd.naming_level = naming.level;
   rd.bonferroni_level = naming.bonferroni;
@@ -207,14 +215,38 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
         2 * (LogLikelihood(ws, all, residual_probe[key], sens, current.noise) - current.loglik);
     const Fit probe = FitModel(ws, all, probe_start, free_current, current.noise, true, 4);
     const double probe_lr = 2 * (probe.loglik - current.loglik);
-    // The free fit, shared by all surfaces, from the better of the two starts.
+    // The free fit, shared by all surfaces, from the best of the starts: the ladder's three
+    // largest optima (or a tenth of the probe size when no size gains), and the probe's fit.
     std::vector<std::string> free = free_current;
     free.push_back(key);
-    Model start = probe.loglik > current.loglik ? probe.model : current.model;
-    if (!start.effects.count(key)) start.effects[key] = {EffectForm::kShared, {0.1 * e.probe}};
-    Fit chosen = FitModel(ws, all, start, free, current.noise, true);
+    std::vector<double> starts = LadderStarts(ladder[key], 3);
+    if (starts.empty()) starts.push_back(0.1 * e.probe);
+    Fit chosen;
+    std::vector<Fit> optima;
+    for (double size : starts) {
+      Model start = current.model;
+      start.effects[key] = {EffectForm::kShared, {size}};
+      Fit f = FitModel(ws, all, start, free, current.noise, true);
+      if (f.ok) optima.push_back(f);
+      if (size == starts.front() || f.loglik > chosen.loglik) chosen = std::move(f);
+    }
     if (probe.loglik > chosen.loglik)
       chosen = FitModel(ws, all, probe.model, free, probe.noise, true);
+    // An optimum elsewhere that the likelihood cannot tell from the best (2 log-likelihood
+    // within the 95 % point of chi-square 1): the s.e. describes one optimum, not the choice.
+    if (chosen.ok) {
+      const double best = chosen.model.effects.at(key).value.at(0);
+      const double se = chosen.effect_se.count(key) ? chosen.effect_se.at(key).at(0) : kNaN;
+      for (const Fit& f : optima) {
+        const double v = f.model.effects.at(key).value.at(0);
+        const double gap = 2 * (chosen.loglik - f.loglik);
+        const double apart = std::max(0.01 * best, std::isfinite(se) ? 5 * se : 0.0);
+        if (std::abs(v - best) > apart && gap >= 0 && gap < chi95 && ev.other_optimum.empty())
+          ev.other_optimum = "another optimum, " + e.parameter + " = " + Fmt(v, 3) +
+                             UnitSuffix(e.unit) + ", fits nearly as well (2 log-likelihood " +
+                             Fmt(gap, 2) + " lower): the size is uncertain between them";
+      }
+    }
     // The candidate's fit may have found zeta, mu and the noise model a better optimum than
     // the current fit did; its likelihood ratio is then against the current model refitted from
     // there, so that a gain of the baseline's own parameters is not credited to the effect.
@@ -300,17 +332,20 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
     } else {
       c.identifiability = Identifiability::kIdentified;
     }
-    // Detection limit: residual change per unit of the effect (secant to the probe size).
-    c.detection_limit = DetectionLimit(ProfiledInformation(ws, change[key], sens, ref), level);
+    // Detection limit: from the change simulated at each size of the ladder.
+    c.detection_limit = LadderDetectionLimit(ladder[key], level);
     // The estimate must also stand clear of 0 by its own standard error (one-sided Wald at the
     // naming level, per value for a per-surface effect): a likelihood ratio whose effect is
     // 0.4 s.e. from 0 is a gain of the other parameters, and naming it would contradict the
-    // estimate printed beside it.
+    // estimate printed beside it. Clear of the smallest value the fit may take, where that is
+    // above 0: an estimate on it says the data want less of the effect than the library can
+    // represent, and the step from 0 to it is no evidence of the effect.
     {
       const boost::math::normal z;
       const double z_level = boost::math::quantile(boost::math::complement(z, level / c.df));
       c.wald_clear = false;
-      for (const auto& v : c.values) c.wald_clear |= v.se > 0 && v.value / v.se > z_level;
+      for (const auto& v : c.values)
+        c.wald_clear |= v.se > 0 && (v.value - e.smallest) / v.se > z_level;
     }
     c.significant =
         c.fitted && c.p_value < level && c.wald_clear && c.cv_error < c.cv_error_current;
@@ -340,6 +375,14 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
       why << "likelihood-ratio p = " << FmtP(c.p_value) << " is not below the naming level "
           << FmtP(level) << " (alpha = " << Fmt(options.alpha) << " over " << naming.hypotheses
           << " hypotheses: candidates x forms)";
+    } else if (!c.wald_clear && Entry(c.key).smallest > 0) {
+      c.outcome = CandidateOutcome::kAtSmallestValue;
+      why << "likelihood-ratio p = " << FmtP(c.p_value) << ", but its estimate " << Fmt(c.estimate)
+          << " +- " << Fmt(c.se) << UnitSuffix(c.unit)
+          << " does not stand clear of the smallest value the fit may take ("
+          << Fmt(Entry(c.key).smallest) << UnitSuffix(c.unit)
+          << "): the data want no more of it than the library's least, and the step from 0 to "
+             "that value is no evidence of it";
     } else if (!c.wald_clear) {
       c.outcome = CandidateOutcome::kNotSignificant;
       why << "likelihood-ratio p = " << FmtP(c.p_value) << ", but its estimate " << Fmt(c.estimate)
@@ -404,6 +447,9 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
       ev.c.reason = w.str();
     }
   }
+
+  for (auto& ev : evals)
+    if (!ev.other_optimum.empty() && ev.c.significant) ev.c.reason += "; " + ev.other_optimum;
 
   // Rank: the added first, then by the strength of the evidence.
   auto klass = [](const CandidateResult& c) {

@@ -25,6 +25,7 @@
 ///     fit as well as the added one are reported as indistinguishable, with the measurement that
 ///     would separate them.
 
+#include <array>
 #include <functional>
 #include <map>
 #include <string>
@@ -53,8 +54,12 @@ struct LibraryEntry {
   std::string separating_measurement;  ///< what would tell it from its look-alikes
   /// Smallest value the fit may take other than 0 (the baseline, which the current model is).
   /// A tangential spring far stiffer than the normal one makes the contact's equations stiff
-  /// and the explicit integrator slow, while it changes nothing measurable.
+  /// and the explicit integrator slow.
   double smallest = 0.0;
+  /// Sizes per decade of the ladder on which a contact effect's fit starts and its detection
+  /// limit is found (docs/discovery.md, "A ladder of sizes"). An effect whose change swings in
+  /// sign from one size to the next needs a fine ladder for the fit to start near its optimum.
+  double ladder_per_decade = 8.0;
   /// A measurement effect that grows through the clip: the trials are re-measured with it
   /// (a tilt or roll rate, docs/discovery.md "Out-of-plane rotation that grows").
   bool rotation_rate = false;
@@ -144,6 +149,8 @@ enum class CandidateOutcome {
   kWorseHeldOut,       ///< significant in the fit, but it does not predict held-out trials better
   kBelowResolution,    ///< significant, but smaller than the measurement resolves (out-of-plane
                        ///< tilt within DiscoveryOptions::marker_ratio_tolerance)
+  kAtSmallestValue,    ///< its likelihood ratio is significant, but its estimate does not stand
+                       ///< clear of LibraryEntry::smallest (where that is above 0)
   kNotTested,   ///< see Identifiability::kNotTested; also a rotation rate the marker layout cannot
                 ///< see
   kConfounded,  ///< see Identifiability::kConfounded
@@ -164,6 +171,8 @@ const char* ToString(Identifiability v);
 const char* ToString(CandidateOutcome v);
 const char* ToString(EffectForm v);
 const char* ToString(FindingStatus v);
+/// Every candidate outcome, in the enum's order (for the tables' choices and the text's widths).
+const std::array<CandidateOutcome, 10>& AllCandidateOutcomes();
 /// The inverses (for the study file); throw std::invalid_argument naming the text.
 Identifiability IdentifiabilityFromString(const std::string& s);
 CandidateOutcome CandidateOutcomeFromString(const std::string& s);
@@ -213,8 +222,9 @@ struct CandidateResult {
   Identifiability identifiability = Identifiability::kIdentified;
   /// Baseline parameters that absorbed it in the identifiability probe, e.g. "a changed zeta".
   std::string confounded_with;
-  /// The estimate stands clear of 0 by its standard error (one-sided Wald at the naming level;
-  /// any surface's value for a per-surface effect).
+  /// The estimate stands clear of 0 (of LibraryEntry::smallest, where that is above 0) by its
+  /// standard error (one-sided Wald at the naming level; any surface's value for a per-surface
+  /// effect).
   bool wald_clear = false;
   /// p_value < the naming level (Round::naming_level), wald_clear, and cv_error < cv_error_current.
   bool significant = false;
@@ -245,7 +255,8 @@ struct Round {
   /// The naming level of this round's candidates: the per-hypothesis level at which the
   /// smallest p of all `hypotheses` (candidates x forms) falls below it with probability alpha
   /// under the current model (min-P, by Monte Carlo under the linearised noise model), and
-  /// Bonferroni's alpha / hypotheses, which it never falls below.
+  /// Bonferroni's alpha / tests, which it never falls below (the tests are the hypotheses and
+  /// the further directions of the changes that a search over the sizes tries, LadderRays).
   double naming_level = 0.0, bonferroni_level = 0.0;
   int hypotheses = 0;
   std::string accepted;       ///< key of the effect added in this round, empty when none

@@ -1,8 +1,8 @@
 #include "discovery/discovery_tables.h"
 
+#include <array>
 #include <cstdint>
 #include <exception>
-#include <initializer_list>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -40,18 +40,20 @@ std::vector<std::string> SplitSurfaces(const std::string& text) {
 }
 
 /// "a, b or c" of the texts of every value of an enum, for column descriptions.
-template <typename Enum>
-std::string Choices(std::initializer_list<Enum> values) {
+template <typename Values>
+std::string Choices(const Values& values) {
   std::string out;
   std::size_t i = 0;
-  for (Enum v : values) {
+  for (auto v : values) {
     out += std::string(i == 0 ? "" : i + 1 == values.size() ? " or " : ", ") + ToString(v);
     ++i;
   }
   return out;
 }
 
-std::string FormChoices() { return Choices({EffectForm::kShared, EffectForm::kPerSurface}); }
+std::string FormChoices() {
+  return Choices(std::array{EffectForm::kShared, EffectForm::kPerSurface});
+}
 
 // ---- writing ------------------------------------------------------------------------------
 
@@ -125,13 +127,9 @@ Table CandidatesTable(const std::string& name, const std::vector<CandidateResult
     reason.push_back(c.reason);
     detection_limit.push_back(c.detection_limit);
   }
-  const std::string outcomes = Choices(
-      {CandidateOutcome::kAdded, CandidateOutcome::kIndistinguishable,
-       CandidateOutcome::kWeakerThanAdded, CandidateOutcome::kNotSignificant,
-       CandidateOutcome::kWorseHeldOut, CandidateOutcome::kBelowResolution,
-       CandidateOutcome::kNotTested, CandidateOutcome::kConfounded, CandidateOutcome::kNotFitted});
-  const std::string identifiabilities = Choices(
-      {Identifiability::kIdentified, Identifiability::kNotTested, Identifiability::kConfounded});
+  const std::string outcomes = Choices(AllCandidateOutcomes());
+  const std::string identifiabilities = Choices(std::array{
+      Identifiability::kIdentified, Identifiability::kNotTested, Identifiability::kConfounded});
   return Table{
       name,
       "Every candidate effect of the round, fitted jointly with the per-surface parameters, in "
@@ -177,7 +175,8 @@ Table CandidatesTable(const std::string& name, const std::vector<CandidateResult
        Column::Texts("confounded_with", "baseline parameters that absorb it in the probe",
                      confounded),
        Column::Integers("wald_clear", "",
-                        "1 when the estimate stands clear of 0 by its s.e. at the naming level",
+                        "1 when the estimate stands clear of 0 (of the smallest value the fit may "
+                        "take, where that is above 0) by its s.e. at the naming level",
                         wald_clear),
        Column::Integers(
            "significant", "",
@@ -581,7 +580,9 @@ std::vector<Table> DiscoveryTables(const DiscoveryResult& r) {
                          "level per hypothesis at which the smallest p of the round's hypotheses "
                          "falls below it with probability alpha under the current model (min-P)",
                          {round.naming_level}),
-         Column::Numbers("bonferroni_level", "1", "alpha / hypotheses, for comparison",
+         Column::Numbers("bonferroni_level", "1",
+                         "alpha / tests (the hypotheses and the further directions of their "
+                         "changes a search over sizes tries), for comparison",
                          {round.bonferroni_level}),
          Column::Integers("hypotheses", "1", "candidates x forms tried", {round.hypotheses}),
          Column::Numbers("gap_before", "1",
@@ -633,8 +634,8 @@ std::vector<Table> DiscoveryTables(const DiscoveryResult& r) {
          Column::Texts("parameter", "its parameter", parameter),
          Column::Texts("unit", "unit of estimate and se", unit),
          Column::Texts("status",
-                       Choices({FindingStatus::kNamed, FindingStatus::kTentative,
-                                FindingStatus::kIndistinguishable}),
+                       Choices(std::array{FindingStatus::kNamed, FindingStatus::kTentative,
+                                          FindingStatus::kIndistinguishable}),
                        status),
          Column::Texts("form", FormChoices(), form),
          Column::Texts("surfaces",

@@ -274,6 +274,19 @@ struct WhitenedDesign {
 };
 WhitenedDesign Whiten(const Workspace& ws, const std::vector<Sensitivity>& sens,
                       const std::vector<TrialCovariance>& ref);
+/// Projects zeta and mu per surface out of whitened vectors (or of each column of a matrix):
+/// d - Q Q^T d, Q an orthonormal basis of the design's columns.
+class ProfileOut {
+ public:
+  explicit ProfileOut(const WhitenedDesign& w);
+  template <typename Derived>
+  Eigen::MatrixXd operator()(const Eigen::MatrixBase<Derived>& d) const {
+    return d - q_ * (q_.transpose() * d);
+  }
+
+ private:
+  Eigen::MatrixXd q_;
+};
 /// A residual change per obs (NaN counts as 0), whitened into the design's rows.
 Eigen::VectorXd WhitenChange(const Workspace& ws, const std::vector<Eigen::Vector3d>& d_r,
                              const std::vector<TrialCovariance>& ref, const WhitenedDesign& w);
@@ -288,11 +301,52 @@ std::vector<double> ProfiledInformation(const Workspace& ws,
 /// The smallest size that a one-sided test at `level` detects with 80 % power (Wald).
 double DetectionLimit(const std::vector<double>& information, double level);
 
+/// A contact effect at a ladder of sizes, log-spaced from LibraryEntry::smallest (or 1e-3 of
+/// the probe when that is 0) to LibraryEntry::upper at LibraryEntry::ladder_per_decade, with the
+/// other parameters at the current model's values: what the effect changes at each size, in the
+/// whitened residuals with zeta and mu per surface projected out (the Wald approximation in
+/// zeta and mu only; the effect itself is simulated at each size, not linearised).
+struct SizeLadder {
+  std::vector<double> size;                          ///< ascending
+  std::vector<std::vector<Eigen::Vector3d>> change;  ///< r_current - r(size), per obs
+  std::vector<Eigen::VectorXd> projected;            ///< `change` whitened, zeta and mu out
+  Eigen::VectorXd current;                           ///< r_current whitened, zeta and mu out
+  double smallest = 0.0;                             ///< LibraryEntry::smallest
+};
+SizeLadder Ladder(const Workspace& ws, const Model& current, const std::string& key,
+                  const std::vector<Eigen::Vector3d>& r_current,
+                  const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref);
+/// The ladder's local maxima of the profiled gain in log-likelihood over the current model, the
+/// `most` largest first; only sizes that gain. Where the candidate's fit starts: an effect whose
+/// change swings in sign has several optima, as far apart as one swing.
+std::vector<double> LadderStarts(const SizeLadder& ladder, std::size_t most);
+/// The smallest size from which on every size of the ladder is detected with 80 % power by a
+/// one-sided test at `level` (noncentrality of the simulated change, zeta and mu profiled out);
+/// NaN when the largest size is not. An effect whose change grows with its size gives the Wald
+/// limit of DetectionLimit; one whose change swings in sign gives the size above which it never
+/// falls below detection.
+double LadderDetectionLimit(const SizeLadder& ladder, double level);
+/// A direction of a candidate's change that its secant (the change per unit at the probe size)
+/// does not describe, and the stretch of it that the ladder's sizes reach: the change at the
+/// sizes nearest to it, as multiples `low` to `high` of `change`'s own length along it (zeta and
+/// mu projected out). A fit that searches the sizes tries every point of that stretch.
+struct LadderRay {
+  std::vector<Eigen::Vector3d> change;  ///< the representative size's change, per obs
+  double low = 0.0, high = 0.0;
+};
+/// The ladder's rays: directions taken greedily, each whose cosine with the secant `d_r` and with
+/// every direction taken before is below `cos_max`; every size not described by the secant
+/// belongs to the ray it is closest to. Empty for an effect whose change only grows.
+std::vector<LadderRay> LadderRays(const Workspace& ws, const SizeLadder& ladder,
+                                  const std::vector<Eigen::Vector3d>& d_r,
+                                  const std::vector<Sensitivity>& sens,
+                                  const std::vector<TrialCovariance>& ref, double cos_max = 0.99);
+
 // ---- the naming level (multiplicity.cc) -----------------------------------------------------
 
 struct NamingLevel {
   double level = 0.0;       // per hypothesis: min-P, never below Bonferroni
-  double bonferroni = 0.0;  // alpha / hypotheses
+  double bonferroni = 0.0;  // alpha / tests (the hypotheses and their rays)
   int hypotheses = 0;       // forms of the candidates with information, plus the independent ones
   int draws = 0;            // Monte Carlo draws (0: Bonferroni was used)
 };
@@ -301,11 +355,16 @@ struct NamingLevel {
 /// per obs) tried shared and, with `per_surface` and two or more surfaces, per surface, plus
 /// `independent` hypotheses tested on other data (the marker distance). By `draws` seeded Monte
 /// Carlo draws of the scores' joint normal distribution under the linearised noise model.
+/// `rays`, empty or one list per candidate of `changes`: further directions of its change at
+/// other sizes (LadderRays); its shared form's likelihood ratio is then the largest over the
+/// secant (any multiple) and the stretches of these rays, as a fit that searches the sizes can
+/// find any of them.
 NamingLevel CalibrateNamingLevel(const Workspace& ws,
                                  const std::vector<std::vector<Eigen::Vector3d>>& changes,
                                  const std::vector<Sensitivity>& sens,
                                  const std::vector<TrialCovariance>& ref, bool per_surface,
-                                 int independent, double alpha, int draws = 20000);
+                                 int independent, double alpha, int draws = 20000,
+                                 const std::vector<std::vector<LadderRay>>& rays = {});
 
 // ---- verdict (verdict.cc) -----------------------------------------------------------------
 

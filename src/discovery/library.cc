@@ -127,6 +127,10 @@ const std::vector<LibraryEntry>& Library() {
        .separating_measurement = "the tangential velocity of the contact point through the "
                                  "contact, filmed at a higher rate",
        .smallest = 0.01,
+       // The spring's oscillation through the stick phase ends at separation at a phase that
+       // turns with sqrt(k_t / k): the spin after a small-angle impact swings in sign between
+       // sizes 1.3 times apart near 0.01, so the ladder needs about 8 sizes per such swing.
+       .ladder_per_decade = 80.0,
        .extension = "tangential_compliance_ratio"},
       {.key = "rolling_resistance",
        .name = "rolling resistance (contact torque)",
@@ -190,6 +194,15 @@ std::string UpperBoundNote(const std::string& key, double value) {
   return AtUpperBound(key, value) ? " (the library's upper bound)" : "";
 }
 
+const std::array<CandidateOutcome, 10>& AllCandidateOutcomes() {
+  using O = CandidateOutcome;
+  static const std::array<CandidateOutcome, 10> all{
+      O::kAdded,        O::kIndistinguishable, O::kWeakerThanAdded, O::kNotSignificant,
+      O::kWorseHeldOut, O::kBelowResolution,   O::kAtSmallestValue, O::kNotTested,
+      O::kConfounded,   O::kNotFitted};
+  return all;
+}
+
 namespace {
 
 template <typename E, std::size_t N>
@@ -227,6 +240,8 @@ const char* ToString(CandidateOutcome v) {
       return "no better on held-out trials";
     case CandidateOutcome::kBelowResolution:
       return "below the measurement's resolution";
+    case CandidateOutcome::kAtSmallestValue:
+      return "on the library's smallest value";
     case CandidateOutcome::kNotTested:
       return "not tested by these data";
     case CandidateOutcome::kConfounded:
@@ -259,12 +274,7 @@ Identifiability IdentifiabilityFromString(const std::string& s) {
 }
 
 CandidateOutcome CandidateOutcomeFromString(const std::string& s) {
-  using O = CandidateOutcome;
-  return FromString(s,
-                    std::array{O::kAdded, O::kIndistinguishable, O::kWeakerThanAdded,
-                               O::kNotSignificant, O::kWorseHeldOut, O::kBelowResolution,
-                               O::kNotTested, O::kConfounded, O::kNotFitted},
-                    "candidate outcome");
+  return FromString(s, AllCandidateOutcomes(), "candidate outcome");
 }
 
 EffectForm EffectFormFromString(const std::string& s) {

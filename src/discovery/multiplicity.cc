@@ -73,15 +73,19 @@ NamingLevel CalibrateNamingLevel(const Workspace& ws,
                                  const std::vector<std::vector<Eigen::Vector3d>>& changes,
                                  const std::vector<Sensitivity>& sens,
                                  const std::vector<TrialCovariance>& ref, bool per_surface,
-                                 int independent, double alpha, int draws) {
+                                 int independent, double alpha, int draws,
+                                 const std::vector<std::vector<LadderRay>>& rays) {
   const std::size_t S = ws.surfaces.size();
   const bool forms = per_surface && S > 1;
   NamingLevel out;
   const WhitenedDesign w = Whiten(ws, sens, ref);
   // Columns: each candidate's change restricted to each surface's trials, zeta and mu projected
-  // out.
+  // out; then each candidate's further rays, whole.
   const Eigen::Index rows = w.X.rows();
-  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(rows, static_cast<Eigen::Index>(changes.size() * S));
+  std::size_t n_rays = 0;
+  for (const auto& r : rays) n_rays += r.size();
+  Eigen::MatrixXd D =
+      Eigen::MatrixXd::Zero(rows, static_cast<Eigen::Index>(changes.size() * S + n_rays));
   for (std::size_t k = 0; k < changes.size(); ++k) {
     const Eigen::VectorXd d = WhitenChange(ws, changes[k], ref, w);
     for (std::size_t i = 0; i < ws.obs.size(); ++i) {
@@ -90,10 +94,19 @@ NamingLevel CalibrateNamingLevel(const Workspace& ws,
           d.segment(w.first[i], w.first[i + 1] - w.first[i]);
     }
   }
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(w.X);
-  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(rows, qr.rank());
+  std::vector<std::vector<Eigen::Index>> ray_cols(changes.size());
+  std::vector<const LadderRay*> ray_of;  // per ray column, from changes.size() * S on
+  {
+    auto col = static_cast<Eigen::Index>(changes.size() * S);
+    for (std::size_t k = 0; k < rays.size() && k < changes.size(); ++k)
+      for (const auto& ray : rays[k]) {
+        D.col(col) = WhitenChange(ws, ray.change, ref, w);
+        ray_cols[k].push_back(col++);
+        ray_of.push_back(&ray);
+      }
+  }
   const Eigen::VectorXd before = D.colwise().norm();
-  D -= Q * (Q.transpose() * D);
+  D = ProfileOut(w)(D);
   // Each column to unit length: the tests do not depend on the effect's unit, and the units'
   // scales (Hunt-Crossley per N s/m^2, Hertz per unit exponent) differ by ten orders of
   // magnitude, which no eigen-decomposition of the raw Gram matrix would survive. A column
@@ -116,6 +129,10 @@ NamingLevel CalibrateNamingLevel(const Workspace& ws,
     std::vector<Eigen::Index> cols;
     std::vector<double> weight;  // shared form: the score is sum weight[j] g[cols[j]]
     double shared_var = 0.0;     // > 0 for the shared form
+    // Shared form: the unit columns of its changes at other sizes, and the stretch of each that
+    // the sizes reach, in units of the score.
+    std::vector<Eigen::Index> rays;
+    std::vector<double> ray_low, ray_high;
     int df = 1;
     std::unique_ptr<OrthantLr> orthant;
   };
@@ -133,6 +150,13 @@ NamingLevel CalibrateNamingLevel(const Workspace& ws,
     for (std::size_t a = 0; a < cols.size(); ++a)
       for (std::size_t b = 0; b < cols.size(); ++b)
         shared.shared_var += shared.weight[a] * shared.weight[b] * G(cols[a], cols[b]);
+    for (auto c : ray_cols[k])
+      if (informative[static_cast<std::size_t>(c)]) {
+        const LadderRay& ray = *ray_of[static_cast<std::size_t>(c) - changes.size() * S];
+        shared.rays.push_back(c);
+        shared.ray_low.push_back(ray.low * length[c]);
+        shared.ray_high.push_back(ray.high * length[c]);
+      }
     if (shared.shared_var > 0) hyps.push_back(std::move(shared));
     if (forms && cols.size() <= 8) {
       Hypothesis ps;
@@ -143,9 +167,12 @@ NamingLevel CalibrateNamingLevel(const Workspace& ws,
     }
   }
   out.hypotheses = static_cast<int>(hyps.size()) + independent;
-  out.bonferroni = alpha / std::max(1, out.hypotheses);
+  // Bonferroni counts each ray as a test of its own: a fit that searches the sizes tries them.
+  int tests = out.hypotheses;
+  for (const Hypothesis& h : hyps) tests += static_cast<int>(h.rays.size());
+  out.bonferroni = alpha / std::max(1, tests);
   out.level = out.bonferroni;
-  if (out.hypotheses <= 1 || draws < 100) return out;
+  if (tests <= 1 || draws < 100) return out;
 
   // g = L xi with L L^T = G (eigen-decomposition: G may be singular).
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(G);
@@ -168,6 +195,12 @@ NamingLevel CalibrateNamingLevel(const Workspace& ws,
         double u = 0.0;
         for (std::size_t j = 0; j < h.cols.size(); ++j) u += h.weight[j] * g[h.cols[j]];
         lr = u > 0 ? u * u / h.shared_var : 0.0;
+        // Along a ray the change at scale t gains 2 t g - t^2, largest at t = g within the
+        // stretch, else at its nearer end.
+        for (std::size_t j = 0; j < h.rays.size(); ++j) {
+          const double t = std::clamp(g[h.rays[j]], h.ray_low[j], h.ray_high[j]);
+          lr = std::max(lr, 2 * t * g[h.rays[j]] - t * t);
+        }
       }
       if (lr > 0) p = std::min(p, ChiBarSquareUpperTail(lr, h.df));
     }

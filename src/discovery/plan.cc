@@ -65,6 +65,11 @@ std::vector<double> ProfiledInformation(const Workspace& ws,
   return info;
 }
 
+ProfileOut::ProfileOut(const WhitenedDesign& w) {
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(w.X);
+  q_ = qr.householderQ() * Eigen::MatrixXd::Identity(w.X.rows(), qr.rank());
+}
+
 double DetectionLimit(const std::vector<double>& information, double level) {
   const double info = std::accumulate(information.begin(), information.end(), 0.0);
   if (!(info > 0)) return kNaN;
@@ -72,6 +77,116 @@ double DetectionLimit(const std::vector<double>& information, double level) {
   return (boost::math::quantile(boost::math::complement(z, level)) +
           boost::math::quantile(z, 0.8)) /
          std::sqrt(info);
+}
+
+SizeLadder Ladder(const Workspace& ws, const Model& current, const std::string& key,
+                  const std::vector<Eigen::Vector3d>& r_current,
+                  const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref) {
+  const LibraryEntry& e = Entry(key);
+  const double lo = e.smallest > 0 ? e.smallest : 1e-3 * e.probe;
+  const int n =
+      std::max(2, static_cast<int>(std::ceil(std::log10(e.upper / lo) * e.ladder_per_decade)) + 1);
+  const WhitenedDesign w = Whiten(ws, sens, ref);
+  const ProfileOut profile(w);
+  const std::vector<int> all = ws.All();
+  SizeLadder ladder;
+  ladder.smallest = e.smallest;
+  ladder.current = profile(WhitenChange(ws, r_current, ref, w));
+  for (int k = 0; k < n; ++k) {
+    const double size = lo * std::pow(e.upper / lo, static_cast<double>(k) / (n - 1));
+    Model m = current;
+    m.effects[key] = {EffectForm::kShared, {size}};
+    const auto r = ws.Residuals(m, all);
+    std::vector<Eigen::Vector3d> change(ws.obs.size());
+    for (std::size_t i = 0; i < ws.obs.size(); ++i) change[i] = r_current[i] - r[i];
+    ladder.size.push_back(size);
+    ladder.projected.push_back(profile(WhitenChange(ws, change, ref, w)));
+    ladder.change.push_back(std::move(change));
+  }
+  return ladder;
+}
+
+std::vector<double> LadderStarts(const SizeLadder& ladder, std::size_t most) {
+  const std::size_t n = ladder.size.size();
+  std::vector<double> gain(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Eigen::VectorXd& b = ladder.projected[k];
+    gain[k] = 2 * ladder.current.dot(b) - b.squaredNorm();
+  }
+  std::vector<std::size_t> peaks;
+  for (std::size_t k = 0; k < n; ++k)
+    if (gain[k] > 0 && (k == 0 || gain[k] >= gain[k - 1]) && (k + 1 == n || gain[k] > gain[k + 1]))
+      peaks.push_back(k);
+  std::stable_sort(peaks.begin(), peaks.end(),
+                   [&](std::size_t a, std::size_t b) { return gain[a] > gain[b]; });
+  if (peaks.size() > most) peaks.resize(most);
+  std::vector<double> sizes;
+  for (std::size_t k : peaks) sizes.push_back(ladder.size[k]);
+  return sizes;
+}
+
+double LadderDetectionLimit(const SizeLadder& ladder, double level) {
+  const std::size_t n = ladder.size.size();
+  if (n == 0) return kNaN;
+  const boost::math::normal z;
+  const double root_target =
+      boost::math::quantile(boost::math::complement(z, level)) + boost::math::quantile(z, 0.8);
+  std::vector<double> root(n);
+  for (std::size_t k = 0; k < n; ++k) root[k] = ladder.projected[k].norm();
+  if (!(root[n - 1] >= root_target)) return kNaN;
+  std::size_t k = n - 1;
+  while (k > 0 && root[k - 1] >= root_target) --k;
+  if (k == 0) {
+    // Detected on the whole ladder. A fit that may not go below the first size names nothing
+    // smaller; otherwise the change below it is taken to grow in proportion to the size.
+    if (ladder.smallest > 0) return ladder.size[0];
+    return ladder.size[0] * root_target / root[0];
+  }
+  // Between the last size missed and the first detected, in log size.
+  const double t = (root_target - root[k - 1]) / (root[k] - root[k - 1]);
+  return std::exp(std::log(ladder.size[k - 1]) +
+                  t * (std::log(ladder.size[k]) - std::log(ladder.size[k - 1])));
+}
+
+std::vector<LadderRay> LadderRays(const Workspace& ws, const SizeLadder& ladder,
+                                  const std::vector<Eigen::Vector3d>& d_r,
+                                  const std::vector<Sensitivity>& sens,
+                                  const std::vector<TrialCovariance>& ref, double cos_max) {
+  const WhitenedDesign w = Whiten(ws, sens, ref);
+  const ProfileOut profile(w);
+  const Eigen::VectorXd secant = profile(WhitenChange(ws, d_r, ref, w));
+  const Eigen::VectorXd along = secant.norm() > 0 ? secant.normalized() : secant;
+  // The sizes that the secant does not describe, and the directions taken among them.
+  std::vector<std::size_t> off;
+  std::vector<std::size_t> taken;  // ladder indices of the rays' representatives
+  std::vector<Eigen::VectorXd> unit;
+  for (std::size_t k = 0; k < ladder.size.size(); ++k) {
+    const Eigen::VectorXd& b = ladder.projected[k];
+    if (!(b.norm() > 0)) continue;
+    const Eigen::VectorXd u = b.normalized();
+    if (along.dot(u) >= cos_max) continue;
+    off.push_back(k);
+    bool described = false;
+    for (const auto& t : unit) described |= t.dot(u) >= cos_max;
+    if (described) continue;
+    taken.push_back(k);
+    unit.push_back(u);
+  }
+  std::vector<LadderRay> rays(taken.size());
+  std::vector<bool> seen(taken.size(), false);
+  for (std::size_t k : off) {
+    const Eigen::VectorXd& b = ladder.projected[k];
+    std::size_t nearest = 0;
+    for (std::size_t r = 1; r < unit.size(); ++r)
+      if (unit[r].dot(b) > unit[nearest].dot(b)) nearest = r;
+    const double t = unit[nearest].dot(b) / ladder.projected[taken[nearest]].norm();
+    LadderRay& ray = rays[nearest];
+    ray.low = seen[nearest] ? std::min(ray.low, t) : t;
+    ray.high = seen[nearest] ? std::max(ray.high, t) : t;
+    seen[nearest] = true;
+  }
+  for (std::size_t r = 0; r < taken.size(); ++r) rays[r].change = ladder.change[taken[r]];
+  return rays;
 }
 
 }  // namespace internal

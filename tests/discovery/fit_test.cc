@@ -3,6 +3,8 @@
 // effect: from a start at 0 (the lower bound, where every candidate's fit may pass), and when the
 // truth lies on the upper bound itself. Numeric derivatives that step outside the bounds, where
 // the simulator refuses the value, held such fits at the bound with a standard error of nothing.
+// And the ladder of sizes (src/discovery/plan.cc) from which a candidate's fit starts and its
+// detection limit is found.
 #include <cmath>
 #include <string>
 #include <vector>
@@ -17,16 +19,18 @@ namespace {
 
 constexpr double kZeta = 0.12, kMu = 0.35;
 
-/// One steel surface: normal and 20 deg impacts at six speeds each, measured without error as
-/// the simulator predicts them with the contact extensions `truth`.
-void StudyWith(const dynamics::ContactExtensions& truth, Workspace& ws) {
+/// One steel surface: impacts at `angles_deg` (normal and 20 deg unless told) at six speeds
+/// each, measured without error as the simulator predicts them with the contact extensions
+/// `truth`.
+void StudyWith(const dynamics::ContactExtensions& truth, Workspace& ws,
+               const std::vector<double>& angles_deg = {0.0, 20.0}) {
   ws.surfaces = {"steel"};
   ws.k = {dynamics::PaperContact(dynamics::Surface::kSteel).k_N_m};
   ws.has_oblique = {true};
   ws.zeta_start = {kZeta};
   ws.mu_start = {kMu};
   ws.threads = 2;
-  for (double angle_deg : {0.0, 20.0})
+  for (double angle_deg : angles_deg)
     for (double speed : {1.5, 2.0, 2.5, 3.0, 3.5, 4.0}) {
       Obs o;
       o.surface = 0;
@@ -98,6 +102,92 @@ TEST(DiscoveryFitTest, AnEstimateOnTheUpperBoundHasTheStandardErrorOfItsCurvatur
   ASSERT_GT(se_inside, 0);
   EXPECT_GT(se_bound, 0.5 * se_inside);
   EXPECT_LT(se_bound, 2.0 * se_inside);
+}
+
+/// The model without effects, its residuals and derivatives, and the whitening under SmallNoise.
+struct Baseline {
+  Model model;
+  std::vector<Eigen::Vector3d> r;
+  std::vector<Sensitivity> sens;
+  std::vector<TrialCovariance> ref;
+  explicit Baseline(const Workspace& ws) {
+    model.zeta = {kZeta};
+    model.mu = {kMu};
+    r = ws.Residuals(model, ws.All());
+    sens = ws.Sensitivities(model, ws.All());
+    for (std::size_t i = 0; i < ws.obs.size(); ++i)
+      ref.push_back(Covariance(ws, ws.obs[i], sens[i], SmallNoise()));
+  }
+};
+
+/// The ladder of `key` against the model without effects, under SmallNoise.
+SizeLadder LadderOf(const Workspace& ws, const std::string& key) {
+  const Baseline b(ws);
+  return Ladder(ws, b.model, key, b.r, b.sens, b.ref);
+}
+
+TEST(DiscoveryFitTest, AnEffectWhoseChangeSwingsInSignIsFitFromTheLaddersOptima) {
+  // A tangential spring: the spin after small-angle impacts swings in sign as k/k_t goes from
+  // 0.01 to 0.02, so the likelihood has an optimum per swing. A fit started at a tenth of the
+  // probe size (as before the ladder) ends in another one; started from the ladder's optima, the
+  // best of them is the truth.
+  dynamics::ContactExtensions truth;
+  truth.tangential_compliance_ratio = 0.016;
+  Workspace ws;
+  StudyWith(truth, ws, {0.0, 10.0, 20.0});
+  const std::string key = "tangential_compliance";
+  const SizeLadder ladder = LadderOf(ws, key);
+  ASSERT_EQ(ladder.size.front(), Entry(key).smallest);
+  const std::vector<double> starts = LadderStarts(ladder, 3);
+  ASSERT_FALSE(starts.empty());
+  Fit best;
+  for (double size : starts) {
+    const Fit f = FitModel(ws, ws.All(), Start(key, size), {key}, SmallNoise(), false);
+    if (size == starts.front() || f.loglik > best.loglik) best = f;
+  }
+  ASSERT_TRUE(best.ok) << best.message;
+  EXPECT_NEAR(best.model.effects.at(key).value.at(0), 0.016, 0.016 * 0.01);
+  const Fit old_start =
+      FitModel(ws, ws.All(), Start(key, 0.1 * Entry(key).probe), {key}, SmallNoise(), false);
+  EXPECT_GT(std::abs(old_start.model.effects.at(key).value.at(0) - 0.016), 0.016 * 0.05);
+  EXPECT_LT(old_start.loglik, best.loglik);
+}
+
+TEST(DiscoveryFitTest, TheLaddersDetectionLimitIsWaldsAtThatSize) {
+  // Hunt-Crossley damping changes e with c. The ladder's limit L is the size whose simulated
+  // change has the target noncentrality, so the Wald limit of the change per unit at L (the
+  // secant from 0 to L) must be L again, up to the ladder's interpolation.
+  Workspace ws;
+  StudyWith({}, ws);
+  const std::string key = "hunt_crossley";
+  const SizeLadder ladder = LadderOf(ws, key);
+  const double level = 1e-3;
+  const double limit = LadderDetectionLimit(ladder, level);
+  ASSERT_TRUE(std::isfinite(limit));
+  ASSERT_GT(limit, ladder.size.front());
+  const Baseline b(ws);
+  const auto& sens = b.sens;
+  const auto& ref = b.ref;
+  auto secant = [&](double size) {
+    const auto r1 = ws.Residuals(Start(key, size), ws.All());
+    std::vector<Eigen::Vector3d> d_r(ws.obs.size());
+    for (std::size_t i = 0; i < ws.obs.size(); ++i) d_r[i] = (b.r[i] - r1[i]) / size;
+    return d_r;
+  };
+  EXPECT_NEAR(DetectionLimit(ProfiledInformation(ws, secant(limit), sens, ref), level), limit,
+              0.01 * limit);
+  // Its changes point one way at every size: no ray beyond the secant at the probe size.
+  EXPECT_TRUE(LadderRays(ws, ladder, secant(Entry(key).probe), sens, ref).empty());
+}
+
+TEST(DiscoveryFitTest, NoDetectionLimitBelowTheSmallestSizeTheFitMayTake) {
+  // Without error every size of the spring is detected, but the fit cannot name one below
+  // LibraryEntry::smallest; nor is the limit a straight line from the probe size, where the
+  // change is far larger.
+  Workspace ws;
+  StudyWith({}, ws, {0.0, 10.0, 20.0});
+  const std::string key = "tangential_compliance";
+  EXPECT_DOUBLE_EQ(LadderDetectionLimit(LadderOf(ws, key), 1e-3), Entry(key).smallest);
 }
 
 }  // namespace

@@ -2,10 +2,12 @@
 // hypotheses that are one test repeated, opposite one-sided tests, or independent tests, the
 // level at which the smallest p falls below it with probability alpha is known exactly.
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <boost/math/distributions/normal.hpp>
 
 #include "discovery/internal.h"
 
@@ -68,6 +70,48 @@ TEST(NamingLevelTest, OppositeOneSidedTestsAddUp) {
   // is Bonferroni's.
   EXPECT_NEAR(l.level, kAlpha / 2, 4 * QuantileSe(2.0));
   EXPECT_GE(l.level, l.bonferroni);
+}
+
+TEST(NamingLevelTest, ARayOfTheChangeAtAnotherSizeIsATestOfItsOwn) {
+  // One candidate whose change at other sizes points the opposite way, at every multiple (an
+  // effect whose change swings in sign): a fit that searches the sizes takes whichever side the
+  // noise favours, so the one hypothesis is two one-sided tests and its level is alpha / 2.
+  const Design d(8);
+  const auto c = d.Change({1, 2, 0, -1, 3, 0, 1, 1});
+  const auto minus = d.Change({-1, -2, 0, 1, -3, 0, -1, -1});
+  const NamingLevel without = CalibrateNamingLevel(d.ws, {c}, d.sens, d.ref, false, 0, kAlpha);
+  EXPECT_EQ(without.hypotheses, 1);
+  EXPECT_DOUBLE_EQ(without.level, kAlpha);
+  const double inf = std::numeric_limits<double>::infinity();
+  const NamingLevel with = CalibrateNamingLevel(d.ws, {c}, d.sens, d.ref, false, 0, kAlpha, kDraws,
+                                                {{LadderRay{minus, 0.0, inf}}});
+  EXPECT_EQ(with.hypotheses, 1);
+  EXPECT_DOUBLE_EQ(with.bonferroni, kAlpha / 2);
+  EXPECT_NEAR(with.level, kAlpha / 2, 4 * QuantileSe(2.0));
+}
+
+TEST(NamingLevelTest, ARayTheSizesReachAtOnePointOnlyGainsLess) {
+  // The ray on obs of its own (an independent score g ~ N(0, 1)), reached only at the change
+  // itself, of length 4: its likelihood ratio is 2 (4 g) - 16, so p < x when
+  // g > (z_x^2 + 16) / 8.
+  // With the secant's own test (p uniform) the level x solves 1 - (1 - x) (1 - P(x)) = alpha.
+  const Design d(8);
+  const auto first = d.Change({1, 2, 0, 0, 0, 0, 0, 0});
+  const auto other = d.Change({0, 0, 0, 0, 0, 4, 0, 0});
+  const NamingLevel l = CalibrateNamingLevel(d.ws, {first}, d.sens, d.ref, false, 0, kAlpha, kDraws,
+                                             {{LadderRay{other, 1.0, 1.0}}});
+  const boost::math::normal z;
+  auto family = [&](double x) {
+    const double zx = boost::math::quantile(boost::math::complement(z, x));
+    const double p_point = boost::math::cdf(boost::math::complement(z, (zx * zx + 16) / 8));
+    return 1 - (1 - x) * (1 - p_point);
+  };
+  double lo = 1e-6, hi = kAlpha;
+  for (int i = 0; i < 100; ++i) (family(0.5 * (lo + hi)) < kAlpha ? lo : hi) = 0.5 * (lo + hi);
+  // Between alpha / 2 (a ray at every multiple) and alpha (no ray).
+  EXPECT_GT(lo, 1.05 * kAlpha / 2);
+  EXPECT_LT(lo, 0.95 * kAlpha);
+  EXPECT_NEAR(l.level, lo, 4 * QuantileSe(1.0));
 }
 
 TEST(NamingLevelTest, IndependentTestsGiveSidaksLevel) {
