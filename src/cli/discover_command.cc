@@ -289,8 +289,8 @@ void PrintPlans(const DiscoverArgs& a, const std::vector<pipeline::TrialAnalysis
                 << Num(c.speed_high_m_s, 3) << " m/s  " << std::setw(3) << c.trials << " trials  "
                 << std::setw(10) << Num(c.information_per_trial, 3) << " per trial  ("
                 << Percent(c.share) << " of the study's)\n";
-    std::cout << "  (Wald approximation from the baseline fitted with its noise model; "
-                 "docs/discovery.md)\n";
+    std::cout << "  (the effect simulated against the baseline fitted with its noise model, "
+                 "linear in the scatter; docs/discovery.md, \"Detection limits and plans\")\n";
   }
   if (a.settings.json) std::cout << all.dump(2) << "\n";
 }

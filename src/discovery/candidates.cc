@@ -86,322 +86,306 @@ std::vector<EffectValue> EffectValues(const Workspace& ws, const Fit& f, const s
   return out;
 }
 
-RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
-                           const std::vector<Eigen::Vector3d>& residual_current,
-                           const std::vector<Sensitivity>& sens,
-                           const std::vector<std::string>& keys, const DiscoveryOptions& options,
-                           const std::function<void(const std::string&)>& say, Round& rd) {
-  const std::vector<int> all = ws.All();
-  const Fit& current = state.current;
-  std::vector<std::string> to_try;
-  for (const auto& key : keys)
-    if (std::find(state.accepted.begin(), state.accepted.end(), key) == state.accepted.end())
-      to_try.push_back(key);
-  const double chi95 = stats::ChiSquaredQuantile(0.95, 1);
-  std::vector<std::string> free_current;
-  for (const auto& a : state.accepted)
-    if (!Entry(a).measurement_effect) free_current.push_back(a);
-  std::vector<TrialCovariance> ref;
-  for (std::size_t i = 0; i < ws.obs.size(); ++i)
-    ref.push_back(Covariance(ws, ws.obs[i], sens[i], current.noise));
-  int n_ratio = 0;
-  for (const Obs& o : ws.obs) n_ratio += std::isfinite(o.marker_ratio) ? 1 : 0;
-  // Each contact candidate at its probe size, without refitting: the residual change per unit
-  // (a secant), for the naming level and the identifiability probe. And at a ladder of sizes,
-  // for where its fit starts, for the directions of its change that the secant misses, and for
-  // its detection limit.
-  std::map<std::string, std::vector<Eigen::Vector3d>> residual_probe, change;
-  std::map<std::string, SizeLadder> ladder;
-  std::vector<std::vector<Eigen::Vector3d>> changes;
-  std::vector<std::vector<LadderRay>> rays;
-  int independent = 0;
-  for (const auto& key : to_try) {
-    const LibraryEntry& e = Entry(key);
-    if (e.measurement_effect) {
-      independent += n_ratio >= 3 ? 1 : 0;
-      continue;
-    }
-    Model probe_start = current.model;
-    probe_start.effects[key] = {EffectForm::kShared, {e.probe}};
-    residual_probe[key] = ws.Residuals(probe_start, all);
-    auto& d_r = change[key];
-    d_r.resize(ws.obs.size());
-    for (std::size_t i = 0; i < ws.obs.size(); ++i)
-      d_r[i] = (residual_current[i] - residual_probe[key][i]) / e.probe;
-    changes.push_back(d_r);
-    ladder[key] = Ladder(ws, current.model, key, residual_current, sens, ref);
-    rays.push_back(LadderRays(ws, ladder[key], d_r, sens, ref));
-  }
-  // The naming level: min-P over the hypotheses tried, each candidate once per form (shared and,
-  // with two or more surfaces, per surface: the form is chosen from the same data).
-  const NamingLevel naming = CalibrateNamingLevel(ws, changes, sens, ref, options.per_surface,
-                                                  independent, options.alpha, 20000, rays);
-  const double level = naming.level;
-  rd.naming_level = naming.level;
-  rd.bonferroni_level = naming.bonferroni;
-  rd.hypotheses = naming.hypotheses;
-  const CrossValidation cv_current = CrossValidate(ws, current, free_current, ref, options.folds);
-  const CrossValidation cv_tilt_current = CrossValidateTilt(ws, state.tilt_on, options.folds);
-  const double n_res = UsedResiduals(ws);
-  const std::size_t S = ws.surfaces.size();
+namespace {
 
-  std::vector<Evaluation> evals;
-  for (const auto& key : to_try) {
-    const LibraryEntry& e = Entry(key);
-    Evaluation ev;
-    ev.c = CandidateOf(key);
-    CandidateResult& c = ev.c;
-    say("  " + key);
-    if (IsRotationRate(key)) {
-      RateEvaluation re = EvaluateRotationRate(ws, state, key, free_current, level, options);
-      ev.c = re.c;
-      ev.fit = re.fit;
-      ev.motion = re.motion;
-      ev.remeasured = re.remeasured;
-      ev.remeasured_ws = re.ws;
-      // The held-out gap of the velocities, should it be added: the current model's predictions
-      // of the re-measured trials, each fitted without its fold.
-      if (ev.c.significant && re.ws) {
-        const auto s_new = re.ws->Sensitivities(re.fit.model, all);
-        std::vector<TrialCovariance> ref_new;
-        for (std::size_t i = 0; i < re.ws->obs.size(); ++i)
-          ref_new.push_back(Covariance(*re.ws, re.ws->obs[i], s_new[i], re.fit.noise));
-        ev.velocity_cv = CrossValidate(*re.ws, re.fit, free_current, ref_new, options.folds);
-      }
-      evals.push_back(std::move(ev));
-      continue;
-    }
-    if (e.measurement_effect) {
-      if (n_ratio < 3) {
-        c.message = "fewer than 3 trials with a marker distance";
-        c.identifiability = Identifiability::kNotTested;
-        c.outcome = CandidateOutcome::kNotTested;
-        c.reason = "not tested: " + c.message;
-        evals.push_back(ev);
-        continue;
-      }
-      const TiltFit tf = FitTilt(ws, all, true);
-      ev.tilt = tf;
-      c.fitted = true;
-      c.estimate = tf.tilt_rad * 180 / std::numbers::pi;
-      c.se = tf.tilt_se_rad * 180 / std::numbers::pi;
-      c.values = {EffectValue{key, "", c.estimate, c.se}};
-      c.lr_statistic = std::max(0.0, 2 * (tf.loglik - state.tilt.loglik));
-      c.p_value = ChiBarSquareUpperTail(c.lr_statistic, 1);
-      c.delta_aic = -c.lr_statistic + 2;
-      c.delta_bic = -c.lr_statistic + std::log(static_cast<double>(n_ratio));
-      ev.cv = CrossValidateTilt(ws, true, options.folds);
-      c.cv_error = ev.cv.mean_error;
-      c.cv_error_current = cv_tilt_current.mean_error;
-      c.cv_p = PairedImprovementP(cv_tilt_current.error, ev.cv.error);
-      c.identifiability = Identifiability::kIdentified;
-      // A tilt too small to tell from the calibration's own limits is not named.
-      const bool beyond = 1 - std::cos(tf.tilt_rad) > options.marker_ratio_tolerance;
-      c.significant = c.p_value < level && c.cv_error < c.cv_error_current && beyond;
-      if (!beyond && c.p_value < level) {
-        c.outcome = CandidateOutcome::kBelowResolution;
-        c.reason = "p = " + FmtP(c.p_value) + ", but the tilt of " + Fmt(c.estimate, 2) +
-                   " deg changes the marker distance by less than the calibration's tolerance (" +
-                   Fmt(options.marker_ratio_tolerance) + ")";
-      }
-      evals.push_back(ev);
-      continue;
-    }
-    // Identifiability probe: the effect fixed at a realistic size, first without refitting (is
-    // any trial sensitive to it?), then with zeta and mu refitted (do they absorb it?).
-    Model probe_start = current.model;
-    probe_start.effects[key] = {EffectForm::kShared, {e.probe}};
-    const double fixed_lr =
-        2 * (LogLikelihood(ws, all, residual_probe[key], sens, current.noise) - current.loglik);
-    const Fit probe = FitModel(ws, all, probe_start, free_current, current.noise, true, 4);
-    const double probe_lr = 2 * (probe.loglik - current.loglik);
-    // The free fit, shared by all surfaces, from the best of the starts: the ladder's three
-    // largest optima (or a tenth of the probe size when no size gains), and the probe's fit.
-    std::vector<std::string> free = free_current;
-    free.push_back(key);
-    std::vector<double> starts = LadderStarts(ladder[key], 3);
-    if (starts.empty()) starts.push_back(0.1 * e.probe);
-    Fit chosen;
-    std::vector<Fit> optima;
-    for (double size : starts) {
-      Model start = current.model;
-      start.effects[key] = {EffectForm::kShared, {size}};
-      Fit f = FitModel(ws, all, start, free, current.noise, true);
-      if (f.ok) optima.push_back(f);
-      if (size == starts.front() || f.loglik > chosen.loglik) chosen = std::move(f);
-    }
-    if (probe.loglik > chosen.loglik)
-      chosen = FitModel(ws, all, probe.model, free, probe.noise, true);
-    // An optimum elsewhere that the likelihood cannot tell from the best (2 log-likelihood
-    // within the 95 % point of chi-square 1): the s.e. describes one optimum, not the choice.
-    if (chosen.ok) {
-      const double best = chosen.model.effects.at(key).value.at(0);
-      const double se = chosen.effect_se.count(key) ? chosen.effect_se.at(key).at(0) : kNaN;
-      for (const Fit& f : optima) {
-        const double v = f.model.effects.at(key).value.at(0);
-        const double gap = 2 * (chosen.loglik - f.loglik);
-        const double apart = std::max(0.01 * best, std::isfinite(se) ? 5 * se : 0.0);
-        if (std::abs(v - best) > apart && gap >= 0 && gap < chi95 && ev.other_optimum.empty())
-          ev.other_optimum = "another optimum, " + e.parameter + " = " + Fmt(v, 3) +
-                             UnitSuffix(e.unit) + ", fits nearly as well (2 log-likelihood " +
-                             Fmt(gap, 2) + " lower): the size is uncertain between them";
-      }
-    }
-    // The candidate's fit may have found zeta, mu and the noise model a better optimum than
-    // the current fit did; its likelihood ratio is then against the current model refitted from
-    // there, so that a gain of the baseline's own parameters is not credited to the effect.
-    double reference = current.loglik;
-    {
-      Model back = chosen.model;
-      back.effects.erase(key);
-      const Fit again = FitModel(ws, all, back, free_current, chosen.noise, true);
-      if (again.ok && again.loglik > reference) reference = again.loglik;
-      // And the candidate's own solution with the effect removed, as it stands: the alternation
-      // of model and noise is not monotone, so a refit from a point can end below it.
-      const auto r_back = ws.Residuals(back, all);
-      const auto s_back = ws.Sensitivities(back, all);
-      const Noise n_back = EstimateNoise(ws, all, r_back, s_back, chosen.noise);
-      reference = std::max(reference, LogLikelihood(ws, all, r_back, s_back, n_back));
-    }
-    // The current model is this one with the effect at 0: a fit that ends below the reference
-    // stopped in a worse local optimum, and the nested point is the better answer.
-    bool at_zero = false;
-    if (!(chosen.loglik >= reference)) {
-      at_zero = true;
-      chosen = current;
-      chosen.model.effects[key] = {EffectForm::kShared, {0.0}};
-      chosen.effect_se[key] = {kNaN};
-    }
-    c.form = EffectForm::kShared;
-    c.df = 1;
-    // Per surface against shared: a likelihood ratio with S - 1 degrees of freedom.
-    if (options.per_surface && S > 1 && chosen.ok && !at_zero) {
-      Model ps = chosen.model;
-      ps.effects[key] = {EffectForm::kPerSurface,
-                         std::vector<double>(S, chosen.model.effects[key].value.at(0))};
-      const Fit per = FitModel(ws, all, ps, free, chosen.noise, true);
-      // As against the current model: the shared form refitted from the per-surface solution,
-      // so that the comparison is of the two forms, not of the optima of zeta, mu and the noise
-      // that each fit happened to reach.
-      if (per.ok) {
-        Model back = per.model;
-        const auto& v = per.model.effects.at(key).value;
-        back.effects[key] = {
-            EffectForm::kShared,
-            {std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size())}};
-        const Fit again = FitModel(ws, all, back, free, per.noise, true);
-        if (again.ok && again.loglik > chosen.loglik) chosen = again;
-      }
-      const double lr_ps = std::max(0.0, 2 * (per.loglik - chosen.loglik));
-      c.p_per_surface = stats::ChiSquaredUpperTail(lr_ps, static_cast<double>(S - 1));
-      // And the values themselves must differ: a Wald test of their equality (chi-square with
-      // S - 1 dof). The likelihood ratio alone also rewards the other optimum of zeta, mu and
-      // the noise that a per-surface fit can reach with equal values.
-      c.p_per_surface = std::max(c.p_per_surface, EqualityP(EffectValues(ws, per, key)));
-      if (per.ok && per.loglik > chosen.loglik && c.p_per_surface < options.alpha) {
-        chosen = per;
-        c.form = EffectForm::kPerSurface;
-        c.df = static_cast<int>(S);
-      }
-    }
-    c.fitted = chosen.ok;
-    c.message = chosen.message;
-    c.values = EffectValues(ws, chosen, key);
-    c.estimate = kNaN;
-    c.se = kNaN;
-    for (const auto& v : c.values)
-      if (!std::isfinite(c.estimate) || v.value > c.estimate) c.estimate = v.value, c.se = v.se;
-    c.lr_statistic = std::max(0.0, 2 * (chosen.loglik - reference));
-    c.p_value = ChiBarSquareUpperTail(c.lr_statistic, c.df);
-    c.delta_aic = -c.lr_statistic + 2 * c.df;
-    c.delta_bic = -c.lr_statistic + c.df * std::log(n_res);
-    // At 0 the candidate is the current model, and so are its held-out predictions.
-    ev.cv = at_zero ? cv_current : CrossValidate(ws, chosen, free, ref, options.folds);
-    c.cv_error = ev.cv.mean_error;
-    c.cv_error_current = cv_current.mean_error;
-    c.cv_p = PairedImprovementP(cv_current.error, ev.cv.error);
-    // A significant likelihood ratio is itself the evidence that the data tell the effect from
-    // zeta and mu (they were refitted); only a candidate without it is probed further.
-    if (c.p_value < level) {
-      c.identifiability = Identifiability::kIdentified;
-    } else if (std::abs(fixed_lr) < chi95) {
-      c.identifiability = Identifiability::kNotTested;
-    } else if (std::abs(probe_lr) < chi95) {
-      c.identifiability = Identifiability::kConfounded;
-      c.confounded_with = Moved(ws, probe, current);
-    } else {
-      c.identifiability = Identifiability::kIdentified;
-    }
-    // Detection limit: from the change simulated at each size of the ladder.
-    c.detection_limit = LadderDetectionLimit(ladder[key], level);
-    // The estimate must also stand clear of 0 by its own standard error (one-sided Wald at the
-    // naming level, per value for a per-surface effect): a likelihood ratio whose effect is
-    // 0.4 s.e. from 0 is a gain of the other parameters, and naming it would contradict the
-    // estimate printed beside it. Clear of the smallest value the fit may take, where that is
-    // above 0: an estimate on it says the data want less of the effect than the library can
-    // represent, and the step from 0 to it is no evidence of the effect.
-    {
-      const boost::math::normal z;
-      const double z_level = boost::math::quantile(boost::math::complement(z, level / c.df));
-      c.wald_clear = false;
-      for (const auto& v : c.values)
-        c.wald_clear |= v.se > 0 && (v.value - e.smallest) / v.se > z_level;
-    }
-    c.significant =
-        c.fitted && c.p_value < level && c.wald_clear && c.cv_error < c.cv_error_current;
-    ev.fit = chosen;
-    ev.free = free;
-    evals.push_back(ev);
-  }
+/// What every candidate of a round is judged against.
+struct RoundContext {
+  const Workspace& ws;
+  const RoundState& state;
+  const std::vector<Eigen::Vector3d>& residual_current;
+  const std::vector<Sensitivity>& sens;
+  const std::vector<TrialCovariance>& ref;
+  const DiscoveryOptions& options;
+  std::vector<int> all;
+  std::vector<std::string> free_current;  // the contact effects in the current model
+  CandidateProbes probes;
+  double level = 0.0;  // the naming level
+  CrossValidation cv_current, cv_tilt_current;
+  int n_ratio = 0;     // trials with a marker distance
+  double n_res = 0.0;  // residual components used
+  double chi95 = 0.0;  // 95 % point of chi-square with 1 dof
+};
 
-  // Outcomes of the candidates that are not significant.
-  for (auto& ev : evals) {
-    CandidateResult& c = ev.c;
-    if (c.significant || !c.reason.empty()) continue;
-    std::ostringstream why;
-    if (!c.fitted && c.outcome != CandidateOutcome::kNotTested) {
-      c.outcome = CandidateOutcome::kNotFitted;
-      why << "the fit failed: " << c.message;
-    } else if (c.identifiability == Identifiability::kNotTested) {
-      c.outcome = CandidateOutcome::kNotTested;
-      why << "no trial is sensitive to it at " << c.parameter << " = " << Fmt(Entry(c.key).probe)
-          << UnitSuffix(c.unit);
-    } else if (c.identifiability == Identifiability::kConfounded) {
-      c.outcome = CandidateOutcome::kConfounded;
-      why << "at " << c.parameter << " = " << Fmt(Entry(c.key).probe) << UnitSuffix(c.unit) << ", "
-          << c.confounded_with << " takes its change back";
-    } else if (c.p_value >= level) {
-      c.outcome = CandidateOutcome::kNotSignificant;
-      why << "likelihood-ratio p = " << FmtP(c.p_value) << " is not below the naming level "
-          << FmtP(level) << " (alpha = " << Fmt(options.alpha) << " over " << naming.hypotheses
-          << " hypotheses: candidates x forms)";
-    } else if (!c.wald_clear && Entry(c.key).smallest > 0) {
-      c.outcome = CandidateOutcome::kAtSmallestValue;
-      why << "likelihood-ratio p = " << FmtP(c.p_value) << ", but its estimate " << Fmt(c.estimate)
-          << " +- " << Fmt(c.se) << UnitSuffix(c.unit)
-          << " does not stand clear of the smallest value the fit may take ("
-          << Fmt(Entry(c.key).smallest) << UnitSuffix(c.unit)
-          << "): the data want no more of it than the library's least, and the step from 0 to "
-             "that value is no evidence of it";
-    } else if (!c.wald_clear) {
-      c.outcome = CandidateOutcome::kNotSignificant;
-      why << "likelihood-ratio p = " << FmtP(c.p_value) << ", but its estimate " << Fmt(c.estimate)
-          << " +- " << Fmt(c.se) << UnitSuffix(c.unit)
-          << " does not stand clear of 0 at the naming level: the gain is in zeta, mu or the noise "
-             "model";
-    } else {
-      c.outcome = CandidateOutcome::kWorseHeldOut;
-      why << "p = " << FmtP(c.p_value) << " is significant, but the held-out error "
-          << Fmt(c.cv_error) << " is not below the current model's " << Fmt(c.cv_error_current)
-          << ": it fits these trials without predicting others better";
-    }
-    c.reason = why.str();
+/// A rotation rate (out_of_plane.cc), with the held-out gap of the velocities it would bring.
+Evaluation EvaluateRate(const RoundContext& x, const std::string& key) {
+  Evaluation ev;
+  RateEvaluation re = EvaluateRotationRate(x.ws, x.state, key, x.free_current, x.level, x.options);
+  ev.c = re.c;
+  ev.fit = re.fit;
+  ev.motion = re.motion;
+  ev.remeasured = re.remeasured;
+  ev.remeasured_ws = re.ws;
+  // The held-out gap of the velocities, should it be added: the current model's predictions
+  // of the re-measured trials, each fitted without its fold.
+  if (ev.c.significant && re.ws) {
+    const auto s_new = re.ws->Sensitivities(re.fit.model, x.all);
+    std::vector<TrialCovariance> ref_new;
+    for (std::size_t i = 0; i < re.ws->obs.size(); ++i)
+      ref_new.push_back(Covariance(*re.ws, re.ws->obs[i], s_new[i], re.fit.noise));
+    ev.velocity_cv = CrossValidate(*re.ws, re.fit, x.free_current, ref_new, x.options.folds);
   }
+  return ev;
+}
 
-  // The winner: a significant rotation rate first (it changes the velocities that every
-  // contact effect is judged on), of lowest AIC; else the significant contact effect of lowest
-  // AIC; the constant tilt only when neither is significant (it is judged on other data, and
-  // tried again next round).
+/// The constant out-of-plane tilt, judged on the marker distance alone.
+Evaluation EvaluateTilt(const RoundContext& x, const std::string& key) {
+  Evaluation ev;
+  ev.c = CandidateOf(key);
+  CandidateResult& c = ev.c;
+  if (x.n_ratio < 3) {
+    c.message = "fewer than 3 trials with a marker distance";
+    c.identifiability = Identifiability::kNotTested;
+    c.outcome = CandidateOutcome::kNotTested;
+    c.reason = "not tested: " + c.message;
+    return ev;
+  }
+  const TiltFit tf = FitTilt(x.ws, x.all, true);
+  ev.tilt = tf;
+  c.fitted = true;
+  c.estimate = tf.tilt_rad * 180 / std::numbers::pi;
+  c.se = tf.tilt_se_rad * 180 / std::numbers::pi;
+  c.values = {EffectValue{key, "", c.estimate, c.se}};
+  c.lr_statistic = std::max(0.0, 2 * (tf.loglik - x.state.tilt.loglik));
+  c.p_value = ChiBarSquareUpperTail(c.lr_statistic, 1);
+  c.delta_aic = -c.lr_statistic + 2;
+  c.delta_bic = -c.lr_statistic + std::log(static_cast<double>(x.n_ratio));
+  ev.cv = CrossValidateTilt(x.ws, true, x.options.folds);
+  c.cv_error = ev.cv.mean_error;
+  c.cv_error_current = x.cv_tilt_current.mean_error;
+  c.cv_p = PairedImprovementP(x.cv_tilt_current.error, ev.cv.error);
+  c.identifiability = Identifiability::kIdentified;
+  // A tilt too small to tell from the calibration's own limits is not named.
+  const bool beyond = 1 - std::cos(tf.tilt_rad) > x.options.marker_ratio_tolerance;
+  c.significant = c.p_value < x.level && c.cv_error < c.cv_error_current && beyond;
+  if (!beyond && c.p_value < x.level) {
+    c.outcome = CandidateOutcome::kBelowResolution;
+    c.reason = "p = " + FmtP(c.p_value) + ", but the tilt of " + Fmt(c.estimate, 2) +
+               " deg changes the marker distance by less than the calibration's tolerance (" +
+               Fmt(x.options.marker_ratio_tolerance) + ")";
+  }
+  return ev;
+}
+
+/// A contact effect's free fit, shared by all surfaces, from the best of the starts: the
+/// ladder's three largest optima (or a tenth of the probe size when no size gains), and the
+/// probe's fit. An optimum elsewhere that fits nearly as well is described in `other_optimum`.
+Fit FitFromStarts(const RoundContext& x, const std::string& key, const Fit& probe,
+                  const std::vector<std::string>& free, std::string& other_optimum) {
+  const LibraryEntry& e = Entry(key);
+  const Fit& current = x.state.current;
+  std::vector<double> starts = LadderStarts(x.probes.ladder.at(key), 3);
+  if (starts.empty()) starts.push_back(0.1 * e.probe);
+  Fit chosen;
+  std::vector<Fit> optima;
+  for (double size : starts) {
+    Model start = current.model;
+    start.effects[key] = {EffectForm::kShared, {size}};
+    Fit f = FitModel(x.ws, x.all, start, free, current.noise, true);
+    if (f.ok) optima.push_back(f);
+    if (size == starts.front() || f.loglik > chosen.loglik) chosen = std::move(f);
+  }
+  if (probe.loglik > chosen.loglik)
+    chosen = FitModel(x.ws, x.all, probe.model, free, probe.noise, true);
+  // An optimum elsewhere that the likelihood cannot tell from the best (2 log-likelihood
+  // within the 95 % point of chi-square 1): the s.e. describes one optimum, not the choice.
+  if (chosen.ok) {
+    const double best = chosen.model.effects.at(key).value.at(0);
+    const double se = chosen.effect_se.count(key) ? chosen.effect_se.at(key).at(0) : kNaN;
+    for (const Fit& f : optima) {
+      const double v = f.model.effects.at(key).value.at(0);
+      const double gap = 2 * (chosen.loglik - f.loglik);
+      const double apart = std::max(0.01 * best, std::isfinite(se) ? 5 * se : 0.0);
+      if (std::abs(v - best) > apart && gap >= 0 && gap < x.chi95 && other_optimum.empty())
+        other_optimum = "another optimum, " + e.parameter + " = " + Fmt(v, 3) + UnitSuffix(e.unit) +
+                        ", fits nearly as well (2 log-likelihood " + Fmt(gap, 2) +
+                        " lower): the size is uncertain between them";
+    }
+  }
+  return chosen;
+}
+
+/// The log-likelihood a candidate's fit is compared with. Its fit may have found zeta, mu and
+/// the noise model a better optimum than the current fit did; the reference is then the current
+/// model refitted from there, so that a gain of the baseline's own parameters is not credited to
+/// the effect.
+double ReferenceLogLikelihood(const RoundContext& x, const std::string& key, const Fit& chosen) {
+  double reference = x.state.current.loglik;
+  Model back = chosen.model;
+  back.effects.erase(key);
+  const Fit again = FitModel(x.ws, x.all, back, x.free_current, chosen.noise, true);
+  if (again.ok && again.loglik > reference) reference = again.loglik;
+  // And the candidate's own solution with the effect removed, as it stands: the alternation
+  // of model and noise is not monotone, so a refit from a point can end below it.
+  const auto r_back = x.ws.Residuals(back, x.all);
+  const auto s_back = x.ws.Sensitivities(back, x.all);
+  const Noise n_back = EstimateNoise(x.ws, x.all, r_back, s_back, chosen.noise);
+  return std::max(reference, LogLikelihood(x.ws, x.all, r_back, s_back, n_back));
+}
+
+/// Per surface against shared: a likelihood ratio with S - 1 degrees of freedom, and a Wald
+/// test that the values differ. Sets `c.p_per_surface`, and `c.form`, `c.df` and `chosen` when
+/// the per-surface form wins.
+void ChooseForm(const RoundContext& x, const std::string& key, const std::vector<std::string>& free,
+                Fit& chosen, CandidateResult& c) {
+  const std::size_t S = x.ws.surfaces.size();
+  Model ps = chosen.model;
+  ps.effects[key] = {EffectForm::kPerSurface,
+                     std::vector<double>(S, chosen.model.effects[key].value.at(0))};
+  const Fit per = FitModel(x.ws, x.all, ps, free, chosen.noise, true);
+  // As against the current model: the shared form refitted from the per-surface solution,
+  // so that the comparison is of the two forms, not of the optima of zeta, mu and the noise
+  // that each fit happened to reach.
+  if (per.ok) {
+    Model back = per.model;
+    const auto& v = per.model.effects.at(key).value;
+    back.effects[key] = {
+        EffectForm::kShared,
+        {std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size())}};
+    const Fit again = FitModel(x.ws, x.all, back, free, per.noise, true);
+    if (again.ok && again.loglik > chosen.loglik) chosen = again;
+  }
+  const double lr_ps = std::max(0.0, 2 * (per.loglik - chosen.loglik));
+  c.p_per_surface = stats::ChiSquaredUpperTail(lr_ps, static_cast<double>(S - 1));
+  // And the values themselves must differ: a Wald test of their equality (chi-square with
+  // S - 1 dof). The likelihood ratio alone also rewards the other optimum of zeta, mu and
+  // the noise that a per-surface fit can reach with equal values.
+  c.p_per_surface = std::max(c.p_per_surface, EqualityP(EffectValues(x.ws, per, key)));
+  if (per.ok && per.loglik > chosen.loglik && c.p_per_surface < x.options.alpha) {
+    chosen = per;
+    c.form = EffectForm::kPerSurface;
+    c.df = static_cast<int>(S);
+  }
+}
+
+/// A contact effect: probed for identifiability, fitted (shared, then per surface), tested by
+/// its likelihood ratio, cross-validated, and checked to stand clear of 0.
+Evaluation EvaluateContact(const RoundContext& x, const std::string& key) {
+  const LibraryEntry& e = Entry(key);
+  const Fit& current = x.state.current;
+  Evaluation ev;
+  ev.c = CandidateOf(key);
+  CandidateResult& c = ev.c;
+  // Identifiability probe: the effect fixed at a realistic size, first without refitting (is
+  // any trial sensitive to it?), then with zeta and mu refitted (do they absorb it?).
+  Model probe_start = current.model;
+  probe_start.effects[key] = {EffectForm::kShared, {e.probe}};
+  const double fixed_lr =
+      2 * (LogLikelihood(x.ws, x.all, x.probes.residual_probe.at(key), x.sens, current.noise) -
+           current.loglik);
+  const Fit probe = FitModel(x.ws, x.all, probe_start, x.free_current, current.noise, true, 4);
+  const double probe_lr = 2 * (probe.loglik - current.loglik);
+  std::vector<std::string> free = x.free_current;
+  free.push_back(key);
+  Fit chosen = FitFromStarts(x, key, probe, free, ev.other_optimum);
+  const double reference = ReferenceLogLikelihood(x, key, chosen);
+  // The current model is this one with the effect at 0: a fit that ends below the reference
+  // stopped in a worse local optimum, and the nested point is the better answer.
+  bool at_zero = false;
+  if (!(chosen.loglik >= reference)) {
+    at_zero = true;
+    chosen = current;
+    chosen.model.effects[key] = {EffectForm::kShared, {0.0}};
+    chosen.effect_se[key] = {kNaN};
+  }
+  c.form = EffectForm::kShared;
+  c.df = 1;
+  if (x.options.per_surface && x.ws.surfaces.size() > 1 && chosen.ok && !at_zero)
+    ChooseForm(x, key, free, chosen, c);
+  c.fitted = chosen.ok;
+  c.message = chosen.message;
+  c.values = EffectValues(x.ws, chosen, key);
+  c.estimate = kNaN;
+  c.se = kNaN;
+  for (const auto& v : c.values)
+    if (!std::isfinite(c.estimate) || v.value > c.estimate) c.estimate = v.value, c.se = v.se;
+  c.lr_statistic = std::max(0.0, 2 * (chosen.loglik - reference));
+  c.p_value = ChiBarSquareUpperTail(c.lr_statistic, c.df);
+  c.delta_aic = -c.lr_statistic + 2 * c.df;
+  c.delta_bic = -c.lr_statistic + c.df * std::log(x.n_res);
+  // At 0 the candidate is the current model, and so are its held-out predictions.
+  ev.cv = at_zero ? x.cv_current : CrossValidate(x.ws, chosen, free, x.ref, x.options.folds);
+  c.cv_error = ev.cv.mean_error;
+  c.cv_error_current = x.cv_current.mean_error;
+  c.cv_p = PairedImprovementP(x.cv_current.error, ev.cv.error);
+  // A significant likelihood ratio is itself the evidence that the data tell the effect from
+  // zeta and mu (they were refitted); only a candidate without it is probed further.
+  if (c.p_value < x.level) {
+    c.identifiability = Identifiability::kIdentified;
+  } else if (std::abs(fixed_lr) < x.chi95) {
+    c.identifiability = Identifiability::kNotTested;
+  } else if (std::abs(probe_lr) < x.chi95) {
+    c.identifiability = Identifiability::kConfounded;
+    c.confounded_with = Moved(x.ws, probe, current);
+  } else {
+    c.identifiability = Identifiability::kIdentified;
+  }
+  // Detection limit: from the change simulated at each size of the ladder.
+  c.detection_limit = LadderDetectionLimit(x.probes.ladder.at(key), x.level);
+  // The estimate must also stand clear of 0 by its own standard error (one-sided Wald at the
+  // naming level, per value for a per-surface effect): a likelihood ratio whose effect is
+  // 0.4 s.e. from 0 is a gain of the other parameters, and naming it would contradict the
+  // estimate printed beside it. Clear of the smallest value the fit may take, where that is
+  // above 0: an estimate on it says the data want less of the effect than the library can
+  // represent, and the step from 0 to it is no evidence of the effect.
+  const boost::math::normal z;
+  const double z_level = boost::math::quantile(boost::math::complement(z, x.level / c.df));
+  c.wald_clear = false;
+  for (const auto& v : c.values)
+    c.wald_clear |= v.se > 0 && (v.value - e.smallest) / v.se > z_level;
+  c.significant =
+      c.fitted && c.p_value < x.level && c.wald_clear && c.cv_error < c.cv_error_current;
+  ev.fit = chosen;
+  ev.free = free;
+  return ev;
+}
+
+/// The outcome and reason of a candidate that is not significant.
+void ExplainNotSignificant(const RoundContext& x, CandidateResult& c) {
+  std::ostringstream why;
+  if (!c.fitted && c.outcome != CandidateOutcome::kNotTested) {
+    c.outcome = CandidateOutcome::kNotFitted;
+    why << "the fit failed: " << c.message;
+  } else if (c.identifiability == Identifiability::kNotTested) {
+    c.outcome = CandidateOutcome::kNotTested;
+    why << "no trial is sensitive to it at " << c.parameter << " = " << Fmt(Entry(c.key).probe)
+        << UnitSuffix(c.unit);
+  } else if (c.identifiability == Identifiability::kConfounded) {
+    c.outcome = CandidateOutcome::kConfounded;
+    why << "at " << c.parameter << " = " << Fmt(Entry(c.key).probe) << UnitSuffix(c.unit) << ", "
+        << c.confounded_with << " takes its change back";
+  } else if (c.p_value >= x.level) {
+    c.outcome = CandidateOutcome::kNotSignificant;
+    why << "likelihood-ratio p = " << FmtP(c.p_value) << " is not below the naming level "
+        << FmtP(x.level) << " (alpha = " << Fmt(x.options.alpha) << " over "
+        << x.probes.naming.hypotheses << " hypotheses: candidates x forms)";
+  } else if (!c.wald_clear && Entry(c.key).smallest > 0) {
+    c.outcome = CandidateOutcome::kAtSmallestValue;
+    why << "likelihood-ratio p = " << FmtP(c.p_value) << ", but its estimate " << Fmt(c.estimate)
+        << " +- " << Fmt(c.se) << UnitSuffix(c.unit)
+        << " does not stand clear of the smallest value the fit may take ("
+        << Fmt(Entry(c.key).smallest) << UnitSuffix(c.unit)
+        << "): the data want no more of it than the library's least, and the step from 0 to "
+           "that value is no evidence of it";
+  } else if (!c.wald_clear) {
+    c.outcome = CandidateOutcome::kNotSignificant;
+    why << "likelihood-ratio p = " << FmtP(c.p_value) << ", but its estimate " << Fmt(c.estimate)
+        << " +- " << Fmt(c.se) << UnitSuffix(c.unit)
+        << " does not stand clear of 0 at the naming level: the gain is in zeta, mu or the noise "
+           "model";
+  } else {
+    c.outcome = CandidateOutcome::kWorseHeldOut;
+    why << "p = " << FmtP(c.p_value) << " is significant, but the held-out error "
+        << Fmt(c.cv_error) << " is not below the current model's " << Fmt(c.cv_error_current)
+        << ": it fits these trials without predicting others better";
+  }
+  c.reason = why.str();
+}
+
+/// The winner: a significant rotation rate first (it changes the velocities that every
+/// contact effect is judged on), of lowest AIC; else the significant contact effect of lowest
+/// AIC; the constant tilt only when neither is significant (it is judged on other data, and
+/// tried again next round). Null when nothing is significant.
+Evaluation* ChooseWinner(std::vector<Evaluation>& evals) {
   Evaluation* best = nullptr;
   for (auto& ev : evals)
     if (ev.c.significant && IsRotationRate(ev.c.key) && (!best || Aic(ev.c) < Aic(best->c)))
@@ -413,45 +397,50 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
   if (!best)
     for (auto& ev : evals)
       if (ev.c.significant) best = &ev;
-  RoundOutcome out;
-  if (best) {
-    best->c.outcome = CandidateOutcome::kAdded;
-    std::ostringstream why;
-    why << "likelihood-ratio p = " << FmtP(best->c.p_value) << " below the naming level "
-        << FmtP(level) << ", held-out error " << Fmt(best->c.cv_error_current) << " -> "
-        << Fmt(best->c.cv_error);
-    best->c.reason = why.str();
-    for (auto& ev : evals) {
-      if (&ev == best || !ev.c.significant) continue;
-      const double d_aic = Aic(ev.c) - Aic(best->c);
-      std::ostringstream w;
-      if (ev.c.measurement_effect == best->c.measurement_effect &&
-          IsRotationRate(ev.c.key) == IsRotationRate(best->c.key) && d_aic < chi95) {
-        ev.c.outcome = CandidateOutcome::kIndistinguishable;
-        w << "significant (p = " << FmtP(ev.c.p_value) << "), and fits as well as " << best->c.name
-          << " (AIC within " << Fmt(d_aic) << "): the two cannot be told apart with these data";
-        out.alike.push_back(ev.c.key);
-      } else {
-        ev.c.outcome = CandidateOutcome::kWeakerThanAdded;
-        w << "significant (p = " << FmtP(ev.c.p_value) << "), but " << best->c.name;
-        if (IsRotationRate(best->c.key) && !IsRotationRate(ev.c.key))
-          w << " was added first (a rotation rate goes first: it changes the velocities the "
-               "contact effects are "
-               "judged on)";
-        else if (ev.c.measurement_effect != best->c.measurement_effect)
-          w << " was added first (a contact effect goes before the measurement effect)";
-        else
-          w << " explains the data better (AIC lower by " << Fmt(d_aic) << ")";
-        w << "; it is tried again against the model with it";
-      }
-      ev.c.reason = w.str();
+  return best;
+}
+
+/// The added candidate's reason, and why every other significant one was not added; the keys of
+/// those indistinguishable from it.
+std::vector<std::string> ExplainAgainstWinner(const RoundContext& x, Evaluation& best,
+                                              std::vector<Evaluation>& evals) {
+  std::vector<std::string> alike;
+  best.c.outcome = CandidateOutcome::kAdded;
+  std::ostringstream why;
+  why << "likelihood-ratio p = " << FmtP(best.c.p_value) << " below the naming level "
+      << FmtP(x.level) << ", held-out error " << Fmt(best.c.cv_error_current) << " -> "
+      << Fmt(best.c.cv_error);
+  best.c.reason = why.str();
+  for (auto& ev : evals) {
+    if (&ev == &best || !ev.c.significant) continue;
+    const double d_aic = Aic(ev.c) - Aic(best.c);
+    std::ostringstream w;
+    if (ev.c.measurement_effect == best.c.measurement_effect &&
+        IsRotationRate(ev.c.key) == IsRotationRate(best.c.key) && d_aic < x.chi95) {
+      ev.c.outcome = CandidateOutcome::kIndistinguishable;
+      w << "significant (p = " << FmtP(ev.c.p_value) << "), and fits as well as " << best.c.name
+        << " (AIC within " << Fmt(d_aic) << "): the two cannot be told apart with these data";
+      alike.push_back(ev.c.key);
+    } else {
+      ev.c.outcome = CandidateOutcome::kWeakerThanAdded;
+      w << "significant (p = " << FmtP(ev.c.p_value) << "), but " << best.c.name;
+      if (IsRotationRate(best.c.key) && !IsRotationRate(ev.c.key))
+        w << " was added first (a rotation rate goes first: it changes the velocities the "
+             "contact effects are "
+             "judged on)";
+      else if (ev.c.measurement_effect != best.c.measurement_effect)
+        w << " was added first (a contact effect goes before the measurement effect)";
+      else
+        w << " explains the data better (AIC lower by " << Fmt(d_aic) << ")";
+      w << "; it is tried again against the model with it";
     }
+    ev.c.reason = w.str();
   }
+  return alike;
+}
 
-  for (auto& ev : evals)
-    if (!ev.other_optimum.empty() && ev.c.significant) ev.c.reason += "; " + ev.other_optimum;
-
-  // Rank: the added first, then by the strength of the evidence.
+/// Rank: the added first, then by the strength of the evidence.
+void Rank(std::vector<Evaluation>& evals) {
   auto klass = [](const CandidateResult& c) {
     switch (c.outcome) {
       case CandidateOutcome::kAdded:
@@ -469,52 +458,41 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
     if (a.c.fitted != b.c.fitted) return a.c.fitted;
     return a.c.p_value < b.c.p_value;
   });
-  // `best` moved with the sort; find it again by its outcome.
-  const Evaluation* winner = nullptr;
-  for (std::size_t i = 0; i < evals.size(); ++i) {
-    evals[i].c.rank = static_cast<int>(i) + 1;
-    rd.candidates.push_back(evals[i].c);
-    if (evals[i].c.outcome == CandidateOutcome::kAdded) winner = &evals[i];
+  for (std::size_t i = 0; i < evals.size(); ++i) evals[i].c.rank = static_cast<int>(i) + 1;
+}
+
+/// The round's decision when nothing was added.
+std::string NothingAdded(const std::vector<Evaluation>& evals, double level) {
+  bool worse = false, small = false;
+  for (const auto& ev : evals) {
+    worse |= ev.c.outcome == CandidateOutcome::kWorseHeldOut;
+    small |= ev.c.outcome == CandidateOutcome::kBelowResolution;
   }
-  if (!winner) {
-    bool worse = false, small = false;
-    for (const auto& ev : evals) {
-      worse |= ev.c.outcome == CandidateOutcome::kWorseHeldOut;
-      small |= ev.c.outcome == CandidateOutcome::kBelowResolution;
-    }
-    rd.decision =
-        "Nothing added: no candidate improves the fit significantly under the noise model (naming "
-        "level " +
-        FmtP(level) + ")";
-    if (worse) rd.decision += ", or one that does fails to predict held-out trials better";
-    if (small)
-      rd.decision += "; a significant out-of-plane tilt is below the measurement's resolution";
-    rd.decision += ".";
-    return out;
-  }
-  const CandidateResult& w = winner->c;
-  out.added = true;
-  out.key = w.key;
-  out.fit = winner->fit;
-  out.tilt = winner->tilt;
-  out.motion = winner->motion;
-  out.remeasured = winner->remeasured;
-  out.ws = winner->remeasured_ws;
-  rd.accepted = w.key;
-  // The gap on held-out trials before and after (of the velocities, as measured and as
-  // re-measured, for a rotation rate).
+  std::string d =
+      "Nothing added: no candidate improves the fit significantly under the noise model (naming "
+      "level " +
+      FmtP(level) + ")";
+  if (worse) d += ", or one that does fails to predict held-out trials better";
+  if (small) d += "; a significant out-of-plane tilt is below the measurement's resolution";
+  return d + ".";
+}
+
+/// The gap on held-out trials before and after the added effect (of the velocities, as
+/// measured and as re-measured, for a rotation rate): per trial, and its root mean square.
+void HeldOutGap(const RoundContext& x, const Evaluation& winner, Round& rd) {
+  const CandidateResult& w = winner.c;
   const bool rate = IsRotationRate(w.key);
-  const CrossValidation& before = w.measurement_effect && !rate ? cv_tilt_current : cv_current;
-  const CrossValidation& after = rate ? winner->velocity_cv : winner->cv;
+  const CrossValidation& before = w.measurement_effect && !rate ? x.cv_tilt_current : x.cv_current;
+  const CrossValidation& after = rate ? winner.velocity_cv : winner.cv;
   double sb = 0, sa = 0;
   int n = 0;
   for (std::size_t i = 0;
-       i < ws.obs.size() && i < before.residual.size() && i < after.residual.size(); ++i) {
-    const Obs& o = ws.obs[i];
+       i < x.ws.obs.size() && i < before.residual.size() && i < after.residual.size(); ++i) {
+    const Obs& o = x.ws.obs[i];
     if (!std::isfinite(Rms(before.residual[i])) || !std::isfinite(Rms(after.residual[i]))) continue;
     GapTrial g;
     g.id = o.trial->spec.id;
-    g.surface = ws.surfaces[static_cast<std::size_t>(o.surface)];
+    g.surface = x.ws.surfaces[static_cast<std::size_t>(o.surface)];
     g.angle_deg = o.angle_deg;
     g.speed_m_s = o.speed_m_s;
     g.fold = o.fold;
@@ -531,6 +509,11 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
   rd.gap_before = n ? std::sqrt(sb / n) : kNaN;
   rd.gap_after = n ? std::sqrt(sa / n) : kNaN;
   rd.gap_shrink = rd.gap_before > 0 ? 1 - rd.gap_after / rd.gap_before : kNaN;
+}
+
+/// The round's decision when `w` was added.
+std::string AddedText(const CandidateResult& w, const Round& rd,
+                      const std::vector<std::string>& alike) {
   std::ostringstream d;
   d << "Added " << w.name;
   if (w.form == EffectForm::kPerSurface) {
@@ -549,13 +532,81 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
     << kHeldOutErrorUnit << "); held-out gap " << Fmt(100 * rd.gap_before) << " % -> "
     << Fmt(100 * rd.gap_after) << " % of the impact speed (" << Percent(rd.gap_shrink)
     << " % smaller).";
-  if (!out.alike.empty()) {
+  if (!alike.empty()) {
     d << " It cannot be told apart from";
-    for (std::size_t i = 0; i < out.alike.size(); ++i)
-      d << (i ? ", " : " ") << Entry(out.alike[i]).name;
+    for (std::size_t i = 0; i < alike.size(); ++i) d << (i ? ", " : " ") << Entry(alike[i]).name;
     d << " with these data.";
   }
-  rd.decision = d.str();
+  return d.str();
+}
+
+}  // namespace
+
+RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
+                           const std::vector<Eigen::Vector3d>& residual_current,
+                           const std::vector<Sensitivity>& sens,
+                           const std::vector<std::string>& keys, const DiscoveryOptions& options,
+                           const std::function<void(const std::string&)>& say, Round& rd) {
+  std::vector<TrialCovariance> ref;
+  for (std::size_t i = 0; i < ws.obs.size(); ++i)
+    ref.push_back(Covariance(ws, ws.obs[i], sens[i], state.current.noise));
+  RoundContext x{ws, state, residual_current, sens, ref, options, ws.All(), {}, {}, 0.0, {}, {}};
+  std::vector<std::string> to_try;
+  for (const auto& key : keys)
+    if (std::find(state.accepted.begin(), state.accepted.end(), key) == state.accepted.end())
+      to_try.push_back(key);
+  x.chi95 = stats::ChiSquaredQuantile(0.95, 1);
+  for (const auto& a : state.accepted)
+    if (!Entry(a).measurement_effect) x.free_current.push_back(a);
+  for (const Obs& o : ws.obs) x.n_ratio += std::isfinite(o.marker_ratio) ? 1 : 0;
+  x.probes = ProbeCandidates(ws, state.current.model, to_try, residual_current, sens, ref, options);
+  x.level = x.probes.naming.level;
+  rd.naming_level = x.probes.naming.level;
+  rd.bonferroni_level = x.probes.naming.bonferroni;
+  rd.hypotheses = x.probes.naming.hypotheses;
+  x.cv_current = CrossValidate(ws, state.current, x.free_current, ref, options.folds);
+  x.cv_tilt_current = CrossValidateTilt(ws, state.tilt_on, options.folds);
+  x.n_res = UsedResiduals(ws);
+
+  std::vector<Evaluation> evals;
+  for (const auto& key : to_try) {
+    say("  " + key);
+    if (IsRotationRate(key))
+      evals.push_back(EvaluateRate(x, key));
+    else if (Entry(key).measurement_effect)
+      evals.push_back(EvaluateTilt(x, key));
+    else
+      evals.push_back(EvaluateContact(x, key));
+  }
+  for (auto& ev : evals)
+    if (!ev.c.significant && ev.c.reason.empty()) ExplainNotSignificant(x, ev.c);
+  Evaluation* best = ChooseWinner(evals);
+  RoundOutcome out;
+  if (best) out.alike = ExplainAgainstWinner(x, *best, evals);
+  for (auto& ev : evals)
+    if (!ev.other_optimum.empty() && ev.c.significant) ev.c.reason += "; " + ev.other_optimum;
+  Rank(evals);
+  // `best` moved with the sort; find it again by its outcome.
+  const Evaluation* winner = nullptr;
+  for (const auto& ev : evals) {
+    rd.candidates.push_back(ev.c);
+    if (ev.c.outcome == CandidateOutcome::kAdded) winner = &ev;
+  }
+  if (!winner) {
+    rd.decision = NothingAdded(evals, x.level);
+    return out;
+  }
+  const CandidateResult& w = winner->c;
+  out.added = true;
+  out.key = w.key;
+  out.fit = winner->fit;
+  out.tilt = winner->tilt;
+  out.motion = winner->motion;
+  out.remeasured = winner->remeasured;
+  out.ws = winner->remeasured_ws;
+  rd.accepted = w.key;
+  HeldOutGap(x, *winner, rd);
+  rd.decision = AddedText(w, rd, out.alike);
   return out;
 }
 

@@ -230,8 +230,9 @@ struct CandidateResult {
   bool significant = false;
   CandidateOutcome outcome = CandidateOutcome::kNotSignificant;
   std::string reason;  ///< why it was or was not added, in words
-  /// Smallest size (the library entry's unit) that these trials, with this noise, would detect
-  /// at the naming level with 80 % power (shared form; NaN when not computed).
+  /// Smallest size (the library entry's unit) from which on these trials, with this noise,
+  /// detect every larger size of the ladder at the naming level with 80 % power (shared form;
+  /// docs/discovery.md "Candidates and the decision"; NaN when not computed).
   double detection_limit = 0.0;
   int rank = 0;  ///< 1 = added or strongest evidence
 };
@@ -358,8 +359,10 @@ struct Plan {
 };
 
 /// The plan for `key` at `size` (its library unit) under the baseline fitted to `trials` with its
-/// noise model (Wald approximation, as CandidateResult::detection_limit). Throws
-/// std::invalid_argument for a bad key, size or options.
+/// noise model: the naming level and the detection limit as the first round of Discover sets
+/// them (the ladder of sizes, CandidateResult::detection_limit), and the power at `size` from the
+/// change simulated at that size (zeta and mu profiled out). Throws std::invalid_argument for a
+/// bad key, size or options.
 Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std::string& key,
                    double size, const DiscoveryOptions& options = {});
 

@@ -366,6 +366,25 @@ NamingLevel CalibrateNamingLevel(const Workspace& ws,
                                  int independent, double alpha, int draws = 20000,
                                  const std::vector<std::vector<LadderRay>>& rays = {});
 
+// ---- the candidates probed against the current model (plan.cc) -----------------------------
+
+/// Every contact candidate of `keys` against the current model, without refitting: its
+/// residuals at the probe size, the change per unit of the effect from there (a secant), and its
+/// ladder of sizes; and the naming level they set together (CalibrateNamingLevel, with the
+/// ladders' rays, and the measurement effects as independent tests when at least 3 trials have
+/// a marker distance). What a round of Discover and PlanDetection both start from.
+struct CandidateProbes {
+  std::map<std::string, std::vector<Eigen::Vector3d>> residual_probe, change;
+  std::map<std::string, SizeLadder> ladder;
+  NamingLevel naming;
+};
+CandidateProbes ProbeCandidates(const Workspace& ws, const Model& current,
+                                const std::vector<std::string>& keys,
+                                const std::vector<Eigen::Vector3d>& residual_current,
+                                const std::vector<Sensitivity>& sens,
+                                const std::vector<TrialCovariance>& ref,
+                                const DiscoveryOptions& options);
+
 // ---- verdict (verdict.cc) -----------------------------------------------------------------
 
 std::vector<SurfaceFit> SurfaceFits(const Workspace& ws, const Fit& f);

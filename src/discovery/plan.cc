@@ -189,6 +189,44 @@ std::vector<LadderRay> LadderRays(const Workspace& ws, const SizeLadder& ladder,
   return rays;
 }
 
+CandidateProbes ProbeCandidates(const Workspace& ws, const Model& current,
+                                const std::vector<std::string>& keys,
+                                const std::vector<Eigen::Vector3d>& residual_current,
+                                const std::vector<Sensitivity>& sens,
+                                const std::vector<TrialCovariance>& ref,
+                                const DiscoveryOptions& options) {
+  CandidateProbes out;
+  const std::vector<int> all = ws.All();
+  int n_ratio = 0;
+  for (const Obs& o : ws.obs) n_ratio += std::isfinite(o.marker_ratio) ? 1 : 0;
+  std::vector<std::vector<Eigen::Vector3d>> changes;
+  std::vector<std::vector<LadderRay>> rays;
+  int independent = 0;
+  for (const auto& key : keys) {
+    const LibraryEntry& e = Entry(key);
+    if (e.measurement_effect) {
+      independent += n_ratio >= 3 ? 1 : 0;
+      continue;
+    }
+    Model probe = current;
+    probe.effects[key] = {EffectForm::kShared, {e.probe}};
+    const auto& r_probe = out.residual_probe[key] = ws.Residuals(probe, all);
+    auto& d_r = out.change[key];
+    d_r.resize(ws.obs.size());
+    for (std::size_t i = 0; i < ws.obs.size(); ++i)
+      d_r[i] = (residual_current[i] - r_probe[i]) / e.probe;
+    changes.push_back(d_r);
+    const SizeLadder& ladder = out.ladder[key] =
+        Ladder(ws, current, key, residual_current, sens, ref);
+    rays.push_back(LadderRays(ws, ladder, d_r, sens, ref));
+  }
+  // Min-P over the hypotheses tried, each candidate once per form (shared and, with two or more
+  // surfaces, per surface: the form is chosen from the same data).
+  out.naming = CalibrateNamingLevel(ws, changes, sens, ref, options.per_surface, independent,
+                                    options.alpha, 20000, rays);
+  return out;
+}
+
 }  // namespace internal
 
 using namespace internal;
@@ -227,48 +265,33 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
   std::vector<TrialCovariance> ref;
   for (std::size_t i = 0; i < ws.obs.size(); ++i)
     ref.push_back(Covariance(ws, ws.obs[i], sens[i], base.noise));
+  const auto r0 = ws.Residuals(base.model, all);
+  // The naming level and the detection limit of the first round, as Discover sets them.
+  std::vector<std::string> keys = options.candidates;
+  if (keys.empty())
+    for (const LibraryEntry& c : Library()) keys.push_back(c.key);
+  const CandidateProbes probes = ProbeCandidates(ws, base.model, keys, r0, sens, ref, options);
+  plan.level = probes.naming.level;
+  const auto own = probes.ladder.find(key);
+  plan.detection_limit = LadderDetectionLimit(
+      own != probes.ladder.end() ? own->second : Ladder(ws, base.model, key, r0, sens, ref),
+      plan.level);
+  // The change at `size` itself (simulated, not scaled from another size), zeta and mu profiled
+  // out: its noncentrality gives the power, and it grows in proportion to the trials.
   Model with = base.model;
   with.effects[key] = {EffectForm::kShared, {size}};
-  const auto r0 = ws.Residuals(base.model, all);
   const auto r1 = ws.Residuals(with, all);
   std::vector<Eigen::Vector3d> d_r(ws.obs.size());
   for (std::size_t i = 0; i < ws.obs.size(); ++i) d_r[i] = (r0[i] - r1[i]) / size;
-  // The naming level of the first round, as Discover would set it: every candidate's change at
-  // its probe size under this baseline.
-  {
-    std::vector<std::vector<Eigen::Vector3d>> changes;
-    int independent = 0, n_ratio = 0;
-    for (const Obs& o : ws.obs) n_ratio += std::isfinite(o.marker_ratio) ? 1 : 0;
-    for (const LibraryEntry& c : Library()) {
-      if (!options.candidates.empty() &&
-          std::find(options.candidates.begin(), options.candidates.end(), c.key) ==
-              options.candidates.end())
-        continue;
-      if (c.measurement_effect) {
-        independent += n_ratio >= 3 ? 1 : 0;
-        continue;
-      }
-      Model probe = base.model;
-      probe.effects[c.key] = {EffectForm::kShared, {c.probe}};
-      const auto rp = ws.Residuals(probe, all);
-      std::vector<Eigen::Vector3d> d(ws.obs.size());
-      for (std::size_t i = 0; i < ws.obs.size(); ++i) d[i] = (r0[i] - rp[i]) / c.probe;
-      changes.push_back(std::move(d));
-    }
-    plan.level = CalibrateNamingLevel(ws, changes, sens, ref, options.per_surface, independent,
-                                      options.alpha)
-                     .level;
-  }
   const auto info = ProfiledInformation(ws, d_r, sens, ref);
   const double total = std::accumulate(info.begin(), info.end(), 0.0);
-  plan.detection_limit = DetectionLimit(info, plan.level);
+  const double noncentrality = size * size * total;
   const boost::math::normal z;
   const double z_level = boost::math::quantile(boost::math::complement(z, plan.level));
-  plan.power = total > 0 ? boost::math::cdf(z, size * std::sqrt(total) - z_level) : kNaN;
+  const double z_target = z_level + boost::math::quantile(z, 0.8);
+  plan.power = total > 0 ? boost::math::cdf(z, std::sqrt(noncentrality) - z_level) : kNaN;
   plan.trials_needed =
-      std::isfinite(plan.detection_limit)
-          ? std::ceil(plan.trials * (plan.detection_limit / size) * (plan.detection_limit / size))
-          : kNaN;
+      total > 0 ? std::ceil(plan.trials * z_target * z_target / noncentrality) : kNaN;
   // Per condition (surface and angle; speeds as a range): where the information comes from.
   std::map<std::pair<int, double>, PlanCondition> by;
   for (std::size_t i = 0; i < ws.obs.size(); ++i) {

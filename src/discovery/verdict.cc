@@ -128,8 +128,8 @@ std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& opti
     if (!limits.empty()) {
       v << "\nWhat these trials could have missed: the smallest size of each effect not added that "
            "this design and "
-           "noise detect with 80 % power at the naming level (shared by all surfaces; Wald "
-           "approximation):\n";
+           "noise detect with 80 % power at the naming level (shared by all surfaces; from the "
+           "noncentrality of its change, simulated at a ladder of sizes):\n";
       for (const auto& l : limits) v << "  - " << l << "\n";
     }
     if (!untested.empty()) {

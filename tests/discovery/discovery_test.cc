@@ -219,12 +219,31 @@ TEST(DiscoveryTest, OutOfPlaneTiltIsEstimatedFromTheMarkerDistance) {
 // are measured by bench/discovery_scorecard; these few seeds guard the rule.)
 TEST(DiscoveryUnderScatterTest, NamesNothingInUnreplicatedStudiesWithoutAHiddenEffect) {
   for (std::uint64_t seed : {201, 202, 203}) {
+    const auto trials =
+        MeasureStudy("scatter_null_" + std::to_string(seed), UnreplicatedDesign(seed));
     const DiscoveryResult r =
-        DiscoverStudy("scatter_null_" + std::to_string(seed), UnreplicatedDesign(seed));
+        Discover(trials, {}, [](const std::string& s) { std::cerr << s << "\n"; });
     ASSERT_TRUE(r.success) << r.message;
     EXPECT_EQ(r.trials_used, 36);
     EXPECT_EQ(Confident(r), 0) << "seed " << seed << "\n" << r.verdict;
     EXPECT_FALSE(r.unexplained) << "seed " << seed << "\n" << r.verdict;
+    // `discover --plan` answers with the naming level and the detection limits that the first
+    // round printed (the same probes of the same baseline), for every contact candidate.
+    if (seed == 201) {
+      ASSERT_FALSE(r.rounds.empty());
+      int compared = 0;
+      for (const auto& c : r.rounds.front().candidates) {
+        if (c.measurement_effect || !std::isfinite(c.detection_limit)) continue;
+        const auto plan = hoof::discovery::PlanDetection(trials, c.key, c.detection_limit);
+        ASSERT_TRUE(plan.success) << c.key << ": " << plan.message;
+        EXPECT_DOUBLE_EQ(plan.level, r.rounds.front().naming_level) << c.key;
+        EXPECT_DOUBLE_EQ(plan.detection_limit, c.detection_limit) << c.key;
+        ++compared;
+      }
+      // Rolling resistance, Hunt-Crossley damping and the tangential spring; the limits of
+      // Hertzian stiffness and plastic unloading lie beyond their bounds in this design (NaN).
+      EXPECT_GE(compared, 3) << r.verdict;
+    }
     // The noise model finds the renderer's scatter: the fitted zeta s.d., turned into an e s.d.
     // through the two-phase law's e(zeta), against the s.d. the renderer drew e with, within
     // the 99.9 % range of a sample s.d. of the surface's 12 trials (10 degrees of freedom after
