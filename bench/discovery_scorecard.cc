@@ -43,6 +43,7 @@
 #include "io/atomic_file.h"
 #include "pipeline/study_analysis.h"
 #include "pipeline/study_format.h"
+#include "stats/distributions.h"
 #include "studyfile/study_file.h"
 #include "synth/projection.h"
 #include "synth/study.h"
@@ -507,10 +508,7 @@ void RemoveLeftovers(const fs::path& cache_dir) {
 /// Wilson score interval of k successes in n trials at 95 %.
 std::pair<double, double> Wilson(int k, int n) {
   if (n == 0) return {NAN, NAN};
-  const double z = 1.959963984540054, nn = n, p = k / nn;
-  const double centre = (p + z * z / (2 * nn)) / (1 + z * z / nn);
-  const double half = z * std::sqrt(p * (1 - p) / nn + z * z / (4 * nn * nn)) / (1 + z * z / nn);
-  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+  return hoof::stats::WilsonInterval(k, n);
 }
 
 std::string Rate(int k, int n) {

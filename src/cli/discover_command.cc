@@ -217,6 +217,7 @@ struct DiscoverArgs {
   DiscoverSettings settings;
   std::string report;
   std::vector<std::string> plans;  ///< --plan KEY=SIZE
+  int plan_draws = 0;              ///< --plan-draws: the plans' parametric bootstrap
 };
 
 /// `--plan KEY=SIZE` as key and size; a CLI::ValidationError naming the option otherwise.
@@ -247,7 +248,9 @@ void PrintPlans(const DiscoverArgs& a, const std::vector<pipeline::TrialAnalysis
     const auto [key, size] = ParsePlan(text);
     discovery::Plan p;
     try {
-      p = discovery::PlanDetection(trials, key, size, options);
+      p = discovery::PlanDetection(
+          trials, key, size, options, a.plan_draws,
+          [](const std::string& line) { std::cerr << "  plan: " << line << std::endl; });
     } catch (const std::invalid_argument& e) {
       throw CLI::ValidationError("--plan", e.what());
     }
@@ -269,6 +272,12 @@ void PrintPlans(const DiscoverArgs& a, const std::vector<pipeline::TrialAnalysis
                    {"detection_limit", JsonNumber(p.detection_limit)},
                    {"power", JsonNumber(p.power)},
                    {"trials_needed", JsonNumber(p.trials_needed)},
+                   {"bootstrap",
+                    {{"draws", p.bootstrap_draws},
+                     {"detected", p.bootstrap_detected},
+                     {"power", JsonNumber(p.bootstrap_power)},
+                     {"power_low", JsonNumber(p.bootstrap_low)},
+                     {"power_high", JsonNumber(p.bootstrap_high)}}},
                    {"conditions", conditions}});
     if (a.settings.json) continue;
     const std::string unit = p.unit == "1" ? "" : " " + p.unit;
@@ -280,8 +289,14 @@ void PrintPlans(const DiscoverArgs& a, const std::vector<pipeline::TrialAnalysis
               << Percent(p.power) << "\n"
               << "  80 % power at " << Num(p.size, 3) << unit << " needs about "
               << Num(p.trials_needed, 6)
-              << " trials of this design (its conditions in the same proportions)\n"
-              << "  information per trial, most informative condition first (zeta and mu profiled "
+              << " trials of this design (its conditions in the same proportions)\n";
+    if (p.bootstrap_draws > 0)
+      std::cout << "  parametric bootstrap: detected in " << p.bootstrap_detected << " of "
+                << p.bootstrap_draws << " studies simulated from the baseline with " << p.parameter
+                << " = " << Num(p.size, 3) << unit << ": power " << Percent(p.bootstrap_power)
+                << " (Wilson 95 % " << Percent(p.bootstrap_low) << " to "
+                << Percent(p.bootstrap_high) << ")\n";
+    std::cout << "  information per trial, most informative condition first (zeta and mu profiled "
                  "out):\n";
     for (const auto& c : p.conditions)
       std::cout << "    " << std::left << std::setw(10) << c.surface << std::right << std::setw(5)
@@ -481,11 +496,18 @@ void RegisterDiscover(CLI::App& app, RunState& state) {
                   "Also write the HTML report of the output file to this file (only when the "
                   "workflow ran)");
   cmd->add_flag("--json", s.json, "Print the whole result as one JSON object");
-  cmd->add_option(
+  auto* plan = cmd->add_option(
       "--plan", args->plans,
       "KEY=SIZE: instead of the workflow, how many trials of this design would detect the "
       "effect at that size (library unit) with 80 % power, and which conditions tell most "
       "(repeatable)");
+  cmd->add_option("--plan-draws", args->plan_draws,
+                  "With --plan: also simulate this many studies of these trials from the fitted "
+                  "baseline with the effect at SIZE (each trial's e and mu drawn from the noise "
+                  "model's scatter) and count how often the candidate is detected: the power by "
+                  "parametric bootstrap (slow: a baseline and a candidate fit per study)")
+      ->check(CLI::Range(0, 100000))
+      ->needs(plan);
   cmd->callback([args, &state] { Discover(*args, state); });
 }
 

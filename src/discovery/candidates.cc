@@ -542,6 +542,27 @@ std::string AddedText(const CandidateResult& w, const Round& rd,
 
 }  // namespace
 
+CandidateResult JudgeCandidate(const Workspace& ws, const Fit& current, const std::string& key,
+                               const DiscoveryOptions& options, double level) {
+  RoundState state;
+  state.current = current;
+  const std::vector<int> all = ws.All();
+  const auto residuals = ws.Residuals(current.model, all);
+  const auto sens = ws.Sensitivities(current.model, all);
+  std::vector<TrialCovariance> ref;
+  for (std::size_t i = 0; i < ws.obs.size(); ++i)
+    ref.push_back(Covariance(ws, ws.obs[i], sens[i], current.noise));
+  RoundContext x{ws, state, residuals, sens, ref, options, all, {}, {}, level, {}, {}};
+  for (const auto& [k, p] : current.model.effects) x.free_current.push_back(k);
+  x.chi95 = stats::ChiSquaredQuantile(0.95, 1);
+  x.probes = ProbeCandidates(ws, current.model, {key}, residuals, sens, ref, options);
+  x.cv_current = CrossValidate(ws, current, x.free_current, ref, options.folds);
+  x.n_res = UsedResiduals(ws);
+  Evaluation ev = EvaluateContact(x, key);
+  if (!ev.c.significant) ExplainNotSignificant(x, ev.c);
+  return ev.c;
+}
+
 RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
                            const std::vector<Eigen::Vector3d>& residual_current,
                            const std::vector<Sensitivity>& sens,

@@ -356,6 +356,12 @@ struct Plan {
   /// `size`.
   double trials_needed = 0.0;
   std::vector<PlanCondition> conditions;  ///< most informative first
+  /// The parametric bootstrap (when asked for): studies of these trials simulated from the
+  /// fitted baseline with the effect at `size`, each trial's e and mu drawn from the noise
+  /// model's scatter, and in how many the candidate, judged alone at `level` as a round judges
+  /// it, was significant; that rate with its Wilson 95 % interval (NaN without draws).
+  int bootstrap_draws = 0, bootstrap_detected = 0;
+  double bootstrap_power = 0.0, bootstrap_low = 0.0, bootstrap_high = 0.0;
 };
 
 /// The plan for `key` at `size` (its library unit) under the baseline fitted to `trials` with its
@@ -363,7 +369,10 @@ struct Plan {
 /// them (the ladder of sizes, CandidateResult::detection_limit), and the power at `size` from the
 /// change simulated at that size (zeta and mu profiled out). Throws std::invalid_argument for a
 /// bad key, size or options.
+/// With `bootstrap_draws` > 0, also the parametric bootstrap (Plan::bootstrap_power), each draw
+/// reported through `progress`.
 Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std::string& key,
-                   double size, const DiscoveryOptions& options = {});
+                   double size, const DiscoveryOptions& options = {}, int bootstrap_draws = 0,
+                   const std::function<void(const std::string&)>& progress = {});
 
 }  // namespace hoof::discovery

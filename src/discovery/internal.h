@@ -18,6 +18,7 @@
 
 #include <array>
 #include <atomic>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <map>
@@ -241,6 +242,12 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
                            const std::vector<std::string>& keys, const DiscoveryOptions& options,
                            const std::function<void(const std::string&)>& say, Round& round);
 
+/// One contact candidate judged against `current` as a round judges it (its fits, likelihood
+/// ratio, held-out error and the estimate's distance from 0), at the naming level `level`, alone:
+/// no other candidate competes. `significant` says whether the round would call it so.
+CandidateResult JudgeCandidate(const Workspace& ws, const Fit& current, const std::string& key,
+                               const DiscoveryOptions& options, double level);
+
 // ---- out-of-plane rotation growing in time (out_of_plane.cc) ---------------------------------
 
 /// True for a library key whose entry is a rotation rate (LibraryEntry::rotation_rate).
@@ -384,6 +391,26 @@ CandidateProbes ProbeCandidates(const Workspace& ws, const Model& current,
                                 const std::vector<Sensitivity>& sens,
                                 const std::vector<TrialCovariance>& ref,
                                 const DiscoveryOptions& options);
+
+// ---- the parametric bootstrap of a plan (bootstrap.cc) ----------------------------------------
+
+/// Velocities of every obs simulated from `truth` (its model with its effects, and its noise
+/// model): each trial's e (then its zeta, through the two-phase law) and mu drawn about its
+/// surface's with the noise model's scatter (the s.d. of zeta turned into one of e by the law's
+/// slope: in e the velocities are linear, so the noise model is exact there to first order), its
+/// velocities with the measurement's random and systematic error. Seeded: the same seed gives
+/// the same values, whatever the threads.
+std::vector<Eigen::Vector3d> SimulateStudy(const Workspace& ws, const Fit& truth,
+                                           std::uint64_t seed);
+struct BootstrapResult {
+  int draws = 0, detected = 0;
+  std::vector<double> estimates;  // per draw, the candidate's estimate
+};
+/// `draws` studies simulated from `baseline` with `key` at `size`; on each, the baseline is
+/// refitted and the candidate judged alone (JudgeCandidate) at `level`.
+BootstrapResult BootstrapDetection(const Workspace& ws, const Fit& baseline, const std::string& key,
+                                   double size, double level, const DiscoveryOptions& options,
+                                   int draws, const std::function<void(const std::string&)>& say);
 
 // ---- verdict (verdict.cc) -----------------------------------------------------------------
 

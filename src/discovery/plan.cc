@@ -6,11 +6,15 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <stdexcept>
+#include <string>
+#include <tuple>
 
 #include <Eigen/QR>
 #include <boost/math/distributions/normal.hpp>
 
 #include "discovery/internal.h"
+#include "stats/distributions.h"
 
 namespace hoof::discovery {
 namespace internal {
@@ -232,8 +236,12 @@ CandidateProbes ProbeCandidates(const Workspace& ws, const Model& current,
 using namespace internal;
 
 Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std::string& key,
-                   double size, const DiscoveryOptions& options) {
+                   double size, const DiscoveryOptions& options, int bootstrap_draws,
+                   const std::function<void(const std::string&)>& progress) {
   options.Validate();
+  if (bootstrap_draws < 0)
+    throw std::invalid_argument("plan: the bootstrap's draws must be >= 0, got " +
+                                std::to_string(bootstrap_draws));
   const LibraryEntry& e = Entry(key);
   if (e.measurement_effect)
     throw std::invalid_argument("plan: '" + key +
@@ -317,6 +325,15 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
                    [](const auto& a, const auto& b) {
                      return a.information_per_trial > b.information_per_trial;
                    });
+  plan.bootstrap_power = plan.bootstrap_low = plan.bootstrap_high = kNaN;
+  if (bootstrap_draws > 0) {
+    const BootstrapResult b =
+        BootstrapDetection(ws, base, key, size, plan.level, options, bootstrap_draws, progress);
+    plan.bootstrap_draws = b.draws;
+    plan.bootstrap_detected = b.detected;
+    plan.bootstrap_power = static_cast<double>(b.detected) / b.draws;
+    std::tie(plan.bootstrap_low, plan.bootstrap_high) = stats::WilsonInterval(b.detected, b.draws);
+  }
   plan.success = true;
   return plan;
 }

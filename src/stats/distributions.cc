@@ -1,5 +1,6 @@
 #include "stats/distributions.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -7,6 +8,7 @@
 
 #include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/fisher_f.hpp>
+#include <boost/math/distributions/normal.hpp>
 #include <boost/math/distributions/students_t.hpp>
 
 namespace hoof::stats {
@@ -74,6 +76,21 @@ double ChiSquaredQuantile(double q, double df) {
   RequireDf(df, "ChiSquaredQuantile", "df");
   RequireProbability(q, "ChiSquaredQuantile");
   return boost::math::quantile(boost::math::chi_squared(df), q);
+}
+
+std::pair<double, double> WilsonInterval(int k, int n, double confidence) {
+  if (n <= 0 || k < 0 || k > n) {
+    std::ostringstream os;
+    os << "WilsonInterval: " << k << " successes in " << n << " trials (need 0 <= k <= n, n > 0)";
+    throw std::invalid_argument(os.str());
+  }
+  RequireProbability(confidence, "WilsonInterval");
+  const double z =
+      boost::math::quantile(boost::math::complement(boost::math::normal(), (1 - confidence) / 2));
+  const double nn = n, p = k / nn, z2 = z * z;
+  const double centre = (p + z2 / (2 * nn)) / (1 + z2 / nn);
+  const double half = z * std::sqrt(p * (1 - p) / nn + z2 / (4 * nn * nn)) / (1 + z2 / nn);
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
 }
 
 }  // namespace hoof::stats

@@ -8,6 +8,8 @@
 /// Degrees of freedom may be non-integer (Welch's df2). All functions throw
 /// std::invalid_argument naming the argument when it is outside the domain below.
 
+#include <utility>
+
 namespace hoof::stats {
 
 /// P(F >= f) for F ~ F(df1, df2). df1, df2 > 0 and finite; f >= 0 or +inf (p = 0); f = 0
@@ -25,5 +27,11 @@ double ChiSquaredUpperTail(double x, double df);
 
 /// The q-quantile of chi-squared(df). 0 < q < 1, df > 0 and finite.
 double ChiSquaredQuantile(double q, double df);
+
+/// Wilson's score interval of a binomial proportion, k successes in n trials, two-sided at
+/// `confidence`: {low, high}. Used for rates measured over simulated studies (Boost.Math offers
+/// the Clopper-Pearson and Jeffreys intervals, not Wilson's, which is closer to its nominal
+/// coverage for the small n of such rates). n > 0, 0 <= k <= n, 0 < confidence < 1.
+std::pair<double, double> WilsonInterval(int k, int n, double confidence = 0.95);
 
 }  // namespace hoof::stats

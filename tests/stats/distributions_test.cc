@@ -74,5 +74,23 @@ TEST(DistributionsTest, BadArgumentsNameTheArgument) {
   }
 }
 
+TEST(DistributionsTest, WilsonIntervalsMatchNewcombesTable) {
+  // Newcombe (1998), Statistics in Medicine 17:857-872, Table II, method 3 (score interval
+  // without continuity correction), to the four decimals printed there.
+  struct Case {
+    int k, n;
+    double low, high;
+  };
+  for (const Case& c : {Case{81, 263, 0.2553, 0.3662}, Case{15, 148, 0.0624, 0.1605},
+                        Case{0, 20, 0.0, 0.1611}, Case{1, 29, 0.0061, 0.1718}}) {
+    const auto [low, high] = WilsonInterval(c.k, c.n);
+    EXPECT_NEAR(low, c.low, 5e-5) << c.k << "/" << c.n;
+    EXPECT_NEAR(high, c.high, 5e-5) << c.k << "/" << c.n;
+  }
+  EXPECT_THROW(WilsonInterval(3, 2), std::invalid_argument);
+  EXPECT_THROW(WilsonInterval(0, 0), std::invalid_argument);
+  EXPECT_THROW(WilsonInterval(1, 2, 1.0), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace hoof::stats
