@@ -58,8 +58,8 @@ std::vector<Eigen::Vector3d> SimulateStudy(const Workspace& ws, const Fit& truth
     const double dm = truth.noise.mu_sd[s] * unit(rng);
     mu[i] = ws.has_oblique[s] ? std::max(0.0, truth.model.mu[s] + dm) : truth.model.mu[s];
     for (int c = 0; c < kComponents; ++c) {
-      const double sd = std::sqrt(o.measurement_var[c] +
-                                  truth.noise.systematic_sd[c] * truth.noise.systematic_sd[c]);
+      const double sys = truth.noise.systematic_sd[s][c];
+      const double sd = std::sqrt(o.measurement_var[c] + sys * sys);
       error[i][c] = sd * unit(rng) * o.scale;
     }
   }

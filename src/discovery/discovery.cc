@@ -167,7 +167,10 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials,
         out.findings.push_back(f);
       }
   out.final_model = SurfaceFits(*current, st.current);
-  out.measurement_sd = st.current.noise.systematic_sd;
+  // The largest of the surfaces' systematic errors per component (each surface's is in
+  // `final_model`).
+  for (const auto& sd : st.current.noise.systematic_sd)
+    out.measurement_sd = out.measurement_sd.cwiseMax(sd);
   for (const auto& key : st.accepted) {
     if (IsRotationRate(key)) {
       for (const auto& rd : out.rounds)

@@ -33,6 +33,7 @@
 
 #include <Eigen/Core>
 
+#include "core/frames.h"
 #include "dynamics/impact_simulator.h"
 #include "pipeline/trial_analysis.h"
 
@@ -278,6 +279,10 @@ struct SurfaceFit {
   int trials = 0;
   double zeta_sd = 0.0;  ///< s.d. of zeta from trial to trial
   double mu_sd = 0.0;    ///< s.d. of mu from trial to trial (NaN without oblique trials)
+  /// The noise model's systematic measurement s.d. of v_x, v_y and w d_EC on this surface beyond
+  /// each trial's own s.e. (fraction of the impact speed; NaN for a component its trials do not
+  /// use, and in study files written before it was per surface).
+  Eigen::Vector3d measurement_sd = Eigen::Vector3d::Constant(core::kNaN);
 };
 
 /// What the verdict says about one effect.
@@ -310,7 +315,8 @@ struct DiscoveryResult {
   int trials_skipped = 0;  ///< not measured, or on a surface without normal trials (no zeta)
   std::vector<SurfaceFit> baseline, final_model;
   /// Systematic measurement error per component (v_x, v_y, w d; fractions of the impact speed)
-  /// of the final noise model.
+  /// of the final noise model: the largest over the surfaces (each surface's is its
+  /// SurfaceFit::measurement_sd).
   Eigen::Vector3d measurement_sd{0, 0, 0};
   std::vector<EffectValue> effects;  ///< the final model's effects
   std::vector<Round> rounds;

@@ -111,7 +111,8 @@ json SurfacesJson(const std::vector<SurfaceFit>& fits) {
                    {"k_N_m", JsonNumber(f.k_N_m)},
                    {"trials", f.trials},
                    {"zeta_sd", JsonNumber(f.zeta_sd)},
-                   {"mu_sd", JsonNumber(f.mu_sd)}});
+                   {"mu_sd", JsonNumber(f.mu_sd)},
+                   {"measurement_sd", Vector3(f.measurement_sd)}});
   return out;
 }
 

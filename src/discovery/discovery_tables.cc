@@ -269,6 +269,7 @@ Table GapTable(const std::string& name, const std::vector<GapTrial>& gap) {
 Table SurfacesTable(const DiscoveryResult& r) {
   std::vector<std::string> model, surface;
   std::vector<double> zeta, zeta_se, mu, mu_se, k, zeta_sd, mu_sd;
+  std::array<std::vector<double>, 3> measurement_sd;
   std::vector<std::int64_t> trials;
   for (const auto* fits : {&r.baseline, &r.final_model})
     for (const auto& f : *fits) {
@@ -282,12 +283,15 @@ Table SurfacesTable(const DiscoveryResult& r) {
       trials.push_back(f.trials);
       zeta_sd.push_back(f.zeta_sd);
       mu_sd.push_back(f.mu_sd);
+      for (int c = 0; c < 3; ++c)
+        measurement_sd[static_cast<std::size_t>(c)].push_back(f.measurement_sd[c]);
     }
   return Table{
       "surfaces",
       "The model per surface fitted to every used trial: the baseline (the paper's model) and "
       "the final model (with the accepted effects); k is not identified and stays the paper's. "
-      "zeta_sd and mu_sd are the noise model's trial-to-trial scatter of the coefficients",
+      "zeta_sd and mu_sd are the noise model's trial-to-trial scatter of the coefficients, "
+      "measurement_sd_* its systematic measurement error on the surface",
       {Column::Texts("model", "baseline or final", model),
        Column::Texts("surface", "surface name", surface),
        Column::Numbers("zeta", "1", "damping ratio", zeta),
@@ -298,7 +302,14 @@ Table SurfacesTable(const DiscoveryResult& r) {
        Column::Integers("trials", "1", "trials fitted", trials),
        Column::Numbers("zeta_sd", "1", "s.d. of zeta from trial to trial", zeta_sd),
        Column::Numbers("mu_sd", "1", "s.d. of mu from trial to trial (NaN without oblique trials)",
-                       mu_sd)}};
+                       mu_sd),
+       Column::Numbers("measurement_sd_v_x", "1",
+                       "systematic measurement s.d. of v_x on this surface beyond each trial's "
+                       "s.e., fraction of the impact speed (NaN without oblique trials)",
+                       measurement_sd[0]),
+       Column::Numbers("measurement_sd_v_y", "1", "the same of v_y", measurement_sd[1]),
+       Column::Numbers("measurement_sd_w", "1", "the same of w d_EC (NaN without oblique trials)",
+                       measurement_sd[2])}};
 }
 
 /// Parameter name and unit of an effect key, from the candidates and findings that name it.
@@ -347,6 +358,11 @@ class Reader {
       return out;
     }
     throw Error(name, "is not numeric");
+  }
+  bool Has(const std::string& name) const {
+    for (const auto& c : table_.columns)
+      if (c.name == name) return true;
+    return false;
   }
   std::vector<bool> Flags(const std::string& name) const {
     std::vector<bool> out;
@@ -753,8 +769,16 @@ DiscoveryResult ReadDiscovery(const std::filesystem::path& h5) {
                mu_se = t.Numbers("mu_se"), k = t.Numbers("k_N_m"), zeta_sd = t.Numbers("zeta_sd"),
                mu_sd = t.Numbers("mu_sd");
     const auto trials = t.Integers("trials");
+    // Per surface since session 10; older files have none (NaN).
+    std::array<std::vector<double>, 3> measurement_sd;
+    if (t.Has("measurement_sd_v_x"))
+      measurement_sd = {t.Numbers("measurement_sd_v_x"), t.Numbers("measurement_sd_v_y"),
+                        t.Numbers("measurement_sd_w")};
     for (std::size_t i = 0; i < t.rows(); ++i) {
       SurfaceFit f;
+      for (int c = 0; c < 3; ++c)
+        if (!measurement_sd[0].empty())
+          f.measurement_sd[c] = measurement_sd[static_cast<std::size_t>(c)][i];
       f.surface = surface[i];
       f.zeta = zeta[i];
       f.zeta_se = zeta_se[i];

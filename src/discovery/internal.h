@@ -90,11 +90,14 @@ struct Model {
   std::map<std::string, EffectParam> effects;  // contact effects
 };
 
-/// The noise model: per surface the trial-to-trial s.d. of zeta and mu, and per component the
-/// systematic measurement s.d. (fraction of the impact speed) beyond each trial's own s.e.
+/// The noise model: per surface the trial-to-trial s.d. of zeta and mu, and per surface and
+/// component the systematic measurement s.d. (fraction of the impact speed) beyond each trial's
+/// own s.e.
 struct Noise {
   std::vector<double> zeta_sd, mu_sd;
-  Eigen::Vector3d systematic_sd{1e-4, 1e-4, 1e-4};
+  /// Per surface: a model misfit that one surface's trials share (a stick/slip kink the
+  /// linearisation cannot follow) stays with that surface instead of blinding the others.
+  std::vector<Eigen::Vector3d> systematic_sd;
 };
 
 /// Per trial: the derivatives of the prediction (fractions of the impact speed) by zeta and mu.

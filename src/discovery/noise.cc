@@ -34,8 +34,8 @@ TrialCovariance Covariance(const Workspace& ws, const Obs& o, const Sensitivity&
                 cb = t.components[static_cast<std::size_t>(b)];
       t.cov(a, b) = vz * s(ca, 0) * s(cb, 0) + vm * s(ca, 1) * s(cb, 1);
       if (a == b)
-        t.cov(a, b) +=
-            o.measurement_var[ca] + noise.systematic_sd[ca] * noise.systematic_sd[ca] + 1e-16;
+        t.cov(a, b) += o.measurement_var[ca] +
+                       noise.systematic_sd[surface][ca] * noise.systematic_sd[surface][ca] + 1e-16;
     }
   const Eigen::LLT<Eigen::MatrixXd> llt(t.cov);
   const Eigen::MatrixXd L = llt.matrixL();
@@ -71,7 +71,8 @@ Noise InitialNoise(const Workspace& ws) {
   Noise n;
   n.zeta_sd.assign(ws.surfaces.size(), 0.02);
   n.mu_sd.assign(ws.surfaces.size(), 0.02);
-  n.systematic_sd.setConstant(std::max(ws.measurement_floor, 1e-3));
+  n.systematic_sd.assign(ws.surfaces.size(),
+                         Eigen::Vector3d::Constant(std::max(ws.measurement_floor, 1e-3)));
   return n;
 }
 
@@ -82,15 +83,18 @@ Noise EstimateNoise(const Workspace& ws, const std::vector<int>& which,
   const std::size_t S = ws.surfaces.size();
   // The trials of each surface (a surface's scatter only moves its own trials' likelihood).
   std::vector<std::vector<std::size_t>> of_surface(S);
-  std::array<bool, kComponents> component_used{false, false, false};
+  std::vector<std::array<bool, kComponents>> component_used(S, {false, false, false});
   std::vector<bool> surface_oblique(S, false);
   for (std::size_t i = 0; i < which.size(); ++i) {
     const Obs& o = ws.obs[static_cast<std::size_t>(which[i])];
-    of_surface[static_cast<std::size_t>(o.surface)].push_back(i);
+    const auto surface = static_cast<std::size_t>(o.surface);
+    of_surface[surface].push_back(i);
     for (int c = 0; c < kComponents; ++c)
-      component_used[static_cast<std::size_t>(c)] |= o.used[static_cast<std::size_t>(c)];
-    if (!o.normal) surface_oblique[static_cast<std::size_t>(o.surface)] = true;
+      component_used[surface][static_cast<std::size_t>(c)] |= o.used[static_cast<std::size_t>(c)];
+    if (!o.normal) surface_oblique[surface] = true;
   }
+  if (n.systematic_sd.size() != S)
+    n.systematic_sd.assign(S, Eigen::Vector3d::Constant(std::max(ws.measurement_floor, 1e-3)));
   auto ll_of = [&](const std::vector<std::size_t>& idx) {
     double ll = 0.0;
     for (std::size_t i : idx)
@@ -116,9 +120,10 @@ Noise EstimateNoise(const Workspace& ws, const std::vector<int>& which,
     for (std::size_t surface = 0; surface < S; ++surface) {
       search(n.zeta_sd[surface], 1e-6, 2.0, of_surface[surface]);
       if (surface_oblique[surface]) search(n.mu_sd[surface], 1e-6, 1.0, of_surface[surface]);
+      for (int c = 0; c < kComponents; ++c)
+        if (component_used[surface][static_cast<std::size_t>(c)])
+          search(n.systematic_sd[surface][c], floor, 0.1, of_surface[surface]);
     }
-    for (int c = 0; c < kComponents; ++c)
-      if (component_used[static_cast<std::size_t>(c)]) search(n.systematic_sd[c], floor, 0.1, all);
   }
   return n;
 }

@@ -46,6 +46,10 @@ std::vector<SurfaceFit> SurfaceFits(const Workspace& ws, const Fit& f) {
     sf.k_N_m = ws.k[s];
     sf.zeta_sd = s < f.noise.zeta_sd.size() ? f.noise.zeta_sd[s] : kNaN;
     sf.mu_sd = ws.has_oblique[s] && s < f.noise.mu_sd.size() ? f.noise.mu_sd[s] : kNaN;
+    if (s < f.noise.systematic_sd.size()) {
+      sf.measurement_sd = f.noise.systematic_sd[s];
+      if (!ws.has_oblique[s]) sf.measurement_sd.x() = sf.measurement_sd.z() = kNaN;
+    }
     for (const Obs& o : ws.obs) sf.trials += o.surface == static_cast<int>(s) ? 1 : 0;
     out.push_back(sf);
   }

@@ -234,17 +234,20 @@ std::string NoiseTableHtml(const discovery::DiscoveryResult& r) {
   std::ostringstream h;
   h << "<table class=\"data discovery-noise\"><caption>Noise model of the final model: "
        "trial-to-trial scatter (s.d.) of the contact coefficients, and the systematic "
-       "measurement error (s.d., % of the impact speed)</caption><thead><tr><th>surface</th>"
-       "<th>zeta s.d.</th><th>mu s.d.</th></tr></thead><tbody>";
-  for (const auto& f : r.final_model)
+       "measurement error beyond each trial's own s.e. (s.d., % of the impact speed)</caption>"
+       "<thead><tr><th>surface</th><th>zeta s.d.</th><th>mu s.d.</th><th>v_x</th><th>v_y</th>"
+       "<th>w d_EC</th></tr></thead><tbody>";
+  for (const auto& f : r.final_model) {
     h << "<tr><td>" << HtmlEscape(f.surface) << "</td><td class=\"num\">" << Fmt(f.zeta_sd, 3)
-      << "</td><td class=\"num\">" << Fmt(f.mu_sd, 3) << "</td></tr>";
-  h << "</tbody></table><table class=\"data discovery-measurement\"><caption>Systematic "
-       "measurement error (s.d., % of the impact speed)</caption><thead><tr><th>v_x</th>"
-       "<th>v_y</th><th>w d_EC</th></tr></thead><tbody><tr>";
-  for (int k = 0; k < 3; ++k)
-    h << "<td class=\"num\">" << PercentHtml(r.measurement_sd[k]) << "</td>";
-  h << "</tr></tbody></table>";
+      << "</td><td class=\"num\">" << Fmt(f.mu_sd, 3) << "</td>";
+    // Study files written before the error was per surface hold only the largest.
+    // v_y is used by every trial, so its NaN marks such a file.
+    const Eigen::Vector3d& sd =
+        std::isnan(f.measurement_sd.y()) ? r.measurement_sd : f.measurement_sd;
+    for (int k = 0; k < 3; ++k) h << "<td class=\"num\">" << PercentHtml(sd[k]) << "</td>";
+    h << "</tr>";
+  }
+  h << "</tbody></table>";
   return h.str();
 }
 

@@ -60,7 +60,7 @@ Fit Truth(double zeta_sd, double mu_sd) {
   f.model.mu = {kMu};
   f.noise.zeta_sd = {zeta_sd};
   f.noise.mu_sd = {mu_sd};
-  f.noise.systematic_sd = Eigen::Vector3d::Constant(1e-4);
+  f.noise.systematic_sd = {Eigen::Vector3d::Constant(1e-4)};
   return f;
 }
 

@@ -53,7 +53,7 @@ Noise SmallNoise() {
   Noise n;
   n.zeta_sd = {1e-4};
   n.mu_sd = {1e-4};
-  n.systematic_sd = Eigen::Vector3d::Constant(1e-4);
+  n.systematic_sd = {Eigen::Vector3d::Constant(1e-4)};
   return n;
 }
 

@@ -120,6 +120,8 @@ DiscoveryResult Result() {
                 {"steel", 0.18, 0.01, 0.12, 0.01, 2.8e8, 2, 0.027, std::nan("")}};
   r.final_model = {{"concrete", 0.11, 0.02, 0.5, 0.02, 4.75e7, 2, 0.0123, 0.0045},
                    {"steel", 0.09, 0.02, 0.12, 0.01, 2.8e8, 2, 0.0111, std::nan("")}};
+  r.final_model[0].measurement_sd = {2.5e-4, 3.5e-4, 6.5e-4};
+  r.final_model[1].measurement_sd = {std::nan(""), 1.5e-4, std::nan("")};
   r.measurement_sd = {2.5e-4, 3.5e-4, 6.5e-4};
   r.effects = {{"hunt_crossley", "", 0.75, 0.05}};
   discovery::Round round;
@@ -337,6 +339,12 @@ TEST(DiscoveryTablesTest, TheResultReadsBackAsWritten) {
     ExpectSameNumber(r.baseline[i].mu_sd, w.baseline[i].mu_sd, "baseline mu_sd");
     ExpectSameNumber(r.final_model[i].zeta_sd, w.final_model[i].zeta_sd, "final zeta_sd");
     ExpectSameNumber(r.final_model[i].mu_sd, w.final_model[i].mu_sd, "final mu_sd");
+    for (int c = 0; c < 3; ++c) {
+      ExpectSameNumber(r.final_model[i].measurement_sd[c], w.final_model[i].measurement_sd[c],
+                       "final measurement_sd");
+      ExpectSameNumber(r.baseline[i].measurement_sd[c], w.baseline[i].measurement_sd[c],
+                       "baseline measurement_sd");
+    }
   }
   EXPECT_TRUE(std::isnan(r.final_model[1].mu_sd));
   // The effects, one row per value, with their surfaces.
