@@ -90,13 +90,14 @@ struct Model {
   std::map<std::string, EffectParam> effects;  // contact effects
 };
 
-/// The noise model: per surface the trial-to-trial s.d. of zeta and mu, and per surface and
-/// component the systematic measurement s.d. (fraction of the impact speed) beyond each trial's
-/// own s.e.
+/// The noise model: per surface the trial-to-trial s.d. of zeta and mu, and the systematic
+/// measurement s.d. (fraction of the impact speed) beyond each trial's own s.e., per surface for
+/// v_x and w d_EC and shared by the surfaces for v_y.
 struct Noise {
   std::vector<double> zeta_sd, mu_sd;
   /// Per surface: a model misfit that one surface's trials share (a stick/slip kink the
-  /// linearisation cannot follow) stays with that surface instead of blinding the others.
+  /// linearisation cannot follow) stays with that surface instead of blinding the others. The
+  /// v_y component is one for all surfaces (EstimateNoise keeps it so).
   std::vector<Eigen::Vector3d> systematic_sd;
 };
 
