@@ -178,7 +178,8 @@ void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std:
          << (round.tests.size() == 1 ? " test" : " tests") << ")\n";
     if (!round.accepted.empty())
       os << "  held-out gap " << Percent(round.gap_before) << " -> " << Percent(round.gap_after)
-         << " (shrinks " << Percent(round.gap_shrink) << ") with " << round.accepted << "\n";
+         << " (" << discovery::GapChangeText(round.gap_shrink) << ") with " << round.accepted
+         << "\n";
   }
   os << "\nFindings:\n";
   if (r.findings.empty()) os << "  none\n";
@@ -197,7 +198,8 @@ void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std:
     } else {
       os << ": " << Estimate(f.estimate, f.se, f.parameter, f.unit);
     }
-    if (std::isfinite(f.gap_shrink)) os << "; held-out gap shrinks " << Percent(f.gap_shrink);
+    if (std::isfinite(f.gap_shrink))
+      os << "; held-out gap " << discovery::GapChangeText(f.gap_shrink);
     if (!f.partner.empty()) os << "; cannot be told from " << f.partner;
     if (!f.separating_measurement.empty()) os << "; to separate: " << f.separating_measurement;
     os << "\n";

@@ -530,8 +530,8 @@ std::string AddedText(const CandidateResult& w, const Round& rd,
   d << ": likelihood ratio " << Fmt(w.lr_statistic) << ", p = " << FmtP(w.p_value)
     << "; held-out error " << Fmt(w.cv_error_current) << " -> " << Fmt(w.cv_error) << " ("
     << kHeldOutErrorUnit << "); held-out gap " << Fmt(100 * rd.gap_before) << " % -> "
-    << Fmt(100 * rd.gap_after) << " % of the impact speed (" << Percent(rd.gap_shrink)
-    << " % smaller).";
+    << Fmt(100 * rd.gap_after) << " % of the impact speed (" << GapChangeText(rd.gap_shrink)
+    << ").";
   if (!alike.empty()) {
     d << " It cannot be told apart from";
     for (std::size_t i = 0; i < alike.size(); ++i) d << (i ? ", " : " ") << Entry(alike[i]).name;

@@ -172,6 +172,12 @@ const char* ToString(Identifiability v);
 const char* ToString(CandidateOutcome v);
 const char* ToString(EffectForm v);
 const char* ToString(FindingStatus v);
+
+/// How the held-out gap changed, from the fraction by which it shrank (RoundResult::gap_shrink):
+/// "12.5 % smaller", "2.35 % larger" (an effect can lower the held-out error, which weighs each
+/// residual by its predicted variance, and still widen the unweighted gap, which the per-trial
+/// scatter dominates), "unchanged" below 0.05 %, "n/a" when not finite.
+std::string GapChangeText(double gap_shrink);
 /// Every candidate outcome, in the enum's order (for the tables' choices and the text's widths).
 const std::array<CandidateOutcome, 10>& AllCandidateOutcomes();
 /// The inverses (for the study file); throw std::invalid_argument naming the text.

@@ -48,8 +48,6 @@ void Apply(const std::string& key, double value, dynamics::ContactExtensions& x)
 
 std::string Fmt(double v, int precision = 3);
 std::string FmtP(double p);
-/// A fraction as a whole percentage ("95"), never in exponent form.
-std::string Percent(double fraction);
 /// " unit", or nothing for a dimensionless "1".
 std::string UnitSuffix(const std::string& unit);
 

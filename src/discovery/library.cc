@@ -47,16 +47,6 @@ std::string UnitSuffix(const std::string& unit) {
   return unit == "1" || unit.empty() ? "" : " " + unit;
 }
 
-std::string Percent(double fraction) {
-  if (!std::isfinite(fraction)) return "n/a";
-  std::ostringstream s;
-  s << std::fixed;
-  s.precision(0);
-  // No "-0" for a shrink that rounds to nothing.
-  s << (std::abs(100 * fraction) < 0.5 ? 0.0 : 100 * fraction);
-  return s.str();
-}
-
 std::string FmtP(double p) {
   if (p < 1e-300) return "< 1e-300";
   std::ostringstream s;
@@ -67,6 +57,15 @@ std::string FmtP(double p) {
 }
 
 }  // namespace internal
+
+std::string GapChangeText(double gap_shrink) {
+  if (!std::isfinite(gap_shrink)) return "n/a";
+  if (std::abs(100 * gap_shrink) < 0.05) return "unchanged";
+  std::ostringstream s;
+  s.precision(3);
+  s << std::abs(100 * gap_shrink) << (gap_shrink > 0 ? " % smaller" : " % larger");
+  return s.str();
+}
 
 using internal::Fmt;
 

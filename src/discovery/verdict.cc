@@ -77,8 +77,8 @@ std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& opti
             e << "likelihood-ratio p = " << FmtP(c.p_value) << "; held-out error "
               << Fmt(c.cv_error_current) << " -> " << Fmt(c.cv_error) << " (" << kHeldOutErrorUnit
               << "), held-out gap " << Fmt(100 * rd.gap_before) << " % -> "
-              << Fmt(100 * rd.gap_after) << " % of the impact speed (" << Percent(f.gap_shrink)
-              << " % smaller)";
+              << Fmt(100 * rd.gap_after) << " % of the impact speed ("
+              << GapChangeText(f.gap_shrink) << ")";
     return e.str();
   };
   bool any_named = false;

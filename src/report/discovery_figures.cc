@@ -80,12 +80,8 @@ void GapFigure(const discovery::Round& round, int n, const fs::path& dir,
   std::ostringstream title;
   title << "Round " << n << ": " << round.accepted << " added. Held-out gap "
         << Percent(round.gap_before) << " -> " << Percent(round.gap_after);
-  if (std::isfinite(round.gap_shrink)) {
-    std::ostringstream shrink;
-    shrink.precision(3);
-    shrink << 100.0 * round.gap_shrink;
-    title << " (shrinks " << shrink.str() << " %)";
-  }
+  if (std::isfinite(round.gap_shrink))
+    title << " (" << discovery::GapChangeText(round.gap_shrink) << ")";
   title << "\n" << trials.size() << " held-out trials, each fitted without its fold";
   p.title = title.str();
   std::string surfaces;

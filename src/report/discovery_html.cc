@@ -319,8 +319,9 @@ std::string DiscoverySection(const fs::path& h5, HtmlReportSummary& summary) {
       h << "<h3>Round " << i + 1 << "</h3><p>" << HtmlEscape(round.decision) << "</p>";
       if (!round.accepted.empty())
         h << "<p>Held-out gap " << PercentHtml(round.gap_before) << " &rarr; "
-          << PercentHtml(round.gap_after) << " (shrinks " << PercentHtml(round.gap_shrink)
-          << ") with <code>" << HtmlEscape(round.accepted) << "</code>.</p>";
+          << PercentHtml(round.gap_after) << " ("
+          << HtmlEscape(discovery::GapChangeText(round.gap_shrink)) << ") with <code>"
+          << HtmlEscape(round.accepted) << "</code>.</p>";
       h << CandidatesTableHtml(round);
       std::vector<discovery::StructureTest> significant;
       for (const auto& t : round.tests)

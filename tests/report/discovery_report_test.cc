@@ -507,10 +507,22 @@ TEST(DiscoveryFiguresTest, GapPerAcceptedRoundAndResiduals) {
                                       "discovery_residuals.png", "discovery_residuals.svg"}));
   // The aggregate gaps are in the gap figure's title.
   EXPECT_NE(ReadAll(dir / "discovery_gap_round1.svg").find("3.1 %"), std::string::npos);
+  // And which way it moved: 1 - 0.005 / 0.031 = 0.84 of it.
+  EXPECT_NE(ReadAll(dir / "discovery_gap_round1.svg").find("84 % smaller"), std::string::npos);
   // A result that could not run has nothing to draw.
   DiscoveryResult failed;
   failed.message = "too few trials";
   EXPECT_TRUE(WriteDiscoveryFigures(failed, dir / "none").empty());
+}
+
+// A gap that grows is said to grow (it read "shrinks -2.35 %"): an effect lowers the held-out
+// error, which weighs residuals by their predicted variance, and may still widen the unweighted
+// gap that the per-trial scatter dominates.
+TEST(DiscoveryTextTest, TheGapChangeSaysWhichWay) {
+  EXPECT_EQ(discovery::GapChangeText(0.84), "84 % smaller");
+  EXPECT_EQ(discovery::GapChangeText(1 - 5.34 / 5.21), "2.5 % larger");
+  EXPECT_EQ(discovery::GapChangeText(1e-4), "unchanged");
+  EXPECT_EQ(discovery::GapChangeText(std::nan("")), "n/a");
 }
 
 TEST(HtmlReportDiscoveryTest, TheSectionShowsVerdictEvidenceAndFigures) {
