@@ -555,8 +555,7 @@ CandidateResult JudgeCandidate(const Workspace& ws, const Fit& current, const st
   RoundContext x{ws, state, residuals, sens, ref, options, all, {}, {}, level, {}, {}};
   for (const auto& [k, p] : current.model.effects) x.free_current.push_back(k);
   x.chi95 = stats::ChiSquaredQuantile(0.95, 1);
-  x.probes =
-      ProbeCandidates(ws, current.model, current.noise, {key}, residuals, sens, ref, options);
+  x.probes = ProbeCandidates(ws, current.model, {key}, residuals, sens, ref, options);
   x.cv_current = CrossValidate(ws, current, x.free_current, ref, options.folds);
   x.n_res = UsedResiduals(ws);
   Evaluation ev = EvaluateContact(x, key);
@@ -581,8 +580,7 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
   for (const auto& a : state.accepted)
     if (!Entry(a).measurement_effect) x.free_current.push_back(a);
   for (const Obs& o : ws.obs) x.n_ratio += std::isfinite(o.marker_ratio) ? 1 : 0;
-  x.probes = ProbeCandidates(ws, state.current.model, state.current.noise, to_try, residual_current,
-                             sens, ref, options);
+  x.probes = ProbeCandidates(ws, state.current.model, to_try, residual_current, sens, ref, options);
   x.level = x.probes.naming.level;
   rd.naming_level = x.probes.naming.level;
   rd.bonferroni_level = x.probes.naming.bonferroni;

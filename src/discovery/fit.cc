@@ -23,6 +23,9 @@ namespace {
 /// likelihood ratio of 0.02, far below any that counts).
 constexpr double kConverged = 0.01;
 
+/// Bounds of the fitted zeta and mu.
+constexpr double kZetaLower = 1e-4, kZetaUpper = 5.0;
+constexpr double kMuLower = 0.0, kMuUpper = 2.0;
 /// Difference step of an effect, in units of its probe size.
 constexpr double kRelativeEffectStep = 1e-4;
 

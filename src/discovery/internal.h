@@ -99,10 +99,6 @@ struct Noise {
   std::vector<Eigen::Vector3d> systematic_sd;
 };
 
-/// Bounds of the fitted zeta and mu.
-inline constexpr double kZetaLower = 1e-4, kZetaUpper = 5.0;
-inline constexpr double kMuLower = 0.0, kMuUpper = 2.0;
-
 /// Per trial: the derivatives of the prediction (fractions of the impact speed) by zeta and mu.
 using Sensitivity = Eigen::Matrix<double, kComponents, 2>;
 
@@ -324,40 +320,11 @@ struct SizeLadder {
   std::vector<std::vector<Eigen::Vector3d>> change;  ///< r_current - r(size), per obs
   std::vector<Eigen::VectorXd> projected;            ///< `change` whitened, zeta and mu out
   Eigen::VectorXd current;                           ///< r_current whitened, zeta and mu out
-  /// Per size, the change averaged over the trials' own scatter of zeta and mu (ScatterAverage),
-  /// whitened, zeta and mu out: what the data hold of the effect, where `projected` is what a
-  /// fit at the surfaces' coefficients predicts. Empty when the noise model has no scatter.
-  std::vector<Eigen::VectorXd> expected;
-  double smallest = 0.0;  ///< LibraryEntry::smallest
+  double smallest = 0.0;                             ///< LibraryEntry::smallest
 };
-SizeLadder Ladder(const Workspace& ws, const Model& current, const Noise& noise,
-                  const std::string& key, const std::vector<Eigen::Vector3d>& r_current,
+SizeLadder Ladder(const Workspace& ws, const Model& current, const std::string& key,
+                  const std::vector<Eigen::Vector3d>& r_current,
                   const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref);
-
-/// An effect's change averaged over the noise model's per-trial scatter: zeta and mu of every
-/// surface at 3 x 3 Gauss-Hermite nodes of their s.d.s (clamped to the fit's bounds). A trial's
-/// velocities carry the effect at its own zeta and mu, while a fit predicts it at its surface's:
-/// an effect whose change turns with the coefficients (the tangential spring's phase at
-/// separation) partly averages out across trials, and the fit finds less of it than the change
-/// at the surfaces' coefficients promises.
-class ScatterAverage {
- public:
-  ScatterAverage(const Workspace& ws, const Model& current, const Noise& noise);
-  /// False when the noise model has no scatter (the average is the change at the surfaces').
-  bool Scatters() const { return node_.size() > 1; }
-  /// r(current) - r(current with `key` shared at `size`), averaged over the nodes, per obs.
-  std::vector<Eigen::Vector3d> Change(const std::string& key, double size) const;
-
- private:
-  const Workspace& ws_;
-  std::vector<Model> node_;
-  std::vector<double> weight_;
-  std::vector<std::vector<Eigen::Vector3d>> base_;  // the current model's residuals per node
-};
-/// The expected gain in 2 log-likelihood of a fit whose predicted changes (whitened, zeta and mu
-/// out) are `predicted`, on data holding `held`: max over them of 2 x.y - |x|^2, at least 0. With
-/// `held` among `predicted` it is |held|^2, the noncentrality of the linear test.
-double ExpectedGain(const std::vector<Eigen::VectorXd>& predicted, const Eigen::VectorXd& held);
 /// The ladder's local maxima of the profiled gain in log-likelihood over the current model, the
 /// `most` largest first; only sizes that gain. Where the candidate's fit starts: an effect whose
 /// change swings in sign has several optima, as far apart as one swing.
@@ -420,7 +387,7 @@ struct CandidateProbes {
   std::map<std::string, SizeLadder> ladder;
   NamingLevel naming;
 };
-CandidateProbes ProbeCandidates(const Workspace& ws, const Model& current, const Noise& noise,
+CandidateProbes ProbeCandidates(const Workspace& ws, const Model& current,
                                 const std::vector<std::string>& keys,
                                 const std::vector<Eigen::Vector3d>& residual_current,
                                 const std::vector<Sensitivity>& sens,

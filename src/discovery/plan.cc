@@ -3,7 +3,6 @@
 // surface are profiled out, the smallest size it detects with 80 % power (the Wald
 // approximation), and how many trials, and of which conditions, would detect a given size.
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -84,54 +83,8 @@ double DetectionLimit(const std::vector<double>& information, double level) {
          std::sqrt(info);
 }
 
-ScatterAverage::ScatterAverage(const Workspace& ws, const Model& current, const Noise& noise)
-    : ws_(ws) {
-  bool scatters = false;
-  for (std::size_t s = 0; s < current.zeta.size(); ++s)
-    scatters |= (s < noise.zeta_sd.size() && noise.zeta_sd[s] > 0) ||
-                (s < noise.mu_sd.size() && noise.mu_sd[s] > 0);
-  // Three-point Gauss-Hermite rule of the standard normal: nodes 0 and +-sqrt(3), weights 2/3
-  // and 1/6; its product in zeta and mu (independent in the noise model).
-  const std::array<double, 3> t{0.0, std::sqrt(3.0), -std::sqrt(3.0)};
-  const std::array<double, 3> w{2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0};
-  const std::size_t n = scatters ? 3 : 1;
-  const std::vector<int> all = ws.All();
-  for (std::size_t a = 0; a < n; ++a)
-    for (std::size_t b = 0; b < n; ++b) {
-      Model m = current;
-      for (std::size_t s = 0; s < m.zeta.size(); ++s) {
-        const double sd_zeta = s < noise.zeta_sd.size() ? noise.zeta_sd[s] : 0.0;
-        const double sd_mu = s < noise.mu_sd.size() ? noise.mu_sd[s] : 0.0;
-        m.zeta[s] = std::clamp(m.zeta[s] + t[a] * sd_zeta, kZetaLower, kZetaUpper);
-        m.mu[s] = std::clamp(m.mu[s] + t[b] * sd_mu, kMuLower, kMuUpper);
-      }
-      base_.push_back(ws.Residuals(m, all));
-      node_.push_back(std::move(m));
-      weight_.push_back(scatters ? w[a] * w[b] : 1.0);
-    }
-}
-
-std::vector<Eigen::Vector3d> ScatterAverage::Change(const std::string& key, double size) const {
-  const std::vector<int> all = ws_.All();
-  std::vector<Eigen::Vector3d> mean(ws_.obs.size(), Eigen::Vector3d::Zero());
-  for (std::size_t j = 0; j < node_.size(); ++j) {
-    Model m = node_[j];
-    m.effects[key] = {EffectForm::kShared, {size}};
-    const auto r = ws_.Residuals(m, all);
-    // A component missing at any node stays missing (NaN; WhitenChange counts it as 0).
-    for (std::size_t i = 0; i < ws_.obs.size(); ++i) mean[i] += weight_[j] * (base_[j][i] - r[i]);
-  }
-  return mean;
-}
-
-double ExpectedGain(const std::vector<Eigen::VectorXd>& predicted, const Eigen::VectorXd& held) {
-  double best = 0.0;
-  for (const auto& x : predicted) best = std::max(best, 2 * x.dot(held) - x.squaredNorm());
-  return best;
-}
-
-SizeLadder Ladder(const Workspace& ws, const Model& current, const Noise& noise,
-                  const std::string& key, const std::vector<Eigen::Vector3d>& r_current,
+SizeLadder Ladder(const Workspace& ws, const Model& current, const std::string& key,
+                  const std::vector<Eigen::Vector3d>& r_current,
                   const std::vector<Sensitivity>& sens, const std::vector<TrialCovariance>& ref) {
   const LibraryEntry& e = Entry(key);
   const double lo = e.smallest > 0 ? e.smallest : 1e-3 * e.probe;
@@ -154,10 +107,6 @@ SizeLadder Ladder(const Workspace& ws, const Model& current, const Noise& noise,
     ladder.projected.push_back(profile(WhitenChange(ws, change, ref, w)));
     ladder.change.push_back(std::move(change));
   }
-  const ScatterAverage average(ws, current, noise);
-  if (average.Scatters())
-    for (double size : ladder.size)
-      ladder.expected.push_back(profile(WhitenChange(ws, average.Change(key, size), ref, w)));
   return ladder;
 }
 
@@ -186,13 +135,8 @@ double LadderDetectionLimit(const SizeLadder& ladder, double level) {
   const boost::math::normal z;
   const double root_target =
       boost::math::quantile(boost::math::complement(z, level)) + boost::math::quantile(z, 0.8);
-  // The noncentrality at each size: the gain a fit at the surfaces' coefficients expects on
-  // data whose trials each carry the effect at their own (|projected| without scatter).
   std::vector<double> root(n);
-  for (std::size_t k = 0; k < n; ++k)
-    root[k] = ladder.expected.empty()
-                  ? ladder.projected[k].norm()
-                  : std::sqrt(ExpectedGain(ladder.projected, ladder.expected[k]));
+  for (std::size_t k = 0; k < n; ++k) root[k] = ladder.projected[k].norm();
   if (!(root[n - 1] >= root_target)) return kNaN;
   std::size_t k = n - 1;
   while (k > 0 && root[k - 1] >= root_target) --k;
@@ -249,7 +193,7 @@ std::vector<LadderRay> LadderRays(const Workspace& ws, const SizeLadder& ladder,
   return rays;
 }
 
-CandidateProbes ProbeCandidates(const Workspace& ws, const Model& current, const Noise& noise,
+CandidateProbes ProbeCandidates(const Workspace& ws, const Model& current,
                                 const std::vector<std::string>& keys,
                                 const std::vector<Eigen::Vector3d>& residual_current,
                                 const std::vector<Sensitivity>& sens,
@@ -277,7 +221,7 @@ CandidateProbes ProbeCandidates(const Workspace& ws, const Model& current, const
       d_r[i] = (residual_current[i] - r_probe[i]) / e.probe;
     changes.push_back(d_r);
     const SizeLadder& ladder = out.ladder[key] =
-        Ladder(ws, current, noise, key, residual_current, sens, ref);
+        Ladder(ws, current, key, residual_current, sens, ref);
     rays.push_back(LadderRays(ws, ladder, d_r, sens, ref));
   }
   // Min-P over the hypotheses tried, each candidate once per form (shared and, with two or more
@@ -334,14 +278,12 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
   std::vector<std::string> keys = options.candidates;
   if (keys.empty())
     for (const LibraryEntry& c : Library()) keys.push_back(c.key);
-  const CandidateProbes probes =
-      ProbeCandidates(ws, base.model, base.noise, keys, r0, sens, ref, options);
+  const CandidateProbes probes = ProbeCandidates(ws, base.model, keys, r0, sens, ref, options);
   plan.level = probes.naming.level;
   const auto own = probes.ladder.find(key);
-  const SizeLadder ladder = own != probes.ladder.end()
-                                ? own->second
-                                : Ladder(ws, base.model, base.noise, key, r0, sens, ref);
-  plan.detection_limit = LadderDetectionLimit(ladder, plan.level);
+  plan.detection_limit = LadderDetectionLimit(
+      own != probes.ladder.end() ? own->second : Ladder(ws, base.model, key, r0, sens, ref),
+      plan.level);
   // The change at `size` itself (simulated, not scaled from another size), zeta and mu profiled
   // out: its noncentrality gives the power, and it grows in proportion to the trials.
   Model with = base.model;
@@ -351,26 +293,13 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
   for (std::size_t i = 0; i < ws.obs.size(); ++i) d_r[i] = (r0[i] - r1[i]) / size;
   const auto info = ProfiledInformation(ws, d_r, sens, ref);
   const double total = std::accumulate(info.begin(), info.end(), 0.0);
-  // As the limit's: what a fit at the surfaces' coefficients expects to gain on trials that each
-  // carry the effect at their own (the ladder's sizes and SIZE itself as the fit's choices).
-  double noncentrality = size * size * total;
-  const ScatterAverage average(ws, base.model, base.noise);
-  if (average.Scatters()) {
-    const WhitenedDesign w = Whiten(ws, sens, ref);
-    const ProfileOut profile(w);
-    std::vector<Eigen::VectorXd> predicted = ladder.projected;
-    std::vector<Eigen::Vector3d> at_size(ws.obs.size());
-    for (std::size_t i = 0; i < ws.obs.size(); ++i) at_size[i] = r0[i] - r1[i];
-    predicted.push_back(profile(WhitenChange(ws, at_size, ref, w)));
-    noncentrality =
-        ExpectedGain(predicted, profile(WhitenChange(ws, average.Change(key, size), ref, w)));
-  }
+  const double noncentrality = size * size * total;
   const boost::math::normal z;
   const double z_level = boost::math::quantile(boost::math::complement(z, plan.level));
   const double z_target = z_level + boost::math::quantile(z, 0.8);
   plan.power = total > 0 ? boost::math::cdf(z, std::sqrt(noncentrality) - z_level) : kNaN;
   plan.trials_needed =
-      noncentrality > 0 ? std::ceil(plan.trials * z_target * z_target / noncentrality) : kNaN;
+      total > 0 ? std::ceil(plan.trials * z_target * z_target / noncentrality) : kNaN;
   // Per condition (surface and angle; speeds as a range): where the information comes from.
   std::map<std::pair<int, double>, PlanCondition> by;
   for (std::size_t i = 0; i < ws.obs.size(); ++i) {

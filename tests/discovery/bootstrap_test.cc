@@ -120,8 +120,7 @@ TEST(DiscoveryBootstrapTest, ThePowerAtTheDetectionLimitIsTheLimitsEightyPercent
     ref.push_back(Covariance(ws, ws.obs[i], sens[i], base.noise));
   const std::string key = "hunt_crossley";
   const double level = 1e-3;
-  const double limit =
-      LadderDetectionLimit(Ladder(ws, base.model, base.noise, key, r, sens, ref), level);
+  const double limit = LadderDetectionLimit(Ladder(ws, base.model, key, r, sens, ref), level);
   ASSERT_TRUE(std::isfinite(limit));
   DiscoveryOptions options;
   options.per_surface = false;

@@ -123,7 +123,7 @@ struct Baseline {
 /// The ladder of `key` against the model without effects, under SmallNoise.
 SizeLadder LadderOf(const Workspace& ws, const std::string& key) {
   const Baseline b(ws);
-  return Ladder(ws, b.model, SmallNoise(), key, b.r, b.sens, b.ref);
+  return Ladder(ws, b.model, key, b.r, b.sens, b.ref);
 }
 
 TEST(DiscoveryFitTest, AnEffectWhoseChangeSwingsInSignIsFitFromTheLaddersOptima) {
