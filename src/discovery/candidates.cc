@@ -309,7 +309,10 @@ Evaluation EvaluateContact(const RoundContext& x, const std::string& key) {
   c.cv_p = PairedImprovementP(x.cv_current.error, ev.cv.error);
   // A significant likelihood ratio is itself the evidence that the data tell the effect from
   // zeta and mu (they were refitted); only a candidate without it is probed further.
-  if (c.p_value < x.level) {
+  // So is a gain of the fit at its own estimate that the probe's size falls short of: data
+  // that answer with a likelihood ratio beyond chi^2_1(0.95) are sensitive to the effect (at a
+  // size other than the probe's), and "not tested" beside that p would contradict it.
+  if (c.p_value < x.level || c.lr_statistic >= x.chi95) {
     c.identifiability = Identifiability::kIdentified;
   } else if (std::abs(fixed_lr) < x.chi95) {
     c.identifiability = Identifiability::kNotTested;

@@ -122,12 +122,20 @@ std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& opti
       if (c.outcome == CandidateOutcome::kNotTested &&
           !(IsRotationRate(c.key) && c.p_value < last.naming_level))
         untested.push_back(c.name);
-      if ((!c.measurement_effect || IsRotationRate(c.key)) && std::isfinite(c.detection_limit) &&
+      if ((!c.measurement_effect || IsRotationRate(c.key)) &&
           (c.outcome == CandidateOutcome::kNotSignificant ||
            c.outcome == CandidateOutcome::kWorseHeldOut ||
-           c.outcome == CandidateOutcome::kConfounded))
-        limits.push_back(c.name + ": " + c.parameter + " = " + Fmt(c.detection_limit, 2) +
-                         UnitSuffix(c.unit));
+           c.outcome == CandidateOutcome::kConfounded)) {
+        // No limit: the ladder reached the library's largest value without 80 % power (the
+        // effect's change there is still within the noise, or zeta and mu take it back).
+        if (std::isfinite(c.detection_limit))
+          limits.push_back(c.name + ": " + c.parameter + " = " + Fmt(c.detection_limit, 2) +
+                           UnitSuffix(c.unit));
+        else
+          limits.push_back(c.name + ": none up to " + c.parameter + " = " +
+                           Fmt(Entry(c.key).upper, 2) + UnitSuffix(c.unit) +
+                           " (the library's largest value)");
+      }
     }
     if (!limits.empty()) {
       v << "\nWhat these trials could have missed: the smallest size of each effect not added that "

@@ -227,12 +227,34 @@ TEST(DiscoveryUnderScatterTest, NamesNothingInUnreplicatedStudiesWithoutAHiddenE
     EXPECT_EQ(r.trials_used, 36);
     EXPECT_EQ(Confident(r), 0) << "seed " << seed << "\n" << r.verdict;
     EXPECT_FALSE(r.unexplained) << "seed " << seed << "\n" << r.verdict;
+    // No contact candidate is "not tested by these data" beside a likelihood ratio that the
+    // data answered (beyond chi^2_1(0.95) = 3.84): its p would contradict the status.
+    for (const auto& round : r.rounds)
+      for (const auto& c : round.candidates)
+        if (!c.measurement_effect && c.outcome == hoof::discovery::CandidateOutcome::kNotTested) {
+          EXPECT_LT(c.lr_statistic, 3.841458820694124)
+              << "seed " << seed << ", " << c.key << ": p = " << c.p_value;
+        }
     // `discover --plan` answers with the naming level and the detection limits that the first
     // round printed (the same probes of the same baseline), for every contact candidate.
     if (seed == 201) {
       ASSERT_FALSE(r.rounds.empty());
       int compared = 0;
       for (const auto& c : r.rounds.front().candidates) {
+        // What could have been missed names every contact effect not added: a limit, or none
+        // within the library's range.
+        using O = hoof::discovery::CandidateOutcome;
+        if (!c.measurement_effect &&
+            (c.outcome == O::kNotSignificant || c.outcome == O::kWorseHeldOut ||
+             c.outcome == O::kConfounded)) {
+          EXPECT_NE(
+              r.verdict.find("  - " + c.name +
+                             (std::isfinite(c.detection_limit) ? ": " + c.parameter + " = "
+                                                               : std::string(": none up to "))),
+              std::string::npos)
+              << c.key << "\n"
+              << r.verdict;
+        }
         if (c.measurement_effect || !std::isfinite(c.detection_limit)) continue;
         const auto plan = hoof::discovery::PlanDetection(trials, c.key, c.detection_limit);
         ASSERT_TRUE(plan.success) << c.key << ": " << plan.message;
