@@ -166,24 +166,58 @@ Evaluation EvaluateTilt(const RoundContext& x, const std::string& key) {
   return ev;
 }
 
+/// mu at the second start of a friction-limited effect, over the surface's largest measured
+/// mu_eff: above every trial's need to stick, and low enough that the effect's slip reaches it.
+constexpr double kFrictionLimitedStart = 1.5;
+
 /// A contact effect's free fit, shared by all surfaces, from the best of the starts: the
-/// ladder's three largest optima (or a tenth of the probe size when no size gains), and the
-/// probe's fit. An optimum elsewhere that fits nearly as well is described in `other_optimum`.
+/// ladder's three largest optima (or a tenth of the probe size when no size gains), each also
+/// from a lowered mu for a friction-limited effect, and the probe's fit. An optimum elsewhere
+/// that fits nearly as well is described in `other_optimum`.
 Fit FitFromStarts(const RoundContext& x, const std::string& key, const Fit& probe,
                   const std::vector<std::string>& free, std::string& other_optimum) {
   const LibraryEntry& e = Entry(key);
   const Fit& current = x.state.current;
   std::vector<double> starts = LadderStarts(x.probes.ladder.at(key), 3);
   if (starts.empty()) starts.push_back(0.1 * e.probe);
-  Fit chosen;
-  std::vector<Fit> optima;
-  for (double size : starts) {
-    Model start = current.model;
-    start.effects[key] = {EffectForm::kShared, {size}};
-    Fit f = FitModel(x.ws, x.all, start, free, current.noise, true);
-    if (f.ok) optima.push_back(f);
-    if (size == starts.front() || f.loglik > chosen.loglik) chosen = std::move(f);
+  // Where every trial of a surface sticks, its mu is not identified and no fit moves it; an
+  // effect that slips where the rigid contact sticks also starts from a mu the trials allow
+  // but a slip can reach (LibraryEntry::friction_limited).
+  std::vector<Model> bases{current.model};
+  std::vector<std::vector<double>> base_starts{starts};
+  if (e.friction_limited) {
+    Model lowered = current.model;
+    bool any = false;
+    for (std::size_t s = 0; s < lowered.mu.size(); ++s) {
+      const double mu = kFrictionLimitedStart * x.ws.mu_eff_max[s];
+      if (x.ws.has_oblique[s] && mu > 0 && mu < lowered.mu[s]) lowered.mu[s] = mu, any = true;
+    }
+    if (any) {
+      // Its own ladder: at the baseline's mu the change may gain at no size at all.
+      const auto r = x.ws.Residuals(lowered, x.all);
+      const auto sens = x.ws.Sensitivities(lowered, x.all);
+      std::vector<TrialCovariance> ref;
+      for (std::size_t i = 0; i < x.ws.obs.size(); ++i)
+        ref.push_back(Covariance(x.ws, x.ws.obs[i], sens[i], current.noise));
+      std::vector<double> own = LadderStarts(Ladder(x.ws, lowered, key, r, sens, ref), 3);
+      if (own.empty()) own.push_back(0.1 * e.probe);
+      bases.push_back(lowered);
+      base_starts.push_back(own);
+    }
   }
+  Fit chosen;
+  bool first = true;
+  std::vector<Fit> optima;
+  for (std::size_t b = 0; b < bases.size(); ++b)
+    for (double size : base_starts[b]) {
+      const Model& base = bases[b];
+      Model start = base;
+      start.effects[key] = {EffectForm::kShared, {size}};
+      Fit f = FitModel(x.ws, x.all, start, free, current.noise, true);
+      if (f.ok) optima.push_back(f);
+      if (first || f.loglik > chosen.loglik) chosen = std::move(f);
+      first = false;
+    }
   if (probe.loglik > chosen.loglik)
     chosen = FitModel(x.ws, x.all, probe.model, free, probe.noise, true);
   // An optimum elsewhere that the likelihood cannot tell from the best (2 log-likelihood

@@ -61,6 +61,13 @@ struct LibraryEntry {
   /// limit is found (docs/discovery.md, "A ladder of sizes"). An effect whose change swings in
   /// sign from one size to the next needs a fine ladder for the fit to start near its optimum.
   double ladder_per_decade = 8.0;
+  /// Its change depends on mu even where every trial sticks at the baseline's mu (a tangential
+  /// spring slips where the rigid contact sticks). Where all of a surface's trials stick, the
+  /// baseline's mu is not identified and may sit at any value above the stick limit (often the
+  /// fit's bound, 2), from which no fit moves it (the gradient by mu is 0): such an effect's fit
+  /// also starts with mu lowered to 1.5 x the largest mu_eff measured on the surface
+  /// (docs/discovery.md, "Fits").
+  bool friction_limited = false;
   /// A measurement effect that grows through the clip: the trials are re-measured with it
   /// (a tilt or roll rate, docs/discovery.md "Out-of-plane rotation that grows").
   bool rotation_rate = false;

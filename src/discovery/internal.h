@@ -109,6 +109,9 @@ class Workspace {
   std::vector<double> k;                     // per surface (the paper's; not identified)
   std::vector<bool> has_oblique;             // per surface
   std::vector<double> zeta_start, mu_start;  // the comparison's per-surface fit
+  /// Per surface: the largest |mu_eff| measured on its oblique trials (0 without): a contact
+  /// that sticks in all of them holds for any mu above it.
+  std::vector<double> mu_eff_max;
   double rtol = 1e-8;
   double measurement_floor = 1e-4;
   int threads = 2;

@@ -130,6 +130,7 @@ const std::vector<LibraryEntry>& Library() {
        // turns with sqrt(k_t / k): the spin after a small-angle impact swings in sign between
        // sizes 1.3 times apart near 0.01, so the ladder needs about 8 sizes per such swing.
        .ladder_per_decade = 80.0,
+       .friction_limited = true,
        .extension = "tangential_compliance_ratio"},
       {.key = "rolling_resistance",
        .name = "rolling resistance (contact torque)",

@@ -139,11 +139,16 @@ void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOp
       ws.zeta_start.push_back(m.zeta_fit.zeta);
       ws.mu_start.push_back(std::isfinite(m.mu) ? m.mu : 0.3);
       ws.has_oblique.push_back(false);
+      ws.mu_eff_max.push_back(0.0);
     }
     o.surface = it->second;
     o.angle_deg = t->spec.surface_angle_deg;
     o.normal = std::abs(o.angle_deg) < 1e-9;
-    if (!o.normal) ws.has_oblique[static_cast<std::size_t>(o.surface)] = true;
+    if (!o.normal) {
+      ws.has_oblique[static_cast<std::size_t>(o.surface)] = true;
+      auto& most = ws.mu_eff_max[static_cast<std::size_t>(o.surface)];
+      if (std::isfinite(t->impact.mu_eff)) most = std::max(most, std::abs(t->impact.mu_eff));
+    }
     // The measured impact speed (continuous speeds have no nominal level).
     o.speed_m_s = t->spec.nominal_speed_m_s.value_or(o.scale);
     o.specimen = compare::SpecimenOf(*t);

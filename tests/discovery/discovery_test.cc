@@ -304,6 +304,28 @@ TEST(DiscoveryUnderScatterTest, NamesRollingResistanceWithoutReplicates) {
   EXPECT_FALSE(r.rounds.front().candidates.front().reason.empty());
 }
 
+// A tangential spring on surfaces where every oblique trial sticks (impacts at 0, 10 and 20 deg
+// only): the baseline's mu on concrete and asphalt is not identified (any mu above the stick
+// limit fits; the fit ends on its bound, 2), no fit moves it (the gradient by mu is 0 there),
+// and the spring's change at that mu is not the change at the renderer's mu near 0.3, where the
+// spring slips. On this study the spring's fit from the baseline's mu alone ended at
+// k/k_t = 0.886, 14 times the truth; it now also starts from mu at 1.5 times the largest
+// measured mu_eff (LibraryEntry::friction_limited).
+TEST(DiscoveryUnderScatterTest, NamesATangentialSpringWhereEveryObliqueTrialSticks) {
+  const double truth = 0.064;
+  const DiscoveryResult r = DiscoverStudy("scatter_tangential_sticking_5",
+                                          "--angles-deg 0,10,20 --trials-per-cell 1 --seed 5 "
+                                          "--tangential-compliance-ratio 0.064");
+  Print(r);
+  ASSERT_TRUE(r.success) << r.message;
+  EXPECT_EQ(r.trials_used, 36);
+  const auto* f = FindingOf(r, "tangential_compliance");
+  ASSERT_NE(f, nullptr) << r.verdict;
+  EXPECT_EQ(f->status, FindingStatus::kNamed) << r.verdict;
+  EXPECT_NEAR(f->estimate, truth, 0.2 * truth);
+  EXPECT_EQ(Confident(r), 1) << r.verdict;
+}
+
 // An out-of-plane rotation that grows through the clip (the renderer's tilt rate) is named from
 // the marker distance and the velocities together, and the trials are re-measured with it: the
 // rate is measured within a few per cent, and no contact effect is named for the bias the

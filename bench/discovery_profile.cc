@@ -1,0 +1,100 @@
+// The profile likelihood of one contact effect over its size, on a study file written by
+// `hoofimpact analyze` (docs/discovery.md, "Fits"): the baseline (zeta and mu per surface, the
+// noise model) is fitted from the per-surface comparison fit, as discovery starts; then, at each
+// size, the effect is held there and zeta, mu and the noise model are refitted, from the
+// baseline's mu and from each --mu-starts value (applied to every surface whose baseline mu lies
+// above it). It prints 2 (log-likelihood - the baseline's) at each size and start, with the mu
+// reached. A diagnostic for a fit that ends in the wrong optimum; it asserts nothing.
+//
+//   build/bench/discovery_profile STUDY_H5 [--effect KEY] [--sizes 0.01,0.02] [--mu-starts 0.3]
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "discovery/internal.h"
+#include "studyfile/study_file.h"
+
+namespace {
+
+using namespace hoof::discovery;
+using namespace hoof::discovery::internal;
+
+std::string Mus(const Fit& f) {
+  std::string s;
+  for (double m : f.model.mu) {
+    if (!s.empty()) s.push_back(' ');
+    s.append(Fmt(m, 3));
+  }
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"The profile likelihood of one contact effect over its size on a study file"};
+  std::string path, key = "tangential_compliance";
+  std::vector<double> sizes{0.01, 0.016, 0.02, 0.032, 0.064, 0.1, 1.0};
+  std::vector<double> mu_starts;
+  int threads = 2;
+  app.add_option("study", path, "Study file (hoofimpact analyze)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("--effect", key, "Library key of a contact effect");
+  app.add_option("--sizes", sizes, "Sizes to hold the effect at (its own units)")->delimiter(',');
+  app.add_option("--mu-starts", mu_starts,
+                 "Further starts of mu (each surface whose baseline mu lies above it)")
+      ->delimiter(',');
+  app.add_option("--jobs", threads, "Threads")->check(CLI::Range(1, 256));
+  CLI11_PARSE(app, argc, argv);
+  try {
+    const LibraryEntry& e = Entry(key);
+    if (e.measurement_effect)
+      throw std::invalid_argument("'" + key + "' is a measurement effect, not a contact effect");
+    for (double size : sizes)
+      if (!(size >= 0 && size <= e.upper))
+        throw std::invalid_argument("--sizes: " + Fmt(size) + " is outside [0, " + Fmt(e.upper) +
+                                    "]");
+    const auto trials = hoof::studyfile::ReadTrialAnalyses(path);
+    DiscoveryOptions options;
+    options.jobs = threads;
+    Workspace ws;
+    int skipped = 0;
+    Build(trials, options, &skipped, ws);
+    const auto all = ws.All();
+    Model start;
+    start.zeta = ws.zeta_start;
+    start.mu = ws.mu_start;
+    const Fit base = FitModel(ws, all, start, {}, InitialNoise(ws), true, 12);
+    if (!base.ok) throw std::runtime_error("the baseline fit failed: " + base.message);
+    std::printf("%s: %zu trials used, %d skipped; baseline log-likelihood %.3f\n", path.c_str(),
+                ws.obs.size(), skipped, base.loglik);
+    for (std::size_t s = 0; s < ws.surfaces.size(); ++s)
+      std::printf("  %-9s zeta %.4f (s.d. %.4f)  mu %.4f (s.d. %.4f)  largest mu_eff %.3f\n",
+                  ws.surfaces[s].c_str(), base.model.zeta[s], base.noise.zeta_sd[s],
+                  base.model.mu[s], base.noise.mu_sd[s], ws.mu_eff_max[s]);
+    std::printf("\n%s (%s) held at each size; 2 dlogL against the baseline, mu reached\n",
+                e.parameter.c_str(), e.unit.c_str());
+    std::vector<double> starts{-1.0};  // -1: the baseline's mu
+    starts.insert(starts.end(), mu_starts.begin(), mu_starts.end());
+    for (double size : sizes) {
+      for (double mu0 : starts) {
+        Model m = base.model;
+        if (mu0 > 0)
+          for (double& mu : m.mu) mu = std::min(mu, mu0);
+        m.effects[key] = {EffectForm::kShared, {size}};
+        const Fit f = FitModel(ws, all, m, {}, base.noise, true, 12);
+        std::printf("  %s = %-8s from mu %-9s  2 dlogL %9.2f  mu %s%s\n", e.parameter.c_str(),
+                    Fmt(size, 3).c_str(), mu0 > 0 ? Fmt(mu0, 3).c_str() : "baseline",
+                    2 * (f.loglik - base.loglik), Mus(f).c_str(), f.ok ? "" : "  (fit failed)");
+      }
+    }
+  } catch (const std::exception& ex) {
+    std::cerr << "discovery_profile: " << ex.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
