@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
   std::vector<double> sizes{0.01, 0.016, 0.02, 0.032, 0.064, 0.1, 1.0};
   std::vector<double> mu_starts;
   int threads = 2;
+  std::size_t ladder_peaks = 0;
   app.add_option("study", path, "Study file (hoofimpact analyze)")
       ->required()
       ->check(CLI::ExistingFile);
@@ -49,6 +50,9 @@ int main(int argc, char** argv) {
                  "Further starts of mu (each surface whose baseline mu lies above it)")
       ->delimiter(',');
   app.add_option("--jobs", threads, "Threads")->check(CLI::Range(1, 256));
+  app.add_option("--ladder", ladder_peaks,
+                 "Also print the ladder's N largest local optima (the fit's starts are the first "
+                 "3) with their linear gain, and the profile at each");
   CLI11_PARSE(app, argc, argv);
   try {
     const LibraryEntry& e = Entry(key);
@@ -78,6 +82,29 @@ int main(int argc, char** argv) {
                   base.model.mu[s], base.noise.mu_sd[s], ws.mu_eff_max[s]);
     std::printf("\n%s (%s) held at each size; 2 dlogL against the baseline, mu reached\n",
                 e.parameter.c_str(), e.unit.c_str());
+    if (ladder_peaks > 0) {
+      // The ladder as a round builds it (plan.cc), at the baseline with its noise model.
+      const auto r = ws.Residuals(base.model, all);
+      const auto sens = ws.Sensitivities(base.model, all);
+      std::vector<TrialCovariance> ref;
+      for (std::size_t i = 0; i < ws.obs.size(); ++i)
+        ref.push_back(Covariance(ws, ws.obs[i], sens[i], base.noise));
+      const SizeLadder ladder = Ladder(ws, base.model, key, r, sens, ref);
+      std::printf("\nthe ladder's %zu sizes: its largest local optima of the linear gain\n",
+                  ladder.size.size());
+      for (double size : LadderStarts(ladder, ladder_peaks)) {
+        std::size_t k = 0;
+        while (ladder.size[k] != size) ++k;
+        const Eigen::VectorXd& b = ladder.projected[k];
+        Model m = base.model;
+        m.effects[key] = {EffectForm::kShared, {size}};
+        const Fit f = FitModel(ws, all, m, {}, base.noise, true, 12);
+        std::printf("  %s = %-8s linear gain %9.2f  profile 2 dlogL %9.2f\n", e.parameter.c_str(),
+                    Fmt(size, 3).c_str(), 2 * ladder.current.dot(b) - b.squaredNorm(),
+                    2 * (f.loglik - base.loglik));
+      }
+      std::printf("\n");
+    }
     std::vector<double> starts{-1.0};  // -1: the baseline's mu
     starts.insert(starts.end(), mu_starts.begin(), mu_starts.end());
     for (double size : sizes) {
