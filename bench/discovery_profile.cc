@@ -7,10 +7,13 @@
 // reached. A diagnostic for a fit that ends in the wrong optimum; it asserts nothing.
 //
 //   build/bench/discovery_profile STUDY_H5 [--effect KEY] [--sizes 0.01,0.02] [--mu-starts 0.3]
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <iostream>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -32,6 +35,35 @@ std::string Mus(const Fit& f) {
   return s;
 }
 
+std::vector<TrialCovariance> CovariancesAt(const Workspace& ws, const Fit& f) {
+  const auto sens = ws.Sensitivities(f.model, ws.All());
+  std::vector<TrialCovariance> c;
+  for (std::size_t i = 0; i < ws.obs.size(); ++i)
+    c.push_back(Covariance(ws, ws.obs[i], sens[i], f.noise));
+  return c;
+}
+
+/// Held-out errors of `fit` (its `free` effects refitted per fold, as discovery does): the mean
+/// squared residual over the variance `base`'s noise model predicts (discovery's held-out error),
+/// and the mean negative log predictive density of the held-out trials under `fit`'s own noise
+/// model at its own sensitivities, 1/2 (log det V + r^T V^-1 r) per trial, constants dropped.
+std::pair<double, double> HeldOut(const Workspace& ws, const Fit& fit,
+                                  const std::vector<std::string>& free, const Fit& base,
+                                  int folds) {
+  const CrossValidation in_base = CrossValidate(ws, fit, free, CovariancesAt(ws, base), folds);
+  const auto own = CovariancesAt(ws, fit);
+  const CrossValidation in_own = CrossValidate(ws, fit, free, own, folds);
+  double sum = 0;
+  int n = 0;
+  for (std::size_t i = 0; i < ws.obs.size(); ++i)
+    if (std::isfinite(in_own.error[i])) {
+      const double dim = static_cast<double>(own[i].components.size());
+      sum += 0.5 * (own[i].log_det + in_own.error[i] * dim);
+      ++n;
+    }
+  return {in_base.mean_error, n ? sum / n : kNaN};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -41,6 +73,7 @@ int main(int argc, char** argv) {
   std::vector<double> mu_starts;
   int threads = 2;
   std::size_t ladder_peaks = 0;
+  bool held_out = false;
   app.add_option("study", path, "Study file (hoofimpact analyze)")
       ->required()
       ->check(CLI::ExistingFile);
@@ -53,6 +86,10 @@ int main(int argc, char** argv) {
   app.add_option("--ladder", ladder_peaks,
                  "Also print the ladder's N largest local optima (the fit's starts are the first "
                  "3) with their linear gain, and the profile at each");
+  app.add_flag("--held-out", held_out,
+               "At each size, the effect's free fit from there and its held-out errors: in the "
+               "baseline's covariance (discovery's rule) and as the negative log predictive "
+               "density under each model's own");
   CLI11_PARSE(app, argc, argv);
   try {
     const LibraryEntry& e = Entry(key);
@@ -105,6 +142,9 @@ int main(int argc, char** argv) {
       }
       std::printf("\n");
     }
+    const int folds = options.folds;
+    double base_cv = 0.0, base_nlpd = 0.0;
+    if (held_out) std::tie(base_cv, base_nlpd) = HeldOut(ws, base, {}, base, folds);
     std::vector<double> starts{-1.0};  // -1: the baseline's mu
     starts.insert(starts.end(), mu_starts.begin(), mu_starts.end());
     for (double size : sizes) {
@@ -117,6 +157,16 @@ int main(int argc, char** argv) {
         std::printf("  %s = %-8s from mu %-9s  2 dlogL %9.2f  mu %s%s\n", e.parameter.c_str(),
                     Fmt(size, 3).c_str(), mu0 > 0 ? Fmt(mu0, 3).c_str() : "baseline",
                     2 * (f.loglik - base.loglik), Mus(f).c_str(), f.ok ? "" : "  (fit failed)");
+        if (held_out && f.ok) {
+          const Fit fr = FitModel(ws, all, f.model, {key}, f.noise, true, 12);
+          const auto [cv_in_base, nlpd_own] = HeldOut(ws, fr, {key}, base, folds);
+          std::printf(
+              "    free fit -> %s, 2 dlogL %.2f; held-out error in the baseline's "
+              "covariance %.3f (baseline %.3f); held-out -log density %.3f (baseline "
+              "%.3f)\n",
+              Fmt(fr.model.effects.at(key).value.at(0), 3).c_str(), 2 * (fr.loglik - base.loglik),
+              cv_in_base, base_cv, nlpd_own, base_nlpd);
+        }
       }
     }
   } catch (const std::exception& ex) {
