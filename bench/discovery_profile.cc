@@ -1,10 +1,10 @@
 // The profile likelihood of one contact effect over its size, on a study file written by
 // `hoofimpact analyze` (docs/discovery.md, "Fits"): the baseline (zeta and mu per surface, the
-// noise model) is fitted from the per-surface comparison fit, as discovery starts; then, at each
-// size, the effect is held there and zeta, mu and the noise model are refitted, from the
-// baseline's mu and from each --mu-starts value (applied to every surface whose baseline mu lies
-// above it). It prints 2 (log-likelihood - the baseline's) at each size and start, with the mu
-// reached. A diagnostic for a fit that ends in the wrong optimum; it asserts nothing.
+// noise model) is fitted as discovery fits it (FitBaseline); then, at each size, the effect is
+// held there and zeta, mu and the noise model are refitted, from the baseline's mu and from each
+// --mu-starts value (applied to every surface whose baseline mu lies above it). It prints
+// 2 (log-likelihood - the baseline's) at each size and start, with the mu reached. A diagnostic
+// for a fit that ends in the wrong optimum; it asserts nothing.
 //
 //   build/bench/discovery_profile STUDY_H5 [--effect KEY] [--sizes 0.01,0.02] [--mu-starts 0.3]
 #include <cmath>
@@ -36,11 +36,7 @@ std::string Mus(const Fit& f) {
 }
 
 std::vector<TrialCovariance> CovariancesAt(const Workspace& ws, const Fit& f) {
-  const auto sens = ws.Sensitivities(f.model, ws.All());
-  std::vector<TrialCovariance> c;
-  for (std::size_t i = 0; i < ws.obs.size(); ++i)
-    c.push_back(Covariance(ws, ws.obs[i], sens[i], f.noise));
-  return c;
+  return Covariances(ws, ws.Sensitivities(f.model, ws.All()), f.noise);
 }
 
 /// Held-out errors of `fit` (its `free` effects refitted per fold, as discovery does): the mean
@@ -105,12 +101,13 @@ int main(int argc, char** argv) {
     Workspace ws;
     int skipped = 0;
     Build(trials, options, &skipped, ws);
+    // Discovery's own minimum.
+    if (ws.obs.size() < 6)
+      throw std::runtime_error(path + ": too few measured trials with a fitted surface model (" +
+                               std::to_string(ws.obs.size()) + "; at least 6 are needed)");
     const auto all = ws.All();
-    Model start;
-    start.zeta = ws.zeta_start;
-    start.mu = ws.mu_start;
-    const Fit base = FitModel(ws, all, start, {}, InitialNoise(ws), true, 12);
-    if (!base.ok) throw std::runtime_error("the baseline fit failed: " + base.message);
+    const Fit base = FitBaseline(ws);
+    if (!base.ok) throw std::runtime_error(path + ": the baseline fit failed: " + base.message);
     std::printf("%s: %zu trials used, %d skipped; baseline log-likelihood %.3f\n", path.c_str(),
                 ws.obs.size(), skipped, base.loglik);
     for (std::size_t s = 0; s < ws.surfaces.size(); ++s)
@@ -121,12 +118,9 @@ int main(int argc, char** argv) {
                 e.parameter.c_str(), e.unit.c_str());
     if (ladder_peaks > 0) {
       // The ladder as a round builds it (plan.cc), at the baseline with its noise model.
-      const auto r = ws.Residuals(base.model, all);
       const auto sens = ws.Sensitivities(base.model, all);
-      std::vector<TrialCovariance> ref;
-      for (std::size_t i = 0; i < ws.obs.size(); ++i)
-        ref.push_back(Covariance(ws, ws.obs[i], sens[i], base.noise));
-      const SizeLadder ladder = Ladder(ws, base.model, key, r, sens, ref);
+      const SizeLadder ladder = Ladder(ws, base.model, key, ws.Residuals(base.model, all), sens,
+                                       Covariances(ws, sens, base.noise));
       std::printf("\nthe ladder's %zu sizes: its largest local optima of the linear gain\n",
                   ladder.size.size());
       for (double size : LadderStarts(ladder, ladder_peaks)) {

@@ -119,10 +119,8 @@ Evaluation EvaluateRate(const RoundContext& x, const std::string& key) {
   // of the re-measured trials, each fitted without its fold.
   if (ev.c.significant && re.ws) {
     const auto s_new = re.ws->Sensitivities(re.fit.model, x.all);
-    std::vector<TrialCovariance> ref_new;
-    for (std::size_t i = 0; i < re.ws->obs.size(); ++i)
-      ref_new.push_back(Covariance(*re.ws, re.ws->obs[i], s_new[i], re.fit.noise));
-    ev.velocity_cv = CrossValidate(*re.ws, re.fit, x.free_current, ref_new, x.options.folds);
+    ev.velocity_cv = CrossValidate(*re.ws, re.fit, x.free_current,
+                                   Covariances(*re.ws, s_new, re.fit.noise), x.options.folds);
   }
   return ev;
 }
@@ -196,10 +194,8 @@ Fit FitFromStarts(const RoundContext& x, const std::string& key, const Fit& prob
       // Its own ladder: at the baseline's mu the change may gain at no size at all.
       const auto r = x.ws.Residuals(lowered, x.all);
       const auto sens = x.ws.Sensitivities(lowered, x.all);
-      std::vector<TrialCovariance> ref;
-      for (std::size_t i = 0; i < x.ws.obs.size(); ++i)
-        ref.push_back(Covariance(x.ws, x.ws.obs[i], sens[i], current.noise));
-      std::vector<double> own = LadderStarts(Ladder(x.ws, lowered, key, r, sens, ref), 3);
+      std::vector<double> own = LadderStarts(
+          Ladder(x.ws, lowered, key, r, sens, Covariances(x.ws, sens, current.noise)), 3);
       if (own.empty()) own.push_back(0.1 * e.probe);
       bases.push_back(lowered);
       base_starts.push_back(own);
@@ -586,9 +582,7 @@ CandidateResult JudgeCandidate(const Workspace& ws, const Fit& current, const st
   const std::vector<int> all = ws.All();
   const auto residuals = ws.Residuals(current.model, all);
   const auto sens = ws.Sensitivities(current.model, all);
-  std::vector<TrialCovariance> ref;
-  for (std::size_t i = 0; i < ws.obs.size(); ++i)
-    ref.push_back(Covariance(ws, ws.obs[i], sens[i], current.noise));
+  const std::vector<TrialCovariance> ref = Covariances(ws, sens, current.noise);
   RoundContext x{ws, state, residuals, sens, ref, options, all, {}, {}, level, {}, {}};
   for (const auto& [k, p] : current.model.effects) x.free_current.push_back(k);
   x.chi95 = stats::ChiSquaredQuantile(0.95, 1);
@@ -605,9 +599,7 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
                            const std::vector<Sensitivity>& sens,
                            const std::vector<std::string>& keys, const DiscoveryOptions& options,
                            const std::function<void(const std::string&)>& say, Round& rd) {
-  std::vector<TrialCovariance> ref;
-  for (std::size_t i = 0; i < ws.obs.size(); ++i)
-    ref.push_back(Covariance(ws, ws.obs[i], sens[i], state.current.noise));
+  const std::vector<TrialCovariance> ref = Covariances(ws, sens, state.current.noise);
   RoundContext x{ws, state, residual_current, sens, ref, options, ws.All(), {}, {}, 0.0, {}, {}};
   std::vector<std::string> to_try;
   for (const auto& key : keys)

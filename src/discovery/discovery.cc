@@ -19,13 +19,6 @@ using namespace internal;
 
 namespace {
 
-Model BaselineStart(const Workspace& ws) {
-  Model m;
-  m.zeta = ws.zeta_start;
-  m.mu = ws.mu_start;
-  return m;
-}
-
 Finding FindingOf(const CandidateResult& c, FindingStatus status, double alpha) {
   Finding f;
   f.key = c.key;
@@ -82,7 +75,7 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials,
       std::to_string(ws.obs.size()) + " trials");
   RoundState st;
   st.measured = &trials;
-  st.current = FitModel(ws, all, BaselineStart(ws), {}, InitialNoise(ws), true, 12);
+  st.current = FitBaseline(ws);
   st.tilt = FitTilt(ws, all, false);
   out.baseline = SurfaceFits(ws, st.current);
   const Model baseline_model = st.current.model;

@@ -337,4 +337,11 @@ double ChiBarSquareUpperTail(double x, int df) {
   return p;
 }
 
+Fit FitBaseline(const Workspace& ws) {
+  Model start;
+  start.zeta = ws.zeta_start;
+  start.mu = ws.mu_start;
+  return FitModel(ws, ws.All(), start, {}, InitialNoise(ws), true, 12);
+}
+
 }  // namespace hoof::discovery::internal

@@ -145,6 +145,9 @@ struct TrialCovariance {
 };
 TrialCovariance Covariance(const Workspace& ws, const Obs& o, const Sensitivity& s,
                            const Noise& noise);
+/// Covariance() of every obs of `ws`, with `sens` its sensitivities (one per obs).
+std::vector<TrialCovariance> Covariances(const Workspace& ws, const std::vector<Sensitivity>& sens,
+                                         const Noise& noise);
 /// -1/2 sum over trials of (log det V + r^T V^-1 r), constants dropped.
 double LogLikelihood(const Workspace& ws, const std::vector<int>& which,
                      const std::vector<Eigen::Vector3d>& r, const std::vector<Sensitivity>& s,
@@ -177,6 +180,10 @@ struct Fit {
 Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& start,
              const std::vector<std::string>& free_effects, const Noise& noise, bool estimate_noise,
              int passes = 8);
+/// The baseline as every workflow fits it: zeta and mu per surface from the comparison's
+/// per-surface fit (Workspace::zeta_start, mu_start), the noise model from InitialNoise, to
+/// convergence (12 passes), on every obs.
+Fit FitBaseline(const Workspace& ws);
 
 /// The out-of-plane (measurement) model: the marker distance ratio is cos(tilt) in every trial.
 struct TiltFit {

@@ -45,6 +45,15 @@ TrialCovariance Covariance(const Workspace& ws, const Obs& o, const Sensitivity&
   return t;
 }
 
+std::vector<TrialCovariance> Covariances(const Workspace& ws, const std::vector<Sensitivity>& sens,
+                                         const Noise& noise) {
+  std::vector<TrialCovariance> c;
+  c.reserve(ws.obs.size());
+  for (std::size_t i = 0; i < ws.obs.size(); ++i)
+    c.push_back(Covariance(ws, ws.obs[i], sens[i], noise));
+  return c;
+}
+
 namespace {
 
 double TrialLogLikelihood(const Workspace& ws, const Obs& o, const Eigen::Vector3d& r,

@@ -265,14 +265,9 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
     return plan;
   }
   const std::vector<int> all = ws.All();
-  Model start;
-  start.zeta = ws.zeta_start;
-  start.mu = ws.mu_start;
-  const Fit base = FitModel(ws, all, start, {}, InitialNoise(ws), true, 12);
+  const Fit base = FitBaseline(ws);
   const auto sens = ws.Sensitivities(base.model, all);
-  std::vector<TrialCovariance> ref;
-  for (std::size_t i = 0; i < ws.obs.size(); ++i)
-    ref.push_back(Covariance(ws, ws.obs[i], sens[i], base.noise));
+  const std::vector<TrialCovariance> ref = Covariances(ws, sens, base.noise);
   const auto r0 = ws.Residuals(base.model, all);
   // The naming level and the detection limit of the first round, as Discover sets them.
   std::vector<std::string> keys = options.candidates;

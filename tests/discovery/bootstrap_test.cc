@@ -115,9 +115,7 @@ TEST(DiscoveryBootstrapTest, ThePowerAtTheDetectionLimitIsTheLimitsEightyPercent
   ASSERT_TRUE(base.ok) << base.message;
   const auto r = ws.Residuals(base.model, all);
   const auto sens = ws.Sensitivities(base.model, all);
-  std::vector<TrialCovariance> ref;
-  for (std::size_t i = 0; i < ws.obs.size(); ++i)
-    ref.push_back(Covariance(ws, ws.obs[i], sens[i], base.noise));
+  const std::vector<TrialCovariance> ref = Covariances(ws, sens, base.noise);
   const std::string key = "hunt_crossley";
   const double level = 1e-3;
   const double limit = LadderDetectionLimit(Ladder(ws, base.model, key, r, sens, ref), level);

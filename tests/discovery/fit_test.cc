@@ -115,8 +115,7 @@ struct Baseline {
     model.mu = {kMu};
     r = ws.Residuals(model, ws.All());
     sens = ws.Sensitivities(model, ws.All());
-    for (std::size_t i = 0; i < ws.obs.size(); ++i)
-      ref.push_back(Covariance(ws, ws.obs[i], sens[i], SmallNoise()));
+    ref = Covariances(ws, sens, SmallNoise());
   }
 };
 
