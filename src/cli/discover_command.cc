@@ -104,6 +104,17 @@ bool SaysWhy(const discovery::CandidateResult& c) {
          c.outcome == CandidateOutcome::kAtSmallestValue;
 }
 
+/// The held-out score the candidate is judged by, and the current model's.
+std::string HeldOutColumn(const discovery::CandidateResult& c) {
+  if (!discovery::JudgedOnDensity(c))
+    return Num(c.cv_error, 3) + " (" + Num(c.cv_error_current, 3) + ")";
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(3);
+  s << c.cv_density << " (" << c.cv_density_current << ")";
+  return s.str();
+}
+
 void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std::string& h5) {
   if (!r.success) {
     os << "Discovery on " << h5 << ": could not run (" << r.trials_used << " trial(s) used, "
@@ -134,7 +145,7 @@ void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std:
          << std::setw(10) << "LR p" << std::setw(11) << "dAIC" << std::setw(11) << "dBIC"
          << "  " << std::left << std::setw(outcome_width) << "outcome"
          << std::setw(identifiability_width) << "identifiability"
-         << "held-out error (current) [" << discovery::kHeldOutErrorUnit << "]\n"
+         << "held-out (current)\n"
          << std::right;
     for (const auto& c : round.candidates) {
       os << "  " << std::left << std::setw(5)
@@ -155,8 +166,12 @@ void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std:
          << Num(c.delta_aic, 3) << std::setw(11) << Num(c.delta_bic, 3) << "  " << std::left
          << std::setw(outcome_width) << discovery::ToString(c.outcome)
          << std::setw(identifiability_width) << discovery::ToString(c.identifiability) << std::right
-         << (Num(c.cv_error, 3) + " (" + Num(c.cv_error_current, 3) + ")") << "\n";
+         << HeldOutColumn(c) << "\n";
     }
+    if (!round.candidates.empty())
+      os << "  held-out: " << discovery::kHeldOutDensityUnit
+         << " under each model's own noise model for a contact effect; "
+         << discovery::kHeldOutErrorUnit << " for an out-of-plane candidate\n";
     for (const auto& c : round.candidates) {
       if (!SaysWhy(c)) continue;
       os << "  " << c.key << " (" << discovery::ToString(c.outcome)

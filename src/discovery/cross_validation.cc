@@ -1,7 +1,7 @@
 // Held-out errors of the discovery workflow (docs/discovery.md, "Candidates and the decision",
 // step 5): each fold of trials predicted by a model fitted without it, in units of the variance
-// the current model's noise model predicts for each trial, so that every model is judged on one
-// scale.
+// the current model's noise model predicts for each trial (one scale for every model), and as
+// a negative log density under the model's own noise model (what decides for a contact effect).
 #include <cmath>
 #include <numeric>
 
@@ -48,6 +48,19 @@ CrossValidation CrossValidate(const Workspace& ws, const Fit& start,
   }
   cv.mean_error = MeanFinite(cv.error);
   return cv;
+}
+
+void AddDensity(CrossValidation& cv, const std::vector<TrialCovariance>& own) {
+  cv.density.assign(cv.residual.size(), kNaN);
+  for (std::size_t i = 0; i < cv.residual.size() && i < own.size(); ++i) {
+    const TrialCovariance& c = own[i];
+    Eigen::VectorXd v(static_cast<Eigen::Index>(c.components.size()));
+    for (std::size_t a = 0; a < c.components.size(); ++a)
+      v[static_cast<Eigen::Index>(a)] = cv.residual[i][c.components[a]];
+    if (v.size() > 0 && v.allFinite())
+      cv.density[i] = 0.5 * (c.log_det + (c.whiten * v).squaredNorm());
+  }
+  cv.mean_density = MeanFinite(cv.density);
 }
 
 CrossValidation CrossValidateTilt(const Workspace& ws, bool free, int folds) {

@@ -18,8 +18,9 @@
 ///     against the current model, cross-validate it on held-out trials, probe what it is
 ///     confounded with, and give its detection limit.
 ///  4. Add the strongest significant candidate (p below the naming level, Round::naming_level; its
-///     estimate clear of 0 by its s.e., a lower held-out error), with its outcome and reason for
-///     every other one; repeat until nothing is significant.
+///     estimate clear of 0 by its s.e., a lower held-out score: HeldOutFell; after an added
+///     effect, significantly lower), with its outcome and reason for every other one; repeat
+///     until nothing is significant.
 ///  5. The verdict: an effect is *named* when, with it in the model, no significant structure
 ///     remains; otherwise it is *tentative* and the disagreement *unexplained*. Candidates that
 ///     fit as well as the added one are reported as indistinguishable, with the measurement that
@@ -199,6 +200,15 @@ FindingStatus FindingStatusFromString(const std::string& s);
 /// that predicts as well as its noise model says gives about 1.
 inline constexpr const char* kHeldOutErrorUnit = "mean squared residual / predicted variance";
 
+/// The unit of the held-out density: the mean over held-out trials of the negative log density
+/// of each trial's residuals under the model's *own* noise model, 1/2 (log det V + r^T V^-1 r)
+/// with V that model's predicted covariance (velocities in m/s) and the constant dropped.
+/// Lower is better; only differences between models mean anything. A contact effect is judged
+/// by it: an effect that explains part of the trial-to-trial scatter shrinks its own noise
+/// model, which the error in the current model's units cannot credit.
+inline constexpr const char* kHeldOutDensityUnit =
+    "nats per held-out trial (-log predictive density, constant dropped)";
+
 /// One value of an effect: for all surfaces (surface empty) or for one.
 struct EffectValue {
   std::string key;
@@ -232,7 +242,13 @@ struct CandidateResult {
   /// Held-out error (kHeldOutErrorUnit) for this model and for the current model, each fitted
   /// without the trial's fold.
   double cv_error = 0.0, cv_error_current = 0.0;
-  double cv_p = 1.0;  ///< paired one-sided t test that the held-out error fell
+  /// Held-out density (kHeldOutDensityUnit) for this model and for the current model, each
+  /// under its own noise model: what a contact effect is judged by. NaN for an out-of-plane
+  /// candidate, which is judged by its held-out error on the image.
+  double cv_density = core::kNaN, cv_density_current = core::kNaN;
+  /// Paired one-sided t test that the held-out score the candidate is judged by fell (the
+  /// density for a contact effect, the error otherwise).
+  double cv_p = 1.0;
   Identifiability identifiability = Identifiability::kIdentified;
   /// Baseline parameters that absorbed it in the identifiability probe, e.g. "a changed zeta".
   std::string confounded_with;
@@ -240,7 +256,8 @@ struct CandidateResult {
   /// standard error (one-sided Wald at the naming level; any surface's value for a per-surface
   /// effect).
   bool wald_clear = false;
-  /// p_value < the naming level (Round::naming_level), wald_clear, and cv_error < cv_error_current.
+  /// p_value < the naming level (Round::naming_level), wald_clear, and the held-out score fell
+  /// (HeldOutFell); for a contact effect in a round after an effect was added, also cv_p < 0.05.
   bool significant = false;
   CandidateOutcome outcome = CandidateOutcome::kNotSignificant;
   std::string reason;  ///< why it was or was not added, in words
@@ -250,6 +267,15 @@ struct CandidateResult {
   double detection_limit = 0.0;
   int rank = 0;  ///< 1 = added or strongest evidence
 };
+
+/// Whether the candidate is judged by its held-out density (a contact effect: cv_density is
+/// finite) rather than its held-out error.
+bool JudgedOnDensity(const CandidateResult& c);
+/// The held-out score the candidate is judged by fell below the current model's.
+bool HeldOutFell(const CandidateResult& c);
+/// That score before and after, with its unit: "held-out -log density -12.301 -> -12.725 (nats
+/// per held-out trial ...)" or "held-out error 1.21 -> 0.95 (mean squared residual / ...)".
+std::string HeldOutText(const CandidateResult& c);
 
 /// One held-out trial's disagreement before and after an effect is added.
 struct GapTrial {

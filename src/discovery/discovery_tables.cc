@@ -96,8 +96,8 @@ Table CandidatesTable(const std::string& name, const std::vector<CandidateResult
   std::vector<std::int64_t> rank, measurement, fitted, significant, df, wald_clear;
   std::vector<std::string> key, label, parameter, unit, message, form, ident, confounded, outcome,
       reason;
-  std::vector<double> estimate, se, lr, p, p_per_surface, aic, bic, cv, cv_current, cv_p,
-      detection_limit;
+  std::vector<double> estimate, se, lr, p, p_per_surface, aic, bic, cv, cv_current, density,
+      density_current, cv_p, detection_limit;
   for (const auto& c : candidates) {
     rank.push_back(c.rank);
     key.push_back(c.key);
@@ -118,6 +118,8 @@ Table CandidatesTable(const std::string& name, const std::vector<CandidateResult
     bic.push_back(c.delta_bic);
     cv.push_back(c.cv_error);
     cv_current.push_back(c.cv_error_current);
+    density.push_back(c.cv_density);
+    density_current.push_back(c.cv_density_current);
     cv_p.push_back(c.cv_p);
     ident.push_back(ToString(c.identifiability));
     confounded.push_back(c.confounded_with);
@@ -170,7 +172,17 @@ Table CandidatesTable(const std::string& name, const std::vector<CandidateResult
                        "held-out error with this effect, each trial fitted without its fold", cv),
        Column::Numbers("cv_error_current", kHeldOutErrorUnit, "the same for the current model",
                        cv_current),
-       Column::Numbers("cv_p", "1", "paired one-sided t test that the held-out error fell", cv_p),
+       Column::Numbers("cv_density", kHeldOutDensityUnit,
+                       "held-out density with this effect under its own noise model, each trial "
+                       "fitted without its fold; what a contact effect is judged by (NaN for an "
+                       "out-of-plane candidate)",
+                       density),
+       Column::Numbers("cv_density_current", kHeldOutDensityUnit,
+                       "the same for the current model", density_current),
+       Column::Numbers("cv_p", "1",
+                       "paired one-sided t test that the held-out score the candidate is judged "
+                       "by fell (cv_density where finite, else cv_error)",
+                       cv_p),
        Column::Texts("identifiability", identifiabilities, ident),
        Column::Texts("confounded_with", "baseline parameters that absorb it in the probe",
                      confounded),
@@ -180,7 +192,9 @@ Table CandidatesTable(const std::string& name, const std::vector<CandidateResult
                         wald_clear),
        Column::Integers(
            "significant", "",
-           "1 when p_value < alpha / candidates, wald_clear and the held-out error fell",
+           "1 when p_value < alpha / candidates, wald_clear and the held-out score fell "
+           "(cv_density where finite, else cv_error; for cv_density in a round after an added "
+           "effect, significantly: cv_p < 0.05)",
            significant),
        Column::Texts("outcome", "why it was or was not added: " + outcomes, outcome),
        Column::Texts("reason", "why it was or was not added, in words", reason),
@@ -451,6 +465,10 @@ std::vector<CandidateResult> ReadCandidates(const std::filesystem::path& h5,
              aic = t.Numbers("delta_aic"), bic = t.Numbers("delta_bic"), cv = t.Numbers("cv_error"),
              cv_current = t.Numbers("cv_error_current"), cv_p = t.Numbers("cv_p"),
              detection_limit = t.Numbers("detection_limit");
+  // Since session 13; older files have none (NaN: judged by the held-out error, as they were).
+  std::vector<double> density(t.rows(), core::kNaN), density_current(t.rows(), core::kNaN);
+  if (t.Has("cv_density"))
+    density = t.Numbers("cv_density"), density_current = t.Numbers("cv_density_current");
   std::vector<CandidateResult> out(t.rows());
   for (std::size_t i = 0; i < t.rows(); ++i) {
     auto& c = out[i];
@@ -473,6 +491,8 @@ std::vector<CandidateResult> ReadCandidates(const std::filesystem::path& h5,
     c.delta_bic = bic[i];
     c.cv_error = cv[i];
     c.cv_error_current = cv_current[i];
+    c.cv_density = density[i];
+    c.cv_density_current = density_current[i];
     c.cv_p = cv_p[i];
     c.identifiability = ident[i];
     c.confounded_with = confounded[i];

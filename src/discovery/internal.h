@@ -209,12 +209,20 @@ struct CrossValidation {
   std::vector<double> error;              // per obs (held out), kHeldOutErrorUnit
   std::vector<Eigen::Vector3d> residual;  // per obs (held out)
   double mean_error = 0.0;
+  // Per obs (held out), kHeldOutDensityUnit, under the model's own noise model (AddDensity);
+  // empty until then.
+  std::vector<double> density;
+  double mean_density = kNaN;
 };
 /// Each fold's trials predicted by `start` refitted (noise held at the full-data fit's) without
 /// them; errors in units of the variance `reference` predicts for each trial.
 CrossValidation CrossValidate(const Workspace& ws, const Fit& start,
                               const std::vector<std::string>& free_effects,
                               const std::vector<TrialCovariance>& reference, int folds);
+/// Sets `cv.density`: each held-out residual's negative log density under `own`, the
+/// covariances the model's own noise model predicts (1/2 (log det V + r^T V^-1 r), constants
+/// dropped), and its mean.
+void AddDensity(CrossValidation& cv, const std::vector<TrialCovariance>& own);
 CrossValidation CrossValidateTilt(const Workspace& ws, bool free, int folds);
 /// One-sided paired t test that `b` has lower errors than `a`.
 double PairedImprovementP(const std::vector<double>& a, const std::vector<double>& b);

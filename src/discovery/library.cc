@@ -58,6 +58,30 @@ std::string FmtP(double p) {
 
 }  // namespace internal
 
+bool JudgedOnDensity(const CandidateResult& c) {
+  return std::isfinite(c.cv_density) && std::isfinite(c.cv_density_current);
+}
+
+bool HeldOutFell(const CandidateResult& c) {
+  return JudgedOnDensity(c) ? c.cv_density < c.cv_density_current
+                            : c.cv_error < c.cv_error_current;
+}
+
+std::string HeldOutText(const CandidateResult& c) {
+  std::ostringstream s;
+  if (JudgedOnDensity(c)) {
+    // Fixed decimals: the values sit far from 0 and only their difference matters.
+    s.setf(std::ios::fixed);
+    s.precision(3);
+    s << "held-out -log density " << c.cv_density_current << " -> " << c.cv_density << " ("
+      << kHeldOutDensityUnit << ")";
+  } else {
+    s << "held-out error " << internal::Fmt(c.cv_error_current) << " -> "
+      << internal::Fmt(c.cv_error) << " (" << kHeldOutErrorUnit << ")";
+  }
+  return s.str();
+}
+
 std::string GapChangeText(double gap_shrink) {
   if (!std::isfinite(gap_shrink)) return "n/a";
   if (std::abs(100 * gap_shrink) < 0.05) return "unchanged";

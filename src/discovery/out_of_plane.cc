@@ -330,7 +330,7 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st,
   // contact effect on v_x and spin does (the scorecard named a roll rate in studies with rolling
   // resistance or tangential compliance hidden before this rule).
   c.significant =
-      c.p_value < level && c.wald_clear && ratio_p < level && c.cv_error < c.cv_error_current;
+      c.p_value < level && c.wald_clear && ratio_p < level && HeldOutFell(c);
   if (ratio_blind) {
     c.identifiability = Identifiability::kNotTested;
     c.outcome = CandidateOutcome::kNotTested;

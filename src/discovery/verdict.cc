@@ -74,9 +74,8 @@ std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& opti
       if (rd.accepted == f.key)
         for (const auto& c : rd.candidates)
           if (c.key == f.key)
-            e << "likelihood-ratio p = " << FmtP(c.p_value) << "; held-out error "
-              << Fmt(c.cv_error_current) << " -> " << Fmt(c.cv_error) << " (" << kHeldOutErrorUnit
-              << "), held-out gap " << Fmt(100 * rd.gap_before) << " % -> "
+            e << "likelihood-ratio p = " << FmtP(c.p_value) << "; " << HeldOutText(c)
+              << ", held-out gap " << Fmt(100 * rd.gap_before) << " % -> "
               << Fmt(100 * rd.gap_after) << " % of the impact speed ("
               << GapChangeText(f.gap_shrink) << ")";
     return e.str();

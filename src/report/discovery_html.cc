@@ -139,14 +139,26 @@ std::string EstimateCellHtml(const std::string& key, discovery::EffectForm form,
          EstimateHtml(estimate, se, unit) + HtmlEscape(discovery::UpperBoundNote(key, estimate));
 }
 
+/// The held-out score a candidate is judged by, against the current model's.
+std::string HeldOutCell(const discovery::CandidateResult& c) {
+  if (!discovery::JudgedOnDensity(c)) return Fmt(c.cv_error, 3) + " vs " + Fmt(c.cv_error_current, 3);
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(3);
+  s << c.cv_density << " vs " << c.cv_density_current;
+  return s.str();
+}
+
 std::string CandidatesTableHtml(const discovery::Round& round) {
   std::ostringstream h;
   h << "<table class=\"data discovery-candidates\"><caption>Candidate effects in rank order "
-       "(1 = added or strongest evidence); held-out error in "
-    << HtmlEscape(discovery::kHeldOutErrorUnit)
-    << "</caption><thead><tr><th>rank</th><th>effect</th><th>form</th><th>estimate "
+       "(1 = added or strongest evidence); held-out score: for a contact effect the "
+    << HtmlEscape(discovery::kHeldOutDensityUnit)
+    << ", under each model's own noise model; for an out-of-plane candidate the held-out error "
+       "in "
+    << HtmlEscape(discovery::kHeldOutErrorUnit) << "; lower is better</caption><thead><tr><th>rank</th><th>effect</th><th>form</th><th>estimate "
        "&plusmn; s.e.</th><th>LR p</th><th>&Delta;AIC</th><th>&Delta;BIC</th><th>held-out "
-       "error vs current</th><th>identifiability</th><th>outcome</th><th>why</th></tr></thead>"
+       "score vs current</th><th>identifiability</th><th>outcome</th><th>why</th></tr></thead>"
        "<tbody>";
   for (const auto& c : round.candidates) {
     const bool accepted = !round.accepted.empty() && c.key == round.accepted;
@@ -165,8 +177,7 @@ std::string CandidatesTableHtml(const discovery::Round& round) {
       << EstimateCellHtml(c.key, c.form, c.estimate, c.se, c.values, c.parameter, c.unit) << "</td>"
       << PCell(c.p_value, c.significant) << "<td class=\"num\">" << Fmt(c.delta_aic, 3)
       << "</td><td class=\"num\">" << Fmt(c.delta_bic, 3) << "</td><td class=\"num"
-      << (c.cv_error < c.cv_error_current ? " ok" : "") << "\">" << Fmt(c.cv_error, 3) << " vs "
-      << Fmt(c.cv_error_current, 3) << "</td><td>"
+      << (discovery::HeldOutFell(c) ? " ok" : "") << "\">" << HeldOutCell(c) << "</td><td>"
       << HtmlEscape(discovery::ToString(c.identifiability))
       << (c.confounded_with.empty() ? "" : " (absorbed by " + HtmlEscape(c.confounded_with) + ")")
       << "</td><td" << (accepted ? " class=\"ok\"" : "") << ">"

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "compare/study_comparison.h"
+#include "discovery/discovery_json.h"
 #include "discovery/discovery_tables.h"
 #include "report/discovery_figures.h"
 #include "report/html_report.h"
@@ -159,6 +160,8 @@ DiscoveryResult Result() {
   hc.delta_bic = -36.5;
   hc.cv_error = 0.95;
   hc.cv_error_current = 3.1;
+  hc.cv_density = -10.5;
+  hc.cv_density_current = -8.25;
   hc.cv_p = 1e-4;
   hc.identifiability = Identifiability::kIdentified;
   hc.significant = true;
@@ -186,6 +189,8 @@ DiscoveryResult Result() {
   sf.delta_bic = -32.0;
   sf.cv_error = 0.97;
   sf.cv_error_current = 3.1;
+  sf.cv_density = -10.25;
+  sf.cv_density_current = -8.25;
   sf.cv_p = 2e-4;
   sf.identifiability = Identifiability::kConfounded;
   sf.confounded_with = "a changed mu";
@@ -229,6 +234,9 @@ DiscoveryResult Result() {
   round.gap_before = 0.031;
   round.gap_after = 0.005;
   round.gap_shrink = 0.84;
+  round.naming_level = 4.45e-4;
+  round.bonferroni_level = 4.2e-4;
+  round.hypotheses = 24;
   discovery::Round second;
   second.index = 2;
   second.tests = {t2};
@@ -393,6 +401,9 @@ TEST(DiscoveryTablesTest, TheResultReadsBackAsWritten) {
     ExpectSameNumber(got.delta_bic, want.delta_bic, what + " delta_bic");
     ExpectSameNumber(got.cv_error, want.cv_error, what + " cv_error");
     ExpectSameNumber(got.cv_error_current, want.cv_error_current, what + " cv_error_current");
+    ExpectSameNumber(got.cv_density, want.cv_density, what + " cv_density");
+    ExpectSameNumber(got.cv_density_current, want.cv_density_current,
+                     what + " cv_density_current");
     ExpectSameNumber(got.cv_p, want.cv_p, what + " cv_p");
     EXPECT_EQ(got.identifiability, want.identifiability) << what;
     EXPECT_EQ(got.confounded_with, want.confounded_with) << what;
@@ -450,6 +461,8 @@ TEST(DiscoveryTablesTest, TheResultReadsBackAsWritten) {
   const auto candidates = studyfile::ReadTable(h5, "/discovery/rounds/1/candidates");
   EXPECT_EQ(candidates.Get("cv_error").units, discovery::kHeldOutErrorUnit);
   EXPECT_EQ(candidates.Get("cv_error_current").units, discovery::kHeldOutErrorUnit);
+  EXPECT_EQ(candidates.Get("cv_density").units, discovery::kHeldOutDensityUnit);
+  EXPECT_EQ(candidates.Get("cv_density_current").units, discovery::kHeldOutDensityUnit);
   // Enums are stored as their text.
   EXPECT_EQ(std::get<std::vector<std::string>>(candidates.Get("outcome").values)[0],
             discovery::ToString(CandidateOutcome::kAdded));
@@ -525,6 +538,54 @@ TEST(DiscoveryTextTest, TheGapChangeSaysWhichWay) {
   EXPECT_EQ(discovery::GapChangeText(std::nan("")), "n/a");
 }
 
+// The JSON a script reads holds what the decision used: each round's naming level, and each
+// candidate's Wald condition and both held-out scores (null where not defined).
+TEST(DiscoveryJsonTest, EachDecisionCanBeRetracedFromIt) {
+  const DiscoveryResult r = Result();
+  const nlohmann::json j = discovery::DiscoveryJson(r);
+  ASSERT_EQ(j.at("rounds").size(), 2u);
+  const auto& round = j.at("rounds").at(0);
+  EXPECT_DOUBLE_EQ(round.at("naming_level").get<double>(), 4.45e-4);
+  EXPECT_DOUBLE_EQ(round.at("bonferroni_level").get<double>(), 4.2e-4);
+  EXPECT_EQ(round.at("hypotheses").get<int>(), 24);
+  const auto& hc = round.at("candidates").at(0);
+  EXPECT_EQ(hc.at("key"), "hunt_crossley");
+  EXPECT_TRUE(hc.at("wald_clear").get<bool>());
+  EXPECT_DOUBLE_EQ(hc.at("cv_density").get<double>(), -10.5);
+  EXPECT_DOUBLE_EQ(hc.at("cv_density_current").get<double>(), -8.25);
+  EXPECT_DOUBLE_EQ(hc.at("cv_error").get<double>(), 0.95);
+  const auto& oop = round.at("candidates").at(2);
+  EXPECT_EQ(oop.at("key"), "out_of_plane");
+  EXPECT_TRUE(oop.at("cv_density").is_null());
+  EXPECT_EQ(j.at("held_out_density_unit"), discovery::kHeldOutDensityUnit);
+}
+
+// A contact effect is judged by its held-out density under its own noise model; an
+// out-of-plane candidate (no density) by its held-out error. The text names the one used, with
+// its unit.
+TEST(DiscoveryTextTest, TheHeldOutScoreIsTheOneTheCandidateIsJudgedBy) {
+  discovery::CandidateResult c;
+  c.cv_error = 1.3;  // worse in the current model's units ...
+  c.cv_error_current = 1.1;
+  c.cv_density = -10.168;  // ... and better under its own noise model
+  c.cv_density_current = -8.663;
+  EXPECT_TRUE(discovery::JudgedOnDensity(c));
+  EXPECT_TRUE(discovery::HeldOutFell(c));
+  EXPECT_EQ(discovery::HeldOutText(c), std::string("held-out -log density -8.663 -> -10.168 (") +
+                                           discovery::kHeldOutDensityUnit + ")");
+  c.cv_density = -8.5;
+  EXPECT_FALSE(discovery::HeldOutFell(c));
+  discovery::CandidateResult tilt;
+  tilt.cv_error = 0.978;
+  tilt.cv_error_current = 46;
+  EXPECT_FALSE(discovery::JudgedOnDensity(tilt));
+  EXPECT_TRUE(discovery::HeldOutFell(tilt));
+  EXPECT_EQ(discovery::HeldOutText(tilt),
+            std::string("held-out error 46 -> 0.978 (") + discovery::kHeldOutErrorUnit + ")");
+  tilt.cv_error = 50;
+  EXPECT_FALSE(discovery::HeldOutFell(tilt));
+}
+
 TEST(HtmlReportDiscoveryTest, TheSectionShowsVerdictEvidenceAndFigures) {
   const fs::path dir = FreshDir("discovery_report_test/report");
   const fs::path h5 = StudyFile(dir);
@@ -554,12 +615,13 @@ TEST(HtmlReportDiscoveryTest, TheSectionShowsVerdictEvidenceAndFigures) {
             std::string::npos);
   EXPECT_NE(html.find("The missing effect is named: velocity-dependent (Hunt-Crossley) damping."),
             std::string::npos);
-  // The winning candidate's row: its estimate with unit, and the held-out error vs current.
+  // The winning candidate's row: its estimate with unit, and the held-out score it is judged
+  // by (a contact effect: the density under its own noise model) vs current.
   const auto row = html.find("<tr class=\"candidate accepted\" data-key=\"hunt_crossley\">");
   ASSERT_NE(row, std::string::npos);
   const std::string tr = html.substr(row, html.find("</tr>", row) - row);
   EXPECT_NE(tr.find("c = 0.75 &plusmn; 0.05 N s/m^2"), std::string::npos) << tr;
-  EXPECT_NE(tr.find("0.95 vs 3.1"), std::string::npos) << tr;
+  EXPECT_NE(tr.find("-10.500 vs -8.250"), std::string::npos) << tr;
   EXPECT_NE(tr.find("-38"), std::string::npos) << tr;
   // Why it was added, in the "why" column, and the outcome as its text.
   EXPECT_NE(tr.find("<td>the strongest significant candidate; lowers the held-out error from 3.1 "
@@ -569,12 +631,12 @@ TEST(HtmlReportDiscoveryTest, TheSectionShowsVerdictEvidenceAndFigures) {
   EXPECT_NE(tr.find(std::string(">") + discovery::ToString(CandidateOutcome::kAdded) + "</td>"),
             std::string::npos)
       << tr;
-  // The held-out error's unit is in the caption of the candidate table.
+  // Both held-out units are in the caption of the candidate table.
   const auto caption = html.find("<table class=\"data discovery-candidates\"><caption>");
   ASSERT_NE(caption, std::string::npos);
-  EXPECT_NE(html.substr(caption, html.find("</caption>", caption) - caption)
-                .find(discovery::kHeldOutErrorUnit),
-            std::string::npos);
+  const std::string caption_text = html.substr(caption, html.find("</caption>", caption) - caption);
+  EXPECT_NE(caption_text.find(discovery::kHeldOutErrorUnit), std::string::npos);
+  EXPECT_NE(caption_text.find(discovery::kHeldOutDensityUnit), std::string::npos);
   // A per-surface candidate shows each surface's value, and why it was not added.
   const auto sf_row = html.find("data-key=\"static_friction\"");
   ASSERT_NE(sf_row, std::string::npos);

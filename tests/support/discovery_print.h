@@ -14,8 +14,9 @@ inline void PrintDiscoveryRounds(std::ostream& os, const discovery::DiscoveryRes
     os << "round " << rd.index << ": " << rd.decision << "\n";
     for (const auto& c : rd.candidates)
       os << "   " << c.rank << " " << c.key << " " << c.estimate << " +- " << c.se << " LR "
-         << c.lr_statistic << " p " << c.p_value << " held-out " << c.cv_error_current << " -> "
-         << c.cv_error << " (" << ToString(c.identifiability) << ", " << ToString(c.form) << ", "
+         << c.lr_statistic << " p " << c.p_value << " held-out error " << c.cv_error_current
+         << " -> " << c.cv_error << ", density " << c.cv_density_current << " -> " << c.cv_density
+         << " (" << ToString(c.identifiability) << ", " << ToString(c.form) << ", "
          << ToString(c.outcome) << ", per-surface p " << c.p_per_surface << ", limit "
          << c.detection_limit << ")" << (c.significant ? " *" : "") << "\n";
   }
