@@ -41,23 +41,14 @@ std::vector<TrialCovariance> CovariancesAt(const Workspace& ws, const Fit& f) {
 
 /// Held-out errors of `fit` (its `free` effects refitted per fold, as discovery does): the mean
 /// squared residual over the variance `base`'s noise model predicts (discovery's held-out error),
-/// and the mean negative log predictive density of the held-out trials under `fit`'s own noise
-/// model at its own sensitivities, 1/2 (log det V + r^T V^-1 r) per trial, constants dropped.
+/// and the held-out density discovery judges a contact effect by (AddDensity: under `fit`'s own
+/// noise model, nats per held-out trial, constants dropped).
 std::pair<double, double> HeldOut(const Workspace& ws, const Fit& fit,
                                   const std::vector<std::string>& free, const Fit& base,
                                   int folds) {
-  const CrossValidation in_base = CrossValidate(ws, fit, free, CovariancesAt(ws, base), folds);
-  const auto own = CovariancesAt(ws, fit);
-  const CrossValidation in_own = CrossValidate(ws, fit, free, own, folds);
-  double sum = 0;
-  int n = 0;
-  for (std::size_t i = 0; i < ws.obs.size(); ++i)
-    if (std::isfinite(in_own.error[i])) {
-      const double dim = static_cast<double>(own[i].components.size());
-      sum += 0.5 * (own[i].log_det + in_own.error[i] * dim);
-      ++n;
-    }
-  return {in_base.mean_error, n ? sum / n : kNaN};
+  CrossValidation cv = CrossValidate(ws, fit, free, CovariancesAt(ws, base), folds);
+  AddDensity(cv, CovariancesAt(ws, fit));
+  return {cv.mean_error, cv.mean_density};
 }
 
 }  // namespace
