@@ -432,8 +432,8 @@ void ExplainNotSignificant(const RoundContext& x, CandidateResult& c) {
   } else {
     c.outcome = CandidateOutcome::kWorseHeldOut;
     why << "p = " << FmtP(c.p_value) << " is significant and its " << HeldOutText(c)
-        << " fell, but not significantly (paired p = " << FmtP(c.cv_p)
-        << ", not below " << Fmt(kLaterRoundHeldOutLevel)
+        << " fell, but not significantly (paired p = " << FmtP(c.cv_p) << ", not below "
+        << Fmt(kLaterRoundHeldOutLevel)
         << "), which a round after an added effect asks: the likelihood ratio against a "
            "model with an effect fitted through the scatter is not at its nominal level";
   }
@@ -585,8 +585,8 @@ std::string AddedText(const CandidateResult& w, const Round& rd,
     d << " (" << w.parameter << " = " << Fmt(w.estimate) << " +- " << Fmt(w.se)
       << UnitSuffix(w.unit) << UpperBoundNote(w.key, w.estimate) << ")";
   }
-  d << ": likelihood ratio " << Fmt(w.lr_statistic) << ", p = " << FmtP(w.p_value)
-    << "; " << HeldOutText(w) << "; held-out gap " << Fmt(100 * rd.gap_before) << " % -> "
+  d << ": likelihood ratio " << Fmt(w.lr_statistic) << ", p = " << FmtP(w.p_value) << "; "
+    << HeldOutText(w) << "; held-out gap " << Fmt(100 * rd.gap_before) << " % -> "
     << Fmt(100 * rd.gap_after) << " % of the impact speed (" << GapChangeText(rd.gap_shrink)
     << ").";
   if (!alike.empty()) {

@@ -177,8 +177,8 @@ Table CandidatesTable(const std::string& name, const std::vector<CandidateResult
                        "fitted without its fold; what a contact effect is judged by (NaN for an "
                        "out-of-plane candidate)",
                        density),
-       Column::Numbers("cv_density_current", kHeldOutDensityUnit,
-                       "the same for the current model", density_current),
+       Column::Numbers("cv_density_current", kHeldOutDensityUnit, "the same for the current model",
+                       density_current),
        Column::Numbers("cv_p", "1",
                        "paired one-sided t test that the held-out score the candidate is judged "
                        "by fell (cv_density where finite, else cv_error)",

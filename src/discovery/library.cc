@@ -63,8 +63,7 @@ bool JudgedOnDensity(const CandidateResult& c) {
 }
 
 bool HeldOutFell(const CandidateResult& c) {
-  return JudgedOnDensity(c) ? c.cv_density < c.cv_density_current
-                            : c.cv_error < c.cv_error_current;
+  return JudgedOnDensity(c) ? c.cv_density < c.cv_density_current : c.cv_error < c.cv_error_current;
 }
 
 std::string HeldOutText(const CandidateResult& c) {

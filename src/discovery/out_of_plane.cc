@@ -329,8 +329,7 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st,
   // Named only with the image's own evidence: a bias of the velocities alone is also what a
   // contact effect on v_x and spin does (the scorecard named a roll rate in studies with rolling
   // resistance or tangential compliance hidden before this rule).
-  c.significant =
-      c.p_value < level && c.wald_clear && ratio_p < level && HeldOutFell(c);
+  c.significant = c.p_value < level && c.wald_clear && ratio_p < level && HeldOutFell(c);
   if (ratio_blind) {
     c.identifiability = Identifiability::kNotTested;
     c.outcome = CandidateOutcome::kNotTested;

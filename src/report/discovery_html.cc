@@ -141,7 +141,8 @@ std::string EstimateCellHtml(const std::string& key, discovery::EffectForm form,
 
 /// The held-out score a candidate is judged by, against the current model's.
 std::string HeldOutCell(const discovery::CandidateResult& c) {
-  if (!discovery::JudgedOnDensity(c)) return Fmt(c.cv_error, 3) + " vs " + Fmt(c.cv_error_current, 3);
+  if (!discovery::JudgedOnDensity(c))
+    return Fmt(c.cv_error, 3) + " vs " + Fmt(c.cv_error_current, 3);
   std::ostringstream s;
   s.setf(std::ios::fixed);
   s.precision(3);
@@ -156,7 +157,9 @@ std::string CandidatesTableHtml(const discovery::Round& round) {
     << HtmlEscape(discovery::kHeldOutDensityUnit)
     << ", under each model's own noise model; for an out-of-plane candidate the held-out error "
        "in "
-    << HtmlEscape(discovery::kHeldOutErrorUnit) << "; lower is better</caption><thead><tr><th>rank</th><th>effect</th><th>form</th><th>estimate "
+    << HtmlEscape(discovery::kHeldOutErrorUnit)
+    << "; lower is "
+       "better</caption><thead><tr><th>rank</th><th>effect</th><th>form</th><th>estimate "
        "&plusmn; s.e.</th><th>LR p</th><th>&Delta;AIC</th><th>&Delta;BIC</th><th>held-out "
        "score vs current</th><th>identifiability</th><th>outcome</th><th>why</th></tr></thead>"
        "<tbody>";

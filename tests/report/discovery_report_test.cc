@@ -402,8 +402,7 @@ TEST(DiscoveryTablesTest, TheResultReadsBackAsWritten) {
     ExpectSameNumber(got.cv_error, want.cv_error, what + " cv_error");
     ExpectSameNumber(got.cv_error_current, want.cv_error_current, what + " cv_error_current");
     ExpectSameNumber(got.cv_density, want.cv_density, what + " cv_density");
-    ExpectSameNumber(got.cv_density_current, want.cv_density_current,
-                     what + " cv_density_current");
+    ExpectSameNumber(got.cv_density_current, want.cv_density_current, what + " cv_density_current");
     ExpectSameNumber(got.cv_p, want.cv_p, what + " cv_p");
     EXPECT_EQ(got.identifiability, want.identifiability) << what;
     EXPECT_EQ(got.confounded_with, want.confounded_with) << what;
