@@ -106,13 +106,8 @@ bool SaysWhy(const discovery::CandidateResult& c) {
 
 /// The held-out score the candidate is judged by, and the current model's.
 std::string HeldOutColumn(const discovery::CandidateResult& c) {
-  if (!discovery::JudgedOnDensity(c))
-    return Num(c.cv_error, 3) + " (" + Num(c.cv_error_current, 3) + ")";
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(3);
-  s << c.cv_density << " (" << c.cv_density_current << ")";
-  return s.str();
+  const auto [now, current] = discovery::HeldOutScores(c);
+  return now + " (" + current + ")";
 }
 
 void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std::string& h5) {

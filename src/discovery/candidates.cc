@@ -110,8 +110,8 @@ struct RoundContext {
 /// held-out trials significantly better (cv_p, paired one-sided t of the held-out densities,
 /// below this level). Its likelihood ratio is taken against a model whose added effect was
 /// fitted through the trials' scatter, and there it was seen to be far from its nominal level:
-/// on the unreplicated scorecard a second effect was named beside the hidden one in 5 of 60
-/// studies whose first round was right (docs/discovery.md, "The held-out rule").
+/// on the unreplicated scorecard, 5 of the 8 wrong names that the density alone let through
+/// were a second effect named beside the hidden one (docs/discovery.md, "The held-out rule").
 constexpr double kLaterRoundHeldOutLevel = 0.05;
 
 /// An effect (of any kind) was added in an earlier round.

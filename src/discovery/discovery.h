@@ -273,6 +273,10 @@ struct CandidateResult {
 bool JudgedOnDensity(const CandidateResult& c);
 /// The held-out score the candidate is judged by fell below the current model's.
 bool HeldOutFell(const CandidateResult& c);
+/// That score for this model and for the current model, as text: the density to 3 decimals (its
+/// values sit far from 0 and only their difference matters), the error to 3 significant digits;
+/// "n/a" where not finite.
+std::array<std::string, 2> HeldOutScores(const CandidateResult& c);
 /// That score before and after, with its unit: "held-out -log density -12.301 -> -12.725 (nats
 /// per held-out trial ...)" or "held-out error 1.21 -> 0.95 (mean squared residual / ...)".
 std::string HeldOutText(const CandidateResult& c);

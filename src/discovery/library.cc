@@ -66,19 +66,22 @@ bool HeldOutFell(const CandidateResult& c) {
   return JudgedOnDensity(c) ? c.cv_density < c.cv_density_current : c.cv_error < c.cv_error_current;
 }
 
-std::string HeldOutText(const CandidateResult& c) {
-  std::ostringstream s;
-  if (JudgedOnDensity(c)) {
-    // Fixed decimals: the values sit far from 0 and only their difference matters.
+std::array<std::string, 2> HeldOutScores(const CandidateResult& c) {
+  if (!JudgedOnDensity(c)) return {internal::Fmt(c.cv_error), internal::Fmt(c.cv_error_current)};
+  auto fixed = [](double v) {
+    std::ostringstream s;
     s.setf(std::ios::fixed);
     s.precision(3);
-    s << "held-out -log density " << c.cv_density_current << " -> " << c.cv_density << " ("
-      << kHeldOutDensityUnit << ")";
-  } else {
-    s << "held-out error " << internal::Fmt(c.cv_error_current) << " -> "
-      << internal::Fmt(c.cv_error) << " (" << kHeldOutErrorUnit << ")";
-  }
-  return s.str();
+    s << v;
+    return s.str();
+  };
+  return {fixed(c.cv_density), fixed(c.cv_density_current)};
+}
+
+std::string HeldOutText(const CandidateResult& c) {
+  const auto [now, current] = HeldOutScores(c);
+  return (JudgedOnDensity(c) ? "held-out -log density " : "held-out error ") + current + " -> " +
+         now + " (" + (JudgedOnDensity(c) ? kHeldOutDensityUnit : kHeldOutErrorUnit) + ")";
 }
 
 std::string GapChangeText(double gap_shrink) {

@@ -141,13 +141,8 @@ std::string EstimateCellHtml(const std::string& key, discovery::EffectForm form,
 
 /// The held-out score a candidate is judged by, against the current model's.
 std::string HeldOutCell(const discovery::CandidateResult& c) {
-  if (!discovery::JudgedOnDensity(c))
-    return Fmt(c.cv_error, 3) + " vs " + Fmt(c.cv_error_current, 3);
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(3);
-  s << c.cv_density << " vs " << c.cv_density_current;
-  return s.str();
+  const auto [now, current] = discovery::HeldOutScores(c);
+  return HtmlEscape(now) + " vs " + HtmlEscape(current);
 }
 
 std::string CandidatesTableHtml(const discovery::Round& round) {
