@@ -1,8 +1,8 @@
 // A model of the discovery workflow fitted to measured trials under the noise model
 // (docs/discovery.md, "Fits"): per-surface zeta and mu and the free effects, by Ceres
 // (Levenberg-Marquardt on whitened residuals, numeric derivatives of the simulator that stay
-// inside the parameters' bounds, one residual block per trial), alternating with the
-// maximum-likelihood noise model.
+// inside the parameters' bounds, every trial's rows in one residual block, computed in
+// parallel), alternating with the maximum-likelihood noise model.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -13,6 +13,7 @@
 #include <Eigen/QR>
 #include <boost/math/special_functions/binomial.hpp>
 
+#include "core/parallel.h"
 #include "discovery/internal.h"
 #include "stats/distributions.h"
 
@@ -126,6 +127,53 @@ class BoundedDiffCost final : public ceres::CostFunction {
   std::vector<BlockBounds> bounds_;
 };
 
+/// All trials of a fit as one Ceres cost. Each trial's residuals and derivatives are computed
+/// in parallel (core::ParallelFor) into its own rows, and Ceres, which sees one block, sums
+/// them on one thread in a fixed order. With a block per trial, Ceres summed the cost and
+/// gradient per thread, so one and two threads rounded differently (1e-9 of an estimate), and
+/// a decision at its threshold could turn with `--jobs` (docs/discovery.md, Limits). Every
+/// parameter block is a scalar, so a block's Jacobian is one column: a trial writes its rows
+/// of the columns it depends on, and leaves the others at 0.
+class StudyCost final : public ceres::CostFunction {
+ public:
+  struct Trial {
+    std::unique_ptr<BoundedDiffCost> cost;
+    std::vector<std::size_t> blocks;  // its parameter blocks, as indices into the study's
+    int row = 0;                      // its first residual
+  };
+
+  StudyCost(std::vector<Trial> trials, std::size_t blocks, int threads)
+      : trials_(std::move(trials)), threads_(threads) {
+    int rows = 0;
+    for (const Trial& t : trials_) rows += t.cost->num_residuals();
+    for (std::size_t b = 0; b < blocks; ++b) mutable_parameter_block_sizes()->push_back(1);
+    set_num_residuals(rows);
+  }
+
+  bool Evaluate(double const* const* p, double* residuals, double** jacobians) const override {
+    const auto rows = static_cast<std::size_t>(num_residuals());
+    if (jacobians)
+      for (std::size_t b = 0; b < parameter_block_sizes().size(); ++b)
+        if (jacobians[b]) std::fill(jacobians[b], jacobians[b] + rows, 0.0);
+    std::vector<char> ok(trials_.size(), 0);
+    core::ParallelFor(trials_.size(), threads_, [&](std::size_t i) {
+      const Trial& t = trials_[i];
+      std::vector<const double*> at(t.blocks.size());
+      std::vector<double*> J(t.blocks.size(), nullptr);
+      for (std::size_t b = 0; b < t.blocks.size(); ++b) {
+        at[b] = p[t.blocks[b]];
+        if (jacobians && jacobians[t.blocks[b]]) J[b] = jacobians[t.blocks[b]] + t.row;
+      }
+      ok[i] = t.cost->Evaluate(at.data(), residuals + t.row, jacobians ? J.data() : nullptr);
+    });
+    return std::all_of(ok.begin(), ok.end(), [](char v) { return v != 0; });
+  }
+
+ private:
+  std::vector<Trial> trials_;
+  int threads_;
+};
+
 }  // namespace
 
 Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& start,
@@ -180,7 +228,9 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
   double loglik = LogLikelihood(ws, which, r, sens, fit.noise);
   for (int pass = 0; pass < passes; ++pass) {
     problem = std::make_unique<ceres::Problem>();
-    int blocks = 0;
+    std::vector<StudyCost::Trial> trials;
+    std::vector<double*> blocks;  // the study's parameter blocks, in order of first use
+    int rows = 0;
     for (std::size_t i = 0; i < which.size(); ++i) {
       const Obs& o = ws.obs[static_cast<std::size_t>(which[i])];
       const auto s = static_cast<std::size_t>(o.surface);
@@ -209,11 +259,20 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
                           Entry(free_effects[j]).upper / scale[j], kRelativeEffectStep});
       }
       const int residuals = static_cast<int>(f->components.size());
-      auto* cost = new BoundedDiffCost(std::move(f), bounds, residuals);
-      problem->AddResidualBlock(cost, nullptr, params);
-      ++blocks;
+      StudyCost::Trial t;
+      t.cost = std::make_unique<BoundedDiffCost>(std::move(f), bounds, residuals);
+      t.row = rows;
+      rows += residuals;
+      for (double* q : params) {
+        const auto at = std::find(blocks.begin(), blocks.end(), q);
+        t.blocks.push_back(static_cast<std::size_t>(at - blocks.begin()));
+        if (at == blocks.end()) blocks.push_back(q);
+      }
+      trials.push_back(std::move(t));
     }
-    if (blocks == 0) break;
+    if (trials.empty()) break;
+    problem->AddResidualBlock(new StudyCost(std::move(trials), blocks.size(), ws.threads), nullptr,
+                              blocks);
     for (std::size_t s = 0; s < S; ++s) {
       if (!surface_used[s]) continue;
       problem->SetParameterLowerBound(&zeta[s], 0, kZetaLower);
@@ -234,7 +293,7 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
     so.max_num_iterations = 40;
     so.function_tolerance = 1e-9;
     so.parameter_tolerance = 1e-8;
-    so.num_threads = ws.threads;
+    so.num_threads = 1;  // one block: the trials run in parallel inside StudyCost
     so.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
     ceres::Solve(so, problem.get(), &summary);
@@ -272,7 +331,7 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
   fit.parameters = static_cast<int>(order.size());
   ceres::Problem::EvaluateOptions eo;
   eo.parameter_blocks = order;
-  eo.num_threads = ws.threads;
+  eo.num_threads = 1;
   ceres::CRSMatrix crs;
   problem->Evaluate(eo, nullptr, nullptr, nullptr, &crs);
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);

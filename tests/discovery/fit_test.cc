@@ -4,8 +4,9 @@
 // truth lies on the upper bound itself. Numeric derivatives that step outside the bounds, where
 // the simulator refuses the value, held such fits at the bound with a standard error of nothing.
 // And the ladder of sizes (src/discovery/plan.cc) from which a candidate's fit starts and its
-// detection limit is found.
+// detection limit is found; and a fit that is the same whatever the number of threads.
 #include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -20,10 +21,11 @@ namespace {
 constexpr double kZeta = 0.12, kMu = 0.35;
 
 /// One steel surface: impacts at `angles_deg` (normal and 20 deg unless told) at six speeds
-/// each, measured without error as the simulator predicts them with the contact extensions
-/// `truth`.
+/// each (unless told), measured without error as the simulator predicts them with the contact
+/// extensions `truth`.
 void StudyWith(const dynamics::ContactExtensions& truth, Workspace& ws,
-               const std::vector<double>& angles_deg = {0.0, 20.0}) {
+               const std::vector<double>& angles_deg = {0.0, 20.0},
+               const std::vector<double>& speeds = {1.5, 2.0, 2.5, 3.0, 3.5, 4.0}) {
   ws.surfaces = {"steel"};
   ws.k = {dynamics::PaperContact(dynamics::Surface::kSteel).k_N_m};
   ws.has_oblique = {true};
@@ -31,7 +33,7 @@ void StudyWith(const dynamics::ContactExtensions& truth, Workspace& ws,
   ws.mu_start = {kMu};
   ws.threads = 2;
   for (double angle_deg : angles_deg)
-    for (double speed : {1.5, 2.0, 2.5, 3.0, 3.5, 4.0}) {
+    for (double speed : speeds) {
       Obs o;
       o.surface = 0;
       o.angle_deg = angle_deg;
@@ -187,6 +189,45 @@ TEST(DiscoveryFitTest, NoDetectionLimitBelowTheSmallestSizeTheFitMayTake) {
   StudyWith({}, ws, {0.0, 10.0, 20.0});
   const std::string key = "tangential_compliance";
   EXPECT_DOUBLE_EQ(LadderDetectionLimit(LadderOf(ws, key), 1e-3), Entry(key).smallest);
+}
+
+TEST(DiscoveryFitTest, TheFitIsTheSameToTheLastBitWhateverTheThreads) {
+  // A decision at its threshold must not turn with `--jobs`. Measurements with a seeded error,
+  // an effect and the noise model fitted: every number of the fit compared bit for bit between
+  // one, two and three threads.
+  dynamics::ContactExtensions truth;
+  truth.hunt_crossley_N_s_m2 = 3e7;
+  Workspace ws;
+  std::vector<double> speeds;
+  for (int i = 0; i < 36; ++i) speeds.push_back(1.5 + 2.5 * i / 35.0);
+  StudyWith(truth, ws, {0.0, 10.0, 20.0, 30.0}, speeds);
+  std::mt19937_64 rng(20261125);
+  std::normal_distribution<double> error(0.0, 2e-3);
+  for (Obs& o : ws.obs)
+    for (int c = 0; c < kComponents; ++c) o.measured[c] += error(rng) * o.scale;
+  auto fit_on = [&](int threads) {
+    ws.threads = threads;
+    return FitModel(ws, ws.All(), Start("hunt_crossley", 0.0), {"hunt_crossley"}, SmallNoise(),
+                    true);
+  };
+  const Fit one = fit_on(1);
+  ASSERT_TRUE(one.ok) << one.message;
+  for (int threads : {2, 3}) {
+    const Fit f = fit_on(threads);
+    ASSERT_TRUE(f.ok) << f.message;
+    EXPECT_EQ(f.loglik, one.loglik) << threads << " threads";
+    EXPECT_EQ(f.model.zeta, one.model.zeta) << threads << " threads";
+    EXPECT_EQ(f.model.mu, one.model.mu) << threads << " threads";
+    EXPECT_EQ(f.model.effects.at("hunt_crossley").value,
+              one.model.effects.at("hunt_crossley").value)
+        << threads << " threads";
+    EXPECT_EQ(f.effect_se.at("hunt_crossley"), one.effect_se.at("hunt_crossley"))
+        << threads << " threads";
+    EXPECT_EQ(f.zeta_se, one.zeta_se) << threads << " threads";
+    EXPECT_EQ(f.noise.zeta_sd, one.noise.zeta_sd) << threads << " threads";
+  }
+  // And it is a fit: the damping comes back near the truth it was measured with.
+  EXPECT_NEAR(one.model.effects.at("hunt_crossley").value.at(0), 3e7, 0.3 * 3e7);
 }
 
 }  // namespace
