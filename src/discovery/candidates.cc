@@ -106,14 +106,6 @@ struct RoundContext {
   double chi95 = 0.0;  // 95 % point of chi-square with 1 dof
 };
 
-/// In a round after an effect was added, a contact candidate must also predict the
-/// held-out trials significantly better (cv_p, paired one-sided t of the held-out densities,
-/// below this level). Its likelihood ratio is taken against a model whose added effect was
-/// fitted through the trials' scatter, and there it was seen to be far from its nominal level:
-/// on the unreplicated scorecard, 5 of the 8 wrong names that the density alone let through
-/// were a second effect named beside the hidden one (docs/discovery.md, "The held-out rule").
-constexpr double kLaterRoundHeldOutLevel = 0.05;
-
 /// An effect (of any kind) was added in an earlier round.
 bool LaterRound(const RoundContext& x) { return !x.state.accepted.empty(); }
 
@@ -385,8 +377,7 @@ Evaluation EvaluateContact(const RoundContext& x, const std::string& key) {
   c.wald_clear = false;
   for (const auto& v : c.values)
     c.wald_clear |= v.se > 0 && (v.value - e.smallest) / v.se > z_level;
-  c.significant = c.fitted && c.p_value < x.level && c.wald_clear && HeldOutFell(c) &&
-                  (!LaterRound(x) || c.cv_p < kLaterRoundHeldOutLevel);
+  c.significant = ContactEvidenceHolds(c, x.level, LaterRound(x));
   ev.fit = chosen;
   ev.free = free;
   return ev;

@@ -273,6 +273,19 @@ struct CandidateResult {
 bool JudgedOnDensity(const CandidateResult& c);
 /// The held-out score the candidate is judged by fell below the current model's.
 bool HeldOutFell(const CandidateResult& c);
+
+/// In a round after an effect was added, a contact candidate must also predict the held-out
+/// trials significantly better: cv_p (paired one-sided t of the held-out densities) below this
+/// level. Its likelihood ratio is then taken against a model whose added effect was fitted
+/// through the trials' scatter, and there it was seen to be far from its nominal level: on the
+/// unreplicated scorecard, 5 of the 8 wrong names that the density alone let through were a
+/// second effect named beside the hidden one (docs/discovery.md, "The held-out rule").
+inline constexpr double kLaterRoundHeldOutLevel = 0.05;
+/// Whether a contact candidate's evidence names it: fitted, its likelihood-ratio p below the
+/// round's naming level, its estimate clear of 0 (wald_clear), its held-out score lower
+/// (HeldOutFell), and in a round after an effect was added (`later_round`), significantly lower
+/// (cv_p < kLaterRoundHeldOutLevel).
+bool ContactEvidenceHolds(const CandidateResult& c, double naming_level, bool later_round);
 /// That score for this model and for the current model, as text: the density to 3 decimals (its
 /// values sit far from 0 and only their difference matters), the error to 3 significant digits;
 /// "n/a" where not finite.

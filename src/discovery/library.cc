@@ -66,6 +66,11 @@ bool HeldOutFell(const CandidateResult& c) {
   return JudgedOnDensity(c) ? c.cv_density < c.cv_density_current : c.cv_error < c.cv_error_current;
 }
 
+bool ContactEvidenceHolds(const CandidateResult& c, double naming_level, bool later_round) {
+  return c.fitted && c.p_value < naming_level && c.wald_clear && HeldOutFell(c) &&
+         (!later_round || c.cv_p < kLaterRoundHeldOutLevel);
+}
+
 std::array<std::string, 2> HeldOutScores(const CandidateResult& c) {
   if (!JudgedOnDensity(c)) return {internal::Fmt(c.cv_error), internal::Fmt(c.cv_error_current)};
   auto fixed = [](double v) {

@@ -1,0 +1,81 @@
+// The rule that names a contact candidate (ContactEvidenceHolds, src/discovery/library.cc), on
+// candidates whose evidence differs in one respect at a time: each condition of the rule
+// (docs/discovery.md, "Candidates and the decision" and "The held-out rule") must be able to
+// refuse a candidate on its own, and the held-out significance only in a round after an
+// effect was added.
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "discovery/discovery.h"
+
+namespace hoof::discovery {
+namespace {
+
+constexpr double kLevel = 1e-3;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// A contact candidate that every condition names: p far below the level, clear of 0, its
+/// held-out density lower by 0.5 nats per trial and significantly so.
+CandidateResult Strong() {
+  CandidateResult c;
+  c.key = "hunt_crossley";
+  c.fitted = true;
+  c.p_value = 1e-8;
+  c.wald_clear = true;
+  c.cv_error = 1.2;
+  c.cv_error_current = 1.1;  // its error in the current model's units rose: not what counts
+  c.cv_density = -10.5;
+  c.cv_density_current = -10.0;
+  c.cv_p = 0.001;
+  return c;
+}
+
+TEST(DecisionRuleTest, AStrongCandidateIsNamedInAnyRound) {
+  EXPECT_TRUE(ContactEvidenceHolds(Strong(), kLevel, false));
+  EXPECT_TRUE(ContactEvidenceHolds(Strong(), kLevel, true));
+}
+
+TEST(DecisionRuleTest, EachConditionRefusesOnItsOwn) {
+  CandidateResult c = Strong();
+  c.fitted = false;
+  EXPECT_FALSE(ContactEvidenceHolds(c, kLevel, false)) << "a failed fit";
+  c = Strong();
+  c.p_value = kLevel;  // not below
+  EXPECT_FALSE(ContactEvidenceHolds(c, kLevel, false)) << "p at the naming level";
+  c.p_value = kNaN;
+  EXPECT_FALSE(ContactEvidenceHolds(c, kLevel, false)) << "no p";
+  c = Strong();
+  c.wald_clear = false;
+  EXPECT_FALSE(ContactEvidenceHolds(c, kLevel, false)) << "an estimate not clear of 0";
+  c = Strong();
+  c.cv_density = c.cv_density_current + 0.01;
+  c.cv_error = 0.5;  // a lower error does not stand in for the density
+  EXPECT_FALSE(ContactEvidenceHolds(c, kLevel, false)) << "a higher held-out density";
+}
+
+TEST(DecisionRuleTest, AfterAnAddedEffectTheHeldOutDensityMustFallSignificantly) {
+  CandidateResult c = Strong();
+  c.cv_p = 0.2;  // lower, but not significantly
+  EXPECT_TRUE(ContactEvidenceHolds(c, kLevel, false)) << "round 1 asks only that it fell";
+  EXPECT_FALSE(ContactEvidenceHolds(c, kLevel, true));
+  c.cv_p = kLaterRoundHeldOutLevel;  // not below
+  EXPECT_FALSE(ContactEvidenceHolds(c, kLevel, true));
+  c.cv_p = 0.049;
+  EXPECT_TRUE(ContactEvidenceHolds(c, kLevel, true));
+}
+
+TEST(DecisionRuleTest, WithoutADensityTheHeldOutErrorDecides) {
+  // An out-of-plane candidate is judged on the image: no density, its held-out error.
+  CandidateResult c = Strong();
+  c.cv_density = kNaN;
+  c.cv_density_current = kNaN;
+  EXPECT_FALSE(JudgedOnDensity(c));
+  EXPECT_FALSE(ContactEvidenceHolds(c, kLevel, false)) << "its error rose";
+  c.cv_error = 1.0;
+  EXPECT_TRUE(ContactEvidenceHolds(c, kLevel, false));
+}
+
+}  // namespace
+}  // namespace hoof::discovery
