@@ -75,13 +75,15 @@ void ContactExtensions::Validate() const {
   for (const auto& f : ContactExtensionFields()) RequireFinite(kOwner, f.key, this->*f.member);
   for (const auto& f : ContactExtensionFields()) {
     const double v = this->*f.member;
+    if (!(v < f.valid_lower || (f.lower_open && v == f.valid_lower) || v > f.valid_upper)) continue;
+    // Worded only on failure: every simulation validates, and formatting the requirement each
+    // time took 5 % of a discovery run.
     std::ostringstream need;
     if (std::isfinite(f.valid_upper))
       need << "must be in [" << f.valid_lower << ", " << f.valid_upper << "]";
     else
       need << "must be " << (f.lower_open ? "> " : ">= ") << f.valid_lower;
-    if (v < f.valid_lower || (f.lower_open && v == f.valid_lower) || v > f.valid_upper)
-      ThrowField(kOwner, f.key, v, need.str());
+    ThrowField(kOwner, f.key, v, need.str());
   }
   // With a tangential spring the slider, not the body point T, slides, and its speed would
   // need a state of its own; the speed-dependent law is defined for rigid stick only.

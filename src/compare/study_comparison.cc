@@ -22,7 +22,7 @@ StudyComparison CompareStudy(const std::vector<pipeline::TrialAnalysis>& trials,
   std::set<std::string> surfaces;
   for (const auto& t : trials)
     if (t.success) surfaces.insert(t.spec.surface);
-  for (const auto& s : surfaces) out.surfaces[s] = FitSurfaceModel(s, trials);
+  for (const auto& s : surfaces) out.surfaces[s] = FitSurfaceModel(s, trials, std::max(1, jobs));
   out.trials.resize(trials.size());
   core::ParallelFor(trials.size(), std::max(1, jobs), [&](std::size_t i) {
     const auto& t = trials[i];

@@ -8,6 +8,7 @@
 #include <boost/math/tools/minima.hpp>
 
 #include "core/frames.h"
+#include "core/parallel.h"
 #include "tracking/pose.h"
 
 namespace hoof::compare {
@@ -237,7 +238,7 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& t,
 }
 
 SurfaceModel FitSurfaceModel(const std::string& surface,
-                             const std::vector<pipeline::TrialAnalysis>& trials) {
+                             const std::vector<pipeline::TrialAnalysis>& trials, int jobs) {
   SurfaceModel m;
   m.surface = surface;
   std::vector<const pipeline::TrialAnalysis*> normal, oblique;
@@ -278,9 +279,10 @@ SurfaceModel FitSurfaceModel(const std::string& surface,
   // mu: least squares of the tangential velocity of C and the spin after the impact, weighted
   // by their standard errors; touch times fixed from a first simulation (they hardly depend on
   // mu).
-  std::vector<double> touch;
-  for (const auto* t : oblique)
-    touch.push_back(TouchTime(*t, Simulator(*t, {m.k_N_m, m.b_N_s_m, 0.3})));
+  std::vector<double> touch(oblique.size());
+  core::ParallelFor(oblique.size(), jobs, [&](std::size_t i) {
+    touch[i] = TouchTime(*oblique[i], Simulator(*oblique[i], {m.k_N_m, m.b_N_s_m, 0.3}));
+  });
   auto cost = [&](double mu) {
     double s = 0;
     for (std::size_t i = 0; i < oblique.size(); ++i) {
@@ -299,8 +301,11 @@ SurfaceModel FitSurfaceModel(const std::string& surface,
   // A grid first (the sum has kinks where trials change between sliding and sticking), then
   // Brent about the best grid point.
   constexpr double kStep = 0.01, kMax = 1.5;
-  std::vector<double> grid;
-  for (double mu = 0; mu <= kMax + 1e-9; mu += kStep) grid.push_back(cost(mu));
+  std::vector<double> at;
+  for (double mu = 0; mu <= kMax + 1e-9; mu += kStep) at.push_back(mu);
+  // Each point's sum is the same on any thread: the grid is the same for any `jobs`.
+  std::vector<double> grid(at.size());
+  core::ParallelFor(at.size(), jobs, [&](std::size_t i) { grid[i] = cost(at[i]); });
   const std::size_t best =
       static_cast<std::size_t>(std::min_element(grid.begin(), grid.end()) - grid.begin());
   const double lo = std::max(0.0, (static_cast<double>(best) - 1) * kStep);

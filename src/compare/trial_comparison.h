@@ -118,8 +118,9 @@ std::pair<Eigen::Vector2d, double> SimulatedAfterAtImpactTime(const pipeline::Tr
                                                               const dynamics::ImpactResult& result,
                                                               double t_touch_s);
 
-/// Fits the contact law of `surface` to the successful trials among `trials` on it.
+/// Fits the contact law of `surface` to the successful trials among `trials` on it. `jobs`
+/// threads (0 = all cores) evaluate the grid in mu; the result is the same for any number.
 SurfaceModel FitSurfaceModel(const std::string& surface,
-                             const std::vector<pipeline::TrialAnalysis>& trials);
+                             const std::vector<pipeline::TrialAnalysis>& trials, int jobs = 1);
 
 }  // namespace hoof::compare

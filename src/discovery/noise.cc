@@ -168,8 +168,14 @@ Noise EstimateNoise(const Workspace& ws, const std::vector<int>& which,
   // From the start given (the last estimate, in a fit's alternation) and from the initial noise
   // model, the better of the two: a misfit of the moment (a candidate far from its optimum) can
   // raise an s.d. to where the search from it stays, and a fit alternating with it stays too.
-  const Noise a = EstimateNoiseFrom(ws, which, r, s, start);
-  const Noise b = EstimateNoiseFrom(ws, which, r, s, InitialNoise(ws));
+  // The two searches are independent, and each is the same on any thread.
+  Noise a, b;
+  ws.ParallelFor(2, [&](std::size_t k) {
+    if (k == 0)
+      a = EstimateNoiseFrom(ws, which, r, s, start);
+    else
+      b = EstimateNoiseFrom(ws, which, r, s, InitialNoise(ws));
+  });
   return LogLikelihood(ws, which, r, s, b) > LogLikelihood(ws, which, r, s, a) ? b : a;
 }
 

@@ -116,7 +116,7 @@ void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOp
   std::map<std::string, compare::SurfaceModel> base;
   for (const auto* t : used)
     if (!base.count(t->spec.surface))
-      base[t->spec.surface] = compare::FitSurfaceModel(t->spec.surface, trials);
+      base[t->spec.surface] = compare::FitSurfaceModel(t->spec.surface, trials, ws.threads);
   for (const auto* t : used) {
     const auto& m = base.at(t->spec.surface);
     if (!m.success) {

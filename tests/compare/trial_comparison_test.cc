@@ -70,6 +70,24 @@ TEST(TrialComparisonTest, SurfaceModelsRecoverTheRenderedContactLaw) {
   }
 }
 
+TEST(TrialComparisonTest, SurfaceModelIsTheSameWhateverTheThreads) {
+  // The grid in mu runs in parallel; each point's sum is formed on one thread in trial order,
+  // so the fit must agree to the last bit.
+  for (const std::string surface : {"steel", "asphalt"}) {
+    const SurfaceModel one = FitSurfaceModel(surface, Trials(), 1);
+    for (int jobs : {2, 3}) {
+      const SurfaceModel many = FitSurfaceModel(surface, Trials(), jobs);
+      ASSERT_TRUE(many.success) << many.message;
+      EXPECT_EQ(many.zeta_fit.zeta, one.zeta_fit.zeta) << surface << " jobs " << jobs;
+      EXPECT_EQ(many.mu, one.mu) << surface << " jobs " << jobs;
+      if (std::isfinite(one.mu_se)) {
+        EXPECT_EQ(many.mu_se, one.mu_se) << surface;
+      }
+      EXPECT_EQ(many.mu_only_lower_bound, one.mu_only_lower_bound) << surface;
+    }
+  }
+}
+
 TEST(TrialComparisonTest, SimulatedVelocitiesAgreeWithinTheMeasurementUncertainty) {
   std::map<std::string, SurfaceModel> models;
   for (const std::string surface : {"steel", "asphalt"})
