@@ -7,6 +7,8 @@
 // for a fit that ends in the wrong optimum; it asserts nothing.
 //
 //   build/bench/discovery_profile STUDY_H5 [--effect KEY] [--sizes 0.01,0.02] [--mu-starts 0.3]
+//                                 [--ladder N] [--held-out] [--split]
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -60,7 +62,7 @@ int main(int argc, char** argv) {
   std::vector<double> mu_starts;
   int threads = 2;
   std::size_t ladder_peaks = 0;
-  bool held_out = false;
+  bool held_out = false, split = false;
   app.add_option("study", path, "Study file (hoofimpact analyze)")
       ->required()
       ->check(CLI::ExistingFile);
@@ -77,6 +79,11 @@ int main(int argc, char** argv) {
                "At each size, the effect's free fit from there and its held-out errors: in the "
                "baseline's covariance (discovery's rule) and as the negative log predictive "
                "density under each model's own");
+  app.add_flag("--split", split,
+               "At each size, the gain split into the part of the predictions (the effect's "
+               "residuals in the baseline's covariance) and the part of the covariance (its own "
+               "sensitivities and noise model), with the oblique trials' median |d prediction / "
+               "d mu| under each");
   CLI11_PARSE(app, argc, argv);
   try {
     const LibraryEntry& e = Entry(key);
@@ -142,6 +149,35 @@ int main(int argc, char** argv) {
         std::printf("  %s = %-8s from mu %-9s  2 dlogL %9.2f  mu %s%s\n", e.parameter.c_str(),
                     Fmt(size, 3).c_str(), mu0 > 0 ? Fmt(mu0, 3).c_str() : "baseline",
                     2 * (f.loglik - base.loglik), Mus(f).c_str(), f.ok ? "" : "  (fit failed)");
+        if (split && f.ok) {
+          const auto base_sens = ws.Sensitivities(base.model, all);
+          const auto sens = ws.Sensitivities(f.model, all);
+          const double in_base_cov =
+              LogLikelihood(ws, all, ws.Residuals(f.model, all), base_sens, base.noise);
+          auto median_mu_slope = [&](const std::vector<Sensitivity>& v) {
+            std::vector<double> x;
+            for (std::size_t i = 0; i < all.size(); ++i)
+              if (!ws.obs[i].normal) x.push_back(v[i].col(1).norm());
+            if (x.empty()) return 0.0;
+            std::nth_element(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(x.size() / 2),
+                             x.end());
+            return x[x.size() / 2];
+          };
+          // Oblique trials whose slope by mu differs from the baseline's by more than a factor 2
+          // (a trial that sticks in one model and slides in the other).
+          int apart = 0, oblique = 0;
+          for (std::size_t i = 0; i < all.size(); ++i) {
+            if (ws.obs[i].normal) continue;
+            ++oblique;
+            const double a = sens[i].col(1).norm(), b = base_sens[i].col(1).norm();
+            apart += a > 2 * b || b > 2 * a;
+          }
+          std::printf(
+              "    of which the predictions %.2f, the covariance %.2f; oblique trials' median "
+              "|d/d mu| %.4g (baseline %.4g), %d of %d apart by more than 2x\n",
+              2 * (in_base_cov - base.loglik), 2 * (f.loglik - in_base_cov),
+              median_mu_slope(sens), median_mu_slope(base_sens), apart, oblique);
+        }
         if (held_out && f.ok) {
           const Fit fr = FitModel(ws, all, f.model, {key}, f.noise, true, 12);
           const auto [cv_in_base, nlpd_own] = HeldOut(ws, fr, {key}, base, folds);
