@@ -175,8 +175,8 @@ int main(int argc, char** argv) {
           std::printf(
               "    of which the predictions %.2f, the covariance %.2f; oblique trials' median "
               "|d/d mu| %.4g (baseline %.4g), %d of %d apart by more than 2x\n",
-              2 * (in_base_cov - base.loglik), 2 * (f.loglik - in_base_cov),
-              median_mu_slope(sens), median_mu_slope(base_sens), apart, oblique);
+              2 * (in_base_cov - base.loglik), 2 * (f.loglik - in_base_cov), median_mu_slope(sens),
+              median_mu_slope(base_sens), apart, oblique);
         }
         if (held_out && f.ok) {
           const Fit fr = FitModel(ws, all, f.model, {key}, f.noise, true, 12);
