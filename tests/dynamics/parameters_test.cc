@@ -1,5 +1,6 @@
 #include "dynamics/parameters.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <set>
@@ -146,11 +147,17 @@ TEST(ParametersTest, TheExtensionTableHoldsEveryFieldOnce) {
   EXPECT_EQ(x.friction_speed_slope_s_m, 0.5);
 }
 
-TEST(ParametersTest, EachExtensionRefusesAValueBelowItsRangeByName) {
+TEST(ParametersTest, EachExtensionRefusesAValueOutsideItsRangeByName) {
   for (const auto& f : ContactExtensionFields()) {
     ContactExtensions x;
     x.*f.member = f.lower_open ? f.valid_lower : f.valid_lower - 1e-3;
     ExpectInvalid([&] { x.Validate(); }, f.key);
+    // And above it, where the range has an end; the message states the range.
+    if (std::isfinite(f.valid_upper)) {
+      x = ContactExtensions{};
+      x.*f.member = f.valid_upper + 1e-3 * std::max(1.0, std::abs(f.valid_upper));
+      ExpectInvalid([&] { x.Validate(); }, "must be in [");
+    }
     x = ContactExtensions{};
     x.*f.member = f.option_lower;
     EXPECT_NO_THROW(x.Validate()) << f.key;
