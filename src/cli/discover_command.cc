@@ -101,7 +101,8 @@ bool SaysWhy(const discovery::CandidateResult& c) {
          c.outcome == CandidateOutcome::kWeakerThanAdded ||
          c.outcome == CandidateOutcome::kWorseHeldOut ||
          c.outcome == CandidateOutcome::kBelowResolution ||
-         c.outcome == CandidateOutcome::kAtSmallestValue;
+         c.outcome == CandidateOutcome::kAtSmallestValue ||
+         c.outcome == CandidateOutcome::kRestsOnOneTrial;
 }
 
 /// The held-out score the candidate is judged by, and the current model's.

@@ -4,6 +4,7 @@
 // judged; the strongest significant one is added.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <numeric>
@@ -241,18 +242,54 @@ Fit FitFromStarts(const RoundContext& x, const std::string& key, const Fit& prob
 /// the noise model a better optimum than the current fit did; the reference is then the current
 /// model refitted from there, so that a gain of the baseline's own parameters is not credited to
 /// the effect.
-double ReferenceLogLikelihood(const RoundContext& x, const std::string& key, const Fit& chosen) {
-  double reference = x.state.current.loglik;
+double ReferenceLogLikelihood(const RoundContext& x, const std::string& key, const Fit& chosen,
+                              const Fit& current, const std::vector<int>& which) {
+  double reference = current.loglik;
   Model back = chosen.model;
   back.effects.erase(key);
-  const Fit again = FitModel(x.ws, x.all, back, x.free_current, chosen.noise, true);
+  const Fit again = FitModel(x.ws, which, back, x.free_current, chosen.noise, true);
   if (again.ok && again.loglik > reference) reference = again.loglik;
   // And the candidate's own solution with the effect removed, as it stands: the alternation
   // of model and noise is not monotone, so a refit from a point can end below it.
-  const auto r_back = x.ws.Residuals(back, x.all);
-  const auto s_back = x.ws.Sensitivities(back, x.all);
-  const Noise n_back = EstimateNoise(x.ws, x.all, r_back, s_back, chosen.noise);
-  return std::max(reference, LogLikelihood(x.ws, x.all, r_back, s_back, n_back));
+  const auto r_back = x.ws.Residuals(back, which);
+  const auto s_back = x.ws.Sensitivities(back, which);
+  const Noise n_back = EstimateNoise(x.ws, which, r_back, s_back, chosen.noise);
+  return std::max(reference, LogLikelihood(x.ws, which, r_back, s_back, n_back));
+}
+double ReferenceLogLikelihood(const RoundContext& x, const std::string& key, const Fit& chosen) {
+  return ReferenceLogLikelihood(x, key, chosen, x.state.current, x.all);
+}
+
+/// The obs whose log-likelihood gains most from `chosen` against the current model (each under
+/// its own noise model), and its evidence without that obs: the likelihood-ratio p with the
+/// current model and the candidate both refitted from their full-data fits on the other obs.
+/// A systematic error per surface is shared by its trials, so a single trial that the current
+/// model cannot follow (a 10 deg trial that slid where the rest stuck, say) raises it for every
+/// trial of its surface, and an effect that explains that one trial gains on all of them.
+void CheckInfluence(const RoundContext& x, const std::string& key,
+                    const std::vector<std::string>& free, const Fit& chosen, CandidateResult& c) {
+  const Fit& current = x.state.current;
+  const auto r = x.ws.Residuals(chosen.model, x.all);
+  const auto sens = x.ws.Sensitivities(chosen.model, x.all);
+  std::size_t most = 0;
+  double gain_most = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < x.all.size(); ++i) {
+    const std::vector<int> one{x.all[i]};
+    const double gain =
+        LogLikelihood(x.ws, one, {r[i]}, {sens[i]}, chosen.noise) -
+        LogLikelihood(x.ws, one, {x.residual_current[i]}, {x.sens[i]}, current.noise);
+    if (gain > gain_most) gain_most = gain, most = i;
+  }
+  std::vector<int> without;
+  for (std::size_t i = 0; i < x.all.size(); ++i)
+    if (i != most) without.push_back(x.all[i]);
+  const Fit base = FitModel(x.ws, without, current.model, x.free_current, current.noise, true);
+  const Fit with = FitModel(x.ws, without, chosen.model, free, chosen.noise, true);
+  const double reference = ReferenceLogLikelihood(x, key, with, base, without);
+  const Obs& o = x.ws.obs[static_cast<std::size_t>(x.all[most])];
+  c.influential_trial = o.trial ? o.trial->spec.id : "trial " + std::to_string(x.all[most] + 1);
+  c.p_without_influential =
+      ChiBarSquareUpperTail(std::max(0.0, 2 * (with.loglik - reference)), c.df);
 }
 
 /// Per surface against shared: a likelihood ratio with S - 1 degrees of freedom, and a Wald
@@ -377,6 +414,7 @@ Evaluation EvaluateContact(const RoundContext& x, const std::string& key) {
   c.wald_clear = false;
   for (const auto& v : c.values)
     c.wald_clear |= v.se > 0 && (v.value - e.smallest) / v.se > z_level;
+  if (ContactEvidenceHolds(c, x.level, LaterRound(x))) CheckInfluence(x, key, free, chosen, c);
   c.significant = ContactEvidenceHolds(c, x.level, LaterRound(x));
   ev.fit = chosen;
   ev.free = free;
@@ -416,6 +454,12 @@ void ExplainNotSignificant(const RoundContext& x, CandidateResult& c) {
         << " +- " << Fmt(c.se) << UnitSuffix(c.unit)
         << " does not stand clear of 0 at the naming level: the gain is in zeta, mu or the noise "
            "model";
+  } else if (c.p_without_influential >= x.level) {
+    c.outcome = CandidateOutcome::kRestsOnOneTrial;
+    why << "likelihood-ratio p = " << FmtP(c.p_value) << ", but without the trial that gains most "
+        << "from it (" << c.influential_trial << ") p = " << FmtP(c.p_without_influential)
+        << ", not below the naming level: one trial the current model cannot follow is no "
+           "evidence of an effect";
   } else if (!HeldOutFell(c)) {
     c.outcome = CandidateOutcome::kWorseHeldOut;
     why << "p = " << FmtP(c.p_value) << " is significant, but its " << HeldOutText(c)

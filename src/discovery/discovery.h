@@ -160,6 +160,8 @@ enum class CandidateOutcome {
                        ///< tilt within DiscoveryOptions::marker_ratio_tolerance)
   kAtSmallestValue,    ///< its likelihood ratio is significant, but its estimate does not stand
                        ///< clear of LibraryEntry::smallest (where that is above 0)
+  kRestsOnOneTrial,    ///< significant, but not without the trial that gains most from it
+                       ///< (CandidateResult::influential_trial)
   kNotTested,   ///< see Identifiability::kNotTested; also a rotation rate the marker layout cannot
                 ///< see
   kConfounded,  ///< see Identifiability::kConfounded
@@ -187,7 +189,7 @@ const char* ToString(FindingStatus v);
 /// scatter dominates), "unchanged" below 0.05 %, "n/a" when not finite.
 std::string GapChangeText(double gap_shrink);
 /// Every candidate outcome, in the enum's order (for the tables' choices and the text's widths).
-const std::array<CandidateOutcome, 10>& AllCandidateOutcomes();
+const std::array<CandidateOutcome, 11>& AllCandidateOutcomes();
 /// The inverses (for the study file); throw std::invalid_argument naming the text.
 Identifiability IdentifiabilityFromString(const std::string& s);
 CandidateOutcome CandidateOutcomeFromString(const std::string& s);
@@ -256,8 +258,14 @@ struct CandidateResult {
   /// standard error (one-sided Wald at the naming level; any surface's value for a per-surface
   /// effect).
   bool wald_clear = false;
+  /// The trial whose likelihood gains most from the effect (a contact effect whose evidence
+  /// holds otherwise; empty when not checked), and the likelihood-ratio p of the effect with both
+  /// models refitted without that trial (NaN when not checked).
+  std::string influential_trial;
+  double p_without_influential = core::kNaN;
   /// p_value < the naming level (Round::naming_level), wald_clear, and the held-out score fell
-  /// (HeldOutFell); for a contact effect in a round after an effect was added, also cv_p < 0.05.
+  /// (HeldOutFell); for a contact effect in a round after an effect was added, also cv_p < 0.05;
+  /// for a contact effect, also p_without_influential below the naming level where checked.
   bool significant = false;
   CandidateOutcome outcome = CandidateOutcome::kNotSignificant;
   std::string reason;  ///< why it was or was not added, in words
@@ -284,7 +292,8 @@ inline constexpr double kLaterRoundHeldOutLevel = 0.05;
 /// Whether a contact candidate's evidence names it: fitted, its likelihood-ratio p below the
 /// round's naming level, its estimate clear of 0 (wald_clear), its held-out score lower
 /// (HeldOutFell), and in a round after an effect was added (`later_round`), significantly lower
-/// (cv_p < kLaterRoundHeldOutLevel).
+/// (cv_p < kLaterRoundHeldOutLevel), and where it was checked, its p without its most
+/// influential trial below the naming level too (CandidateResult::p_without_influential).
 bool ContactEvidenceHolds(const CandidateResult& c, double naming_level, bool later_round);
 /// That score for this model and for the current model, as text: the density to 3 decimals (its
 /// values sit far from 0 and only their difference matters), the error to 3 significant digits;

@@ -73,6 +73,8 @@ json CandidateJson(const CandidateResult& c) {
           {"identifiability", ToString(c.identifiability)},
           {"confounded_with", c.confounded_with},
           {"wald_clear", c.wald_clear},
+          {"influential_trial", c.influential_trial},
+          {"p_without_influential", JsonNumber(c.p_without_influential)},
           {"significant", c.significant},
           {"outcome", ToString(c.outcome)},
           {"reason", c.reason},

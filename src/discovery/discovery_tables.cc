@@ -95,9 +95,9 @@ Table TestsTable(const std::string& name, const std::string& description,
 Table CandidatesTable(const std::string& name, const std::vector<CandidateResult>& candidates) {
   std::vector<std::int64_t> rank, measurement, fitted, significant, df, wald_clear;
   std::vector<std::string> key, label, parameter, unit, message, form, ident, confounded, outcome,
-      reason;
+      reason, influential;
   std::vector<double> estimate, se, lr, p, p_per_surface, aic, bic, cv, cv_current, density,
-      density_current, cv_p, detection_limit;
+      density_current, cv_p, detection_limit, p_without;
   for (const auto& c : candidates) {
     rank.push_back(c.rank);
     key.push_back(c.key);
@@ -125,6 +125,8 @@ Table CandidatesTable(const std::string& name, const std::vector<CandidateResult
     confounded.push_back(c.confounded_with);
     significant.push_back(Flag(c.significant));
     wald_clear.push_back(Flag(c.wald_clear));
+    influential.push_back(c.influential_trial);
+    p_without.push_back(c.p_without_influential);
     outcome.push_back(ToString(c.outcome));
     reason.push_back(c.reason);
     detection_limit.push_back(c.detection_limit);
@@ -190,11 +192,20 @@ Table CandidatesTable(const std::string& name, const std::vector<CandidateResult
                         "1 when the estimate stands clear of 0 (of the smallest value the fit may "
                         "take, where that is above 0) by its s.e. at the naming level",
                         wald_clear),
+       Column::Texts("influential_trial",
+                     "the trial whose log-likelihood gains most from the effect (checked for a "
+                     "contact effect whose evidence holds otherwise; empty when not checked)",
+                     influential),
+       Column::Numbers("p_without_influential", "1",
+                       "likelihood-ratio p with the current model and the effect both refitted "
+                       "without influential_trial (NaN when not checked)",
+                       p_without),
        Column::Integers(
            "significant", "",
            "1 when p_value < alpha / candidates, wald_clear and the held-out score fell "
            "(cv_density where finite, else cv_error; for cv_density in a round after an added "
-           "effect, significantly: cv_p < 0.05)",
+           "effect, significantly: cv_p < 0.05), and p_without_influential, where checked, is "
+           "below the naming level too",
            significant),
        Column::Texts("outcome", "why it was or was not added: " + outcomes, outcome),
        Column::Texts("reason", "why it was or was not added, in words", reason),
@@ -469,6 +480,11 @@ std::vector<CandidateResult> ReadCandidates(const std::filesystem::path& h5,
   std::vector<double> density(t.rows(), core::kNaN), density_current(t.rows(), core::kNaN);
   if (t.Has("cv_density"))
     density = t.Numbers("cv_density"), density_current = t.Numbers("cv_density_current");
+  // Since session 16; older files have none (not checked).
+  std::vector<std::string> influential(t.rows());
+  std::vector<double> p_without(t.rows(), core::kNaN);
+  if (t.Has("influential_trial"))
+    influential = t.Texts("influential_trial"), p_without = t.Numbers("p_without_influential");
   std::vector<CandidateResult> out(t.rows());
   for (std::size_t i = 0; i < t.rows(); ++i) {
     auto& c = out[i];
@@ -498,6 +514,8 @@ std::vector<CandidateResult> ReadCandidates(const std::filesystem::path& h5,
     c.confounded_with = confounded[i];
     c.significant = significant[i];
     c.wald_clear = wald_clear[i];
+    c.influential_trial = influential[i];
+    c.p_without_influential = p_without[i];
     c.outcome = outcome[i];
     c.reason = reason[i];
     c.detection_limit = detection_limit[i];

@@ -68,7 +68,8 @@ bool HeldOutFell(const CandidateResult& c) {
 
 bool ContactEvidenceHolds(const CandidateResult& c, double naming_level, bool later_round) {
   return c.fitted && c.p_value < naming_level && c.wald_clear && HeldOutFell(c) &&
-         (!later_round || c.cv_p < kLaterRoundHeldOutLevel);
+         (!later_round || c.cv_p < kLaterRoundHeldOutLevel) &&
+         !(c.p_without_influential >= naming_level);
 }
 
 std::array<std::string, 2> HeldOutScores(const CandidateResult& c) {
@@ -225,12 +226,12 @@ std::string UpperBoundNote(const std::string& key, double value) {
   return AtUpperBound(key, value) ? " (the library's upper bound)" : "";
 }
 
-const std::array<CandidateOutcome, 10>& AllCandidateOutcomes() {
+const std::array<CandidateOutcome, 11>& AllCandidateOutcomes() {
   using O = CandidateOutcome;
-  static const std::array<CandidateOutcome, 10> all{
-      O::kAdded,        O::kIndistinguishable, O::kWeakerThanAdded, O::kNotSignificant,
-      O::kWorseHeldOut, O::kBelowResolution,   O::kAtSmallestValue, O::kNotTested,
-      O::kConfounded,   O::kNotFitted};
+  static const std::array<CandidateOutcome, 11> all{
+      O::kAdded,           O::kIndistinguishable, O::kWeakerThanAdded, O::kNotSignificant,
+      O::kWorseHeldOut,    O::kBelowResolution,   O::kAtSmallestValue, O::kRestsOnOneTrial,
+      O::kNotTested,       O::kConfounded,        O::kNotFitted};
   return all;
 }
 
@@ -273,6 +274,8 @@ const char* ToString(CandidateOutcome v) {
       return "below the measurement's resolution";
     case CandidateOutcome::kAtSmallestValue:
       return "on the library's smallest value";
+    case CandidateOutcome::kRestsOnOneTrial:
+      return "rests on one trial";
     case CandidateOutcome::kNotTested:
       return "not tested by these data";
     case CandidateOutcome::kConfounded:

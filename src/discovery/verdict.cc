@@ -124,6 +124,7 @@ std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& opti
       if ((!c.measurement_effect || IsRotationRate(c.key)) &&
           (c.outcome == CandidateOutcome::kNotSignificant ||
            c.outcome == CandidateOutcome::kWorseHeldOut ||
+           c.outcome == CandidateOutcome::kRestsOnOneTrial ||
            c.outcome == CandidateOutcome::kConfounded)) {
         // No limit: the ladder reached the library's largest value without 80 % power (the
         // effect's change there is still within the noise, or zeta and mu take it back).

@@ -4,7 +4,6 @@
 // power at a detection limit against the 80 % that the limit's noncentrality promises.
 #include <cmath>
 #include <iostream>
-#include <numbers>
 #include <string>
 #include <vector>
 
@@ -13,45 +12,17 @@
 #include "discovery/internal.h"
 #include "dynamics/parameters.h"
 #include "stats/distributions.h"
+#include "steel_study.h"
 
 namespace hoof::discovery::internal {
 namespace {
 
 constexpr double kZeta = 0.12, kMu = 0.35;
 
-/// One steel surface: impacts at `angles_deg`, `per_angle` speeds each spread over 1.5-4 m/s,
-/// with the measured velocities of the paper's model (SimulateStudy replaces them) and a
-/// measurement s.e. of 1e-4 of the impact speed per component.
+/// SteelStudy (steel_study.h) at this file's zeta and mu.
 void SteelStudy(Workspace& ws, const std::vector<double>& angles_deg, int per_angle,
                 int threads = 2) {
-  ws.surfaces = {"steel"};
-  ws.k = {dynamics::PaperContact(dynamics::Surface::kSteel).k_N_m};
-  ws.has_oblique = {false};
-  ws.zeta_start = {kZeta};
-  ws.mu_start = {kMu};
-  ws.threads = threads;
-  ws.measurement_floor = 1e-4;
-  int fold = 0;
-  for (double angle_deg : angles_deg)
-    for (int k = 0; k < per_angle; ++k) {
-      const double speed = 1.5 + 2.5 * k / (per_angle - 1);
-      Obs o;
-      o.surface = 0;
-      o.angle_deg = angle_deg;
-      o.speed_m_s = speed;
-      o.normal = angle_deg == 0.0;
-      ws.has_oblique[0] = ws.has_oblique[0] || !o.normal;
-      o.phi = angle_deg * std::numbers::pi / 180.0;
-      o.conditions = dynamics::ImpactConditions::Paper(speed, angle_deg);
-      o.scale = speed;
-      o.used = {!o.normal, true, !o.normal};
-      o.measurement_var = Eigen::Vector3d::Constant(1e-8);
-      o.fold = fold++ % 3;
-      bool ok = false;
-      o.measured = ws.Predict(o, kZeta, kMu, {}, &ok);
-      EXPECT_TRUE(ok);
-      ws.obs.push_back(o);
-    }
+  internal::SteelStudy(ws, angles_deg, per_angle, kZeta, kMu, threads);
 }
 
 Fit Truth(double zeta_sd, double mu_sd) {

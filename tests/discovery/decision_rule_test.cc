@@ -17,7 +17,8 @@ constexpr double kLevel = 1e-3;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// A contact candidate that every condition names: p far below the level, clear of 0, its
-/// held-out density lower by 0.5 nats per trial and significantly so.
+/// held-out density lower by 0.5 nats per trial and significantly so; its influence not checked
+/// (p_without_influential NaN).
 CandidateResult Strong() {
   CandidateResult c;
   c.key = "hunt_crossley";
@@ -53,6 +54,11 @@ TEST(DecisionRuleTest, EachConditionRefusesOnItsOwn) {
   c.cv_density = c.cv_density_current + 0.01;
   c.cv_error = 0.5;  // a lower error does not stand in for the density
   EXPECT_FALSE(ContactEvidenceHolds(c, kLevel, false)) << "a higher held-out density";
+  c = Strong();
+  c.p_without_influential = kLevel;  // not below
+  EXPECT_FALSE(ContactEvidenceHolds(c, kLevel, false)) << "resting on one trial";
+  c.p_without_influential = 0.5 * kLevel;
+  EXPECT_TRUE(ContactEvidenceHolds(c, kLevel, false)) << "holding without its most influential";
 }
 
 TEST(DecisionRuleTest, AfterAnAddedEffectTheHeldOutDensityMustFallSignificantly) {

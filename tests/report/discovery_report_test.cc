@@ -166,6 +166,8 @@ DiscoveryResult Result() {
   hc.identifiability = Identifiability::kIdentified;
   hc.significant = true;
   hc.wald_clear = true;
+  hc.influential_trial = "asphalt_30deg_v4.00_r2";
+  hc.p_without_influential = 3e-9;
   hc.outcome = CandidateOutcome::kAdded;
   hc.reason = "the strongest significant candidate; lowers the held-out error from 3.1 to 0.95";
   hc.detection_limit = 0.12;
@@ -408,6 +410,9 @@ TEST(DiscoveryTablesTest, TheResultReadsBackAsWritten) {
     EXPECT_EQ(got.confounded_with, want.confounded_with) << what;
     EXPECT_EQ(got.significant, want.significant) << what;
     EXPECT_EQ(got.wald_clear, want.wald_clear) << what;
+    EXPECT_EQ(got.influential_trial, want.influential_trial) << what;
+    ExpectSameNumber(got.p_without_influential, want.p_without_influential,
+                     what + " p_without_influential");
     EXPECT_EQ(got.outcome, want.outcome) << what;
     EXPECT_EQ(got.reason, want.reason) << what;
     ExpectSameNumber(got.detection_limit, want.detection_limit, what + " detection_limit");
@@ -550,12 +555,15 @@ TEST(DiscoveryJsonTest, EachDecisionCanBeRetracedFromIt) {
   const auto& hc = round.at("candidates").at(0);
   EXPECT_EQ(hc.at("key"), "hunt_crossley");
   EXPECT_TRUE(hc.at("wald_clear").get<bool>());
+  EXPECT_EQ(hc.at("influential_trial"), "asphalt_30deg_v4.00_r2");
+  EXPECT_DOUBLE_EQ(hc.at("p_without_influential").get<double>(), 3e-9);
   EXPECT_DOUBLE_EQ(hc.at("cv_density").get<double>(), -10.5);
   EXPECT_DOUBLE_EQ(hc.at("cv_density_current").get<double>(), -8.25);
   EXPECT_DOUBLE_EQ(hc.at("cv_error").get<double>(), 0.95);
   const auto& oop = round.at("candidates").at(2);
   EXPECT_EQ(oop.at("key"), "out_of_plane");
   EXPECT_TRUE(oop.at("cv_density").is_null());
+  EXPECT_TRUE(oop.at("p_without_influential").is_null()) << "not checked";
   EXPECT_EQ(j.at("held_out_density_unit"), discovery::kHeldOutDensityUnit);
 }
 

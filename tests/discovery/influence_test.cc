@@ -1,0 +1,95 @@
+// A contact candidate's evidence without its most influential trial (CheckInfluence,
+// src/discovery/candidates.cc; docs/discovery.md, "One trial is no effect"). The systematic error
+// of the noise model is one per surface, so a single trial that the current model cannot
+// follow raises it for every trial of the surface, and an effect that explains that trial alone
+// then gains on all of them: its likelihood ratio is significant although only one trial
+// speaks for it. Judged without that trial, both models refitted, such an effect is not named;
+// an effect that every oblique trial shows still is.
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "discovery/internal.h"
+#include "steel_study.h"
+
+namespace hoof::discovery::internal {
+namespace {
+
+// Steel with its mu just above what a 10 deg impact needs to stick (tan 10 deg = 0.176): its
+// 10 deg trials stick, and a trial whose own mu falls lower would slide.
+constexpr double kZeta = 0.16, kMu = 0.185;
+constexpr double kLevel = 1e-3;
+
+/// 40 trials at 0, 10, 20 and 30 deg with the paper's scatter of e and mu, the measurement's
+/// systematic error 1e-3 of the impact speed, and `spring` (k/k_t, 0 for none) hidden.
+void Study(Workspace& ws, double spring, std::uint64_t seed) {
+  SteelStudy(ws, {0.0, 10.0, 20.0, 30.0}, 10, kZeta, kMu);
+  Fit truth;
+  truth.model.zeta = {kZeta};
+  truth.model.mu = {kMu};
+  if (spring > 0) truth.model.effects["tangential_compliance"] = {EffectForm::kShared, {spring}};
+  truth.noise.zeta_sd = {0.05};
+  truth.noise.mu_sd = {0.02};
+  truth.noise.systematic_sd = {Eigen::Vector3d::Constant(1e-3)};
+  const auto measured = SimulateStudy(ws, truth, seed);
+  for (std::size_t i = 0; i < ws.obs.size(); ++i) ws.obs[i].measured = measured[i];
+  // As Build sets it: the largest |mu_eff| of the oblique trials, from the velocities of C
+  // before (the conditions) and after (measured), in S.
+  ws.mu_eff_max = {0.0};
+  for (const Obs& o : ws.obs) {
+    if (o.normal) continue;
+    const Eigen::Vector2d dv = o.measured.head<2>() - o.conditions.v_SC_m_s;
+    ws.mu_eff_max[0] = std::max(ws.mu_eff_max[0], std::abs(dv.x() / dv.y()));
+  }
+}
+
+CandidateResult Judge(const Workspace& ws, const std::string& key) {
+  const Fit base = FitBaseline(ws);
+  EXPECT_TRUE(base.ok) << base.message;
+  DiscoveryOptions options;
+  options.per_surface = false;
+  return JudgeCandidate(ws, base, key, options, kLevel);
+}
+
+TEST(InfluenceTest, AnEffectThatOnlyOneTrialSpeaksForIsNotNamed) {
+  Workspace ws;
+  Study(ws, 0.0, 31);
+  // One 10 deg trial at 4 m/s leaves with v_x and w d off by 2 % and 5 % of its impact speed,
+  // as a trial that slid where the rest stuck (a scorecard study, one surface, showed this).
+  std::size_t odd = 0;
+  for (std::size_t i = 0; i < ws.obs.size(); ++i)
+    if (ws.obs[i].angle_deg == 10.0) odd = i;
+  ASSERT_EQ(ws.obs[odd].speed_m_s, 4.0);
+  ws.obs[odd].measured[0] += 0.02 * ws.obs[odd].scale;
+  ws.obs[odd].measured[2] += 0.05 * ws.obs[odd].scale;
+  const CandidateResult c = Judge(ws, "tangential_compliance");
+  std::cout << "p = " << c.p_value << ", without " << c.influential_trial
+            << " p = " << c.p_without_influential << ": " << c.reason << "\n";
+  // The case the check is for: significant, clear of 0, and lower held-out density, with that
+  // one trial; not without it.
+  EXPECT_LT(c.p_value, kLevel);
+  EXPECT_EQ(c.influential_trial, "trial " + std::to_string(odd + 1));
+  EXPECT_GE(c.p_without_influential, kLevel);
+  EXPECT_FALSE(c.significant);
+  EXPECT_EQ(c.outcome, CandidateOutcome::kRestsOnOneTrial);
+}
+
+TEST(InfluenceTest, AnEffectThatEveryObliqueTrialShowsIsNamedWithoutAnyOneOfThem) {
+  Workspace ws;
+  Study(ws, 0.05, 31);
+  const CandidateResult c = Judge(ws, "tangential_compliance");
+  std::cout << "k/k_t = " << c.estimate << " +- " << c.se << ", p = " << c.p_value << ", without "
+            << c.influential_trial << " p = " << c.p_without_influential << "\n";
+  EXPECT_TRUE(c.significant) << c.reason;
+  EXPECT_FALSE(c.influential_trial.empty());
+  EXPECT_LT(c.p_without_influential, kLevel);
+  // Its size is not what this test asks: on this study the fit lands on another of the spring's
+  // optima (0.097 +- 0.002; docs/discovery.md, "Local optima" under Limits).
+  EXPECT_GT(c.estimate, 0.0);
+}
+
+}  // namespace
+}  // namespace hoof::discovery::internal
