@@ -176,7 +176,9 @@ struct Fit {
 /// `start`; each free effect in the form `start` gives it) to the obs `which`. With
 /// `estimate_noise`, the noise model is re-estimated before and after each Ceres solve, for up
 /// to `passes` solves until the likelihood stops rising (it is then the profile likelihood);
-/// otherwise it stays `noise` and one solve is made.
+/// otherwise it stays `noise` and one solve is made. A pass that lowers the likelihood is
+/// halved toward its start (up to four times), and kept back at its start where no part of it
+/// gains: with `estimate_noise` a fit never ends below its start.
 Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& start,
              const std::vector<std::string>& free_effects, const Noise& noise, bool estimate_noise,
              int passes = 8);
