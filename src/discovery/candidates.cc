@@ -549,7 +549,9 @@ void Rank(std::vector<Evaluation>& evals) {
   std::stable_sort(evals.begin(), evals.end(), [&](const Evaluation& a, const Evaluation& b) {
     if (klass(a.c) != klass(b.c)) return klass(a.c) < klass(b.c);
     if (a.c.fitted != b.c.fitted) return a.c.fitted;
-    return a.c.p_value < b.c.p_value;
+    // A candidate not evaluated has no p (NaN): last, and a strict weak order all the same.
+    auto p = [](const CandidateResult& c) { return std::isnan(c.p_value) ? 2.0 : c.p_value; };
+    return p(a.c) < p(b.c);
   });
   for (std::size_t i = 0; i < evals.size(); ++i) evals[i].c.rank = static_cast<int>(i) + 1;
 }

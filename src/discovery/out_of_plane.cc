@@ -184,6 +184,35 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st,
   c.df = 1;
   const std::vector<RatioSeries> series = Series(ws, measured);
   const double upper = e.upper * kDeg, probe = e.probe * kDeg;
+  // A rotation that does not change the distance of the layout's first two markers (a roll when
+  // they lie along x_B) leaves nothing to hold out: the velocities alone decide.
+  bool ratio_blind = true;
+  {
+    const pipeline::OutOfPlaneMotion with = WithRate(st.motion, key, probe);
+    for (const Obs& o : ws.obs) {
+      const auto& specimen = measured[o.trial_index].spec.specimen;
+      ratio_blind &=
+          std::abs(pipeline::MarkerDistanceRatio(specimen, with.TiltAt(2e-3), with.RollAt(2e-3)) -
+                   pipeline::MarkerDistanceRatio(specimen, st.motion.TiltAt(2e-3),
+                                                 st.motion.RollAt(2e-3))) < 1e-9;
+    }
+  }
+  // Such a rotation is never named (below), so it is measured in the first round only: in a
+  // later round every refit carries the added effects, and its search was a third of the time of
+  // a study that named the tangential spring (docs/performance.md).
+  if (ratio_blind && !st.accepted.empty()) {
+    c.fitted = false;
+    c.message = "not measured again after round 1 (the image cannot see it)";
+    c.estimate = c.se = c.p_value = kNaN;
+    c.detection_limit = kNaN;
+    c.identifiability = Identifiability::kNotTested;
+    c.outcome = CandidateOutcome::kNotTested;
+    c.reason =
+        "the distance of the layout's first two markers does not change with this rotation, and "
+        "its bias of the velocities alone cannot be told from a contact effect on v_x and spin; "
+        "measured in round 1 only, since it cannot be named in any round";
+    return out;
+  }
 
   auto evaluate = [&](double rate, int passes) {
     Point p;
@@ -281,19 +310,6 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st,
   const double z_level = boost::math::quantile(boost::math::complement(z, level / 2));
   c.wald_clear = c.se > 0 && std::abs(c.estimate) / c.se > z_level;
 
-  // A rotation that does not change the distance of the layout's first two markers (a roll when
-  // they lie along x_B) leaves nothing to hold out: the velocities alone decide.
-  bool ratio_blind = true;
-  {
-    const pipeline::OutOfPlaneMotion with = WithRate(st.motion, key, probe);
-    for (const Obs& o : ws.obs) {
-      const auto& specimen = measured[o.trial_index].spec.specimen;
-      ratio_blind &=
-          std::abs(pipeline::MarkerDistanceRatio(specimen, with.TiltAt(2e-3), with.RollAt(2e-3)) -
-                   pipeline::MarkerDistanceRatio(specimen, st.motion.TiltAt(2e-3),
-                                                 st.motion.RollAt(2e-3))) < 1e-9;
-    }
-  }
   const RatioTerms none = Ratio(ws, measured, series, st.motion);
 
   // Held out: the marker distance of each fold's trials under the rate fitted without them,

@@ -351,6 +351,18 @@ TEST(DiscoveryUnderScatterTest, NamesATangentialSpringThatPredictsHeldOutTrialsB
   EXPECT_GE(c.cv_error, c.cv_error_current);
   EXPECT_LT(c.cv_density, c.cv_density_current);
   EXPECT_TRUE(hoof::discovery::HeldOutFell(c));
+  // A roll that the layout's markers cannot see is measured in round 1 and not again: it can
+  // never be named, and with the spring in the model its search was the costliest candidate.
+  ASSERT_GE(r.rounds.size(), 2u);
+  int rolls = 0;
+  for (std::size_t k = 0; k < 2; ++k)
+    for (const auto& roll : r.rounds[k].candidates)
+      if (roll.key == "out_of_plane_roll_rate") {
+        ++rolls;
+        EXPECT_EQ(roll.outcome, hoof::discovery::CandidateOutcome::kNotTested) << k;
+        EXPECT_EQ(roll.fitted, k == 0) << roll.reason;
+      }
+  EXPECT_EQ(rolls, 2);
 }
 
 // An out-of-plane rotation that grows through the clip (the renderer's tilt rate) is named from
