@@ -454,12 +454,12 @@ void ExplainNotSignificant(const RoundContext& x, CandidateResult& c) {
         << " +- " << Fmt(c.se) << UnitSuffix(c.unit)
         << " does not stand clear of 0 at the naming level: the gain is in zeta, mu or the noise "
            "model";
-  } else if (c.p_without_influential >= x.level) {
+  } else if (c.p_without_influential >= kWithoutInfluentialLevel) {
     c.outcome = CandidateOutcome::kRestsOnOneTrial;
     why << "likelihood-ratio p = " << FmtP(c.p_value) << ", but without the trial that gains most "
         << "from it (" << c.influential_trial << ") p = " << FmtP(c.p_without_influential)
-        << ", not below the naming level: one trial the current model cannot follow is no "
-           "evidence of an effect";
+        << ", not below " << Fmt(kWithoutInfluentialLevel)
+        << ": one trial the current model cannot follow is no evidence of an effect";
   } else if (!HeldOutFell(c)) {
     c.outcome = CandidateOutcome::kWorseHeldOut;
     why << "p = " << FmtP(c.p_value) << " is significant, but its " << HeldOutText(c)

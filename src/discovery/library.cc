@@ -69,7 +69,7 @@ bool HeldOutFell(const CandidateResult& c) {
 bool ContactEvidenceHolds(const CandidateResult& c, double naming_level, bool later_round) {
   return c.fitted && c.p_value < naming_level && c.wald_clear && HeldOutFell(c) &&
          (!later_round || c.cv_p < kLaterRoundHeldOutLevel) &&
-         !(c.p_without_influential >= naming_level);
+         !(c.p_without_influential >= kWithoutInfluentialLevel);
 }
 
 std::array<std::string, 2> HeldOutScores(const CandidateResult& c) {

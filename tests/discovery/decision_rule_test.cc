@@ -55,9 +55,11 @@ TEST(DecisionRuleTest, EachConditionRefusesOnItsOwn) {
   c.cv_error = 0.5;  // a lower error does not stand in for the density
   EXPECT_FALSE(ContactEvidenceHolds(c, kLevel, false)) << "a higher held-out density";
   c = Strong();
-  c.p_without_influential = kLevel;  // not below
+  c.p_without_influential = kWithoutInfluentialLevel;  // not below
   EXPECT_FALSE(ContactEvidenceHolds(c, kLevel, false)) << "resting on one trial";
-  c.p_without_influential = 0.5 * kLevel;
+  // A confirmation of the chosen candidate: at the family-wise alpha, not the naming level.
+  c.p_without_influential = 0.5 * kWithoutInfluentialLevel;
+  ASSERT_GT(c.p_without_influential, kLevel);
   EXPECT_TRUE(ContactEvidenceHolds(c, kLevel, false)) << "holding without its most influential";
 }
 
