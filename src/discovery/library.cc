@@ -229,9 +229,9 @@ std::string UpperBoundNote(const std::string& key, double value) {
 const std::array<CandidateOutcome, 11>& AllCandidateOutcomes() {
   using O = CandidateOutcome;
   static const std::array<CandidateOutcome, 11> all{
-      O::kAdded,           O::kIndistinguishable, O::kWeakerThanAdded, O::kNotSignificant,
-      O::kWorseHeldOut,    O::kBelowResolution,   O::kAtSmallestValue, O::kRestsOnOneTrial,
-      O::kNotTested,       O::kConfounded,        O::kNotFitted};
+      O::kAdded,        O::kIndistinguishable, O::kWeakerThanAdded, O::kNotSignificant,
+      O::kWorseHeldOut, O::kBelowResolution,   O::kAtSmallestValue, O::kRestsOnOneTrial,
+      O::kNotTested,    O::kConfounded,        O::kNotFitted};
   return all;
 }
 
