@@ -7,7 +7,7 @@
 // for a fit that ends in the wrong optimum; it asserts nothing.
 //
 //   build/bench/discovery_profile STUDY_H5 [--effect KEY] [--sizes 0.01,0.02] [--mu-starts 0.3]
-//                                 [--ladder N] [--held-out] [--split]
+//                                 [--ladder N] [--held-out] [--split] [--trials N]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
   int threads = 2;
   std::size_t ladder_peaks = 0;
   bool held_out = false, split = false;
+  std::size_t trials_shown = 0;
   app.add_option("study", path, "Study file (hoofimpact analyze)")
       ->required()
       ->check(CLI::ExistingFile);
@@ -84,6 +85,10 @@ int main(int argc, char** argv) {
                "residuals in the baseline's covariance) and the part of the covariance (its own "
                "sensitivities and noise model), with the oblique trials' median |d prediction / "
                "d mu| under each");
+  app.add_option("--trials", trials_shown,
+                 "At each size, the N trials whose log-likelihood gains most (each model under its "
+                 "own noise model), with the surface's systematic s.d. of v_x and w d under each: "
+                 "what discovery's check without the most influential trial looks at");
   CLI11_PARSE(app, argc, argv);
   try {
     const LibraryEntry& e = Entry(key);
@@ -177,6 +182,30 @@ int main(int argc, char** argv) {
               "|d/d mu| %.4g (baseline %.4g), %d of %d apart by more than 2x\n",
               2 * (in_base_cov - base.loglik), 2 * (f.loglik - in_base_cov), median_mu_slope(sens),
               median_mu_slope(base_sens), apart, oblique);
+        }
+        if (trials_shown > 0 && f.ok) {
+          // Per trial: 2 (log-likelihood with the effect - the baseline's), each under its own
+          // sensitivities and noise model, largest first.
+          const auto rb = ws.Residuals(base.model, all), rf = ws.Residuals(f.model, all);
+          const auto sb = ws.Sensitivities(base.model, all), sf = ws.Sensitivities(f.model, all);
+          std::vector<std::pair<double, std::size_t>> gain;
+          for (std::size_t i = 0; i < all.size(); ++i) {
+            const std::vector<int> one{all[i]};
+            gain.emplace_back(2 * (LogLikelihood(ws, one, {rf[i]}, {sf[i]}, f.noise) -
+                                   LogLikelihood(ws, one, {rb[i]}, {sb[i]}, base.noise)),
+                              i);
+          }
+          std::sort(gain.rbegin(), gain.rend());
+          for (std::size_t k = 0; k < std::min(trials_shown, gain.size()); ++k) {
+            const Obs& o = ws.obs[gain[k].second];
+            const auto s = static_cast<std::size_t>(o.surface);
+            std::printf(
+                "    %-28s 2 dlogL %8.2f  e %.3f mu_eff %.3f  systematic v_x, w d %.4f, "
+                "%.4f (baseline %.4f, %.4f)\n",
+                o.trial->spec.id.c_str(), gain[k].first, o.trial->impact.e, o.trial->impact.mu_eff,
+                f.noise.systematic_sd[s][0], f.noise.systematic_sd[s][2],
+                base.noise.systematic_sd[s][0], base.noise.systematic_sd[s][2]);
+          }
         }
         if (held_out && f.ok) {
           const Fit fr = FitModel(ws, all, f.model, {key}, f.noise, true, 12);
