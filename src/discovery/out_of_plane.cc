@@ -166,6 +166,44 @@ struct Point {
   Remeasured remeasured;
 };
 
+/// Detection limit of a rotation rate (degrees per second, NaN beyond `upper`): the smallest
+/// rate whose noncentrality, from the velocities (their information `info_velocity` about the
+/// rate, quadratic in it) and the marker distance (its dip, each trial's mean removed, over the
+/// no-rate variance), gives a two-sided test with critical value `z_level` 80 % power.
+double DetectionLimit(const Workspace& ws, const std::vector<pipeline::TrialAnalysis>& measured,
+                      const std::vector<RatioSeries>& series, const RoundState& st,
+                      const std::string& key, const RatioTerms& none, double z_level, double upper,
+                      double info_velocity) {
+  const double var = none.Variance(ws.All());
+  auto noncentrality = [&](double rate) {
+    double lambda = info_velocity * rate * rate;
+    if (var > 0) {
+      const pipeline::OutOfPlaneMotion m = WithRate(st.motion, key, rate);
+      for (std::size_t i = 0; i < ws.obs.size(); ++i) {
+        const RatioSeries& s = series[i];
+        if (s.t_s.empty()) continue;
+        const auto& specimen = measured[ws.obs[i].trial_index].spec.specimen;
+        std::vector<double> d(s.t_s.size());
+        for (std::size_t j = 0; j < d.size(); ++j)
+          d[j] = pipeline::MarkerDistanceRatio(specimen, m.TiltAt(s.t_s[j]), m.RollAt(s.t_s[j])) -
+                 pipeline::MarkerDistanceRatio(specimen, st.motion.TiltAt(s.t_s[j]),
+                                               st.motion.RollAt(s.t_s[j]));
+        const double md = std::accumulate(d.begin(), d.end(), 0.0) / static_cast<double>(d.size());
+        for (double x : d) lambda += (x - md) * (x - md) / var;
+      }
+    }
+    return lambda;
+  };
+  const double target = std::pow(z_level + boost::math::quantile(boost::math::normal(), 0.8), 2);
+  if (!(noncentrality(upper) >= target)) return kNaN;
+  double lo = 0, hi = upper;
+  for (int it = 0; it < 60; ++it) {
+    const double m = 0.5 * (lo + hi);
+    (noncentrality(m) >= target ? hi : lo) = m;
+  }
+  return hi / kDeg;
+}
+
 }  // namespace
 
 bool IsRotationRate(const std::string& key) { return Entry(key).rotation_rate; }
@@ -203,7 +241,7 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st,
   if (ratio_blind && !st.accepted.empty()) {
     c.fitted = false;
     c.message = "not measured again after round 1 (the image cannot see it)";
-    c.estimate = c.se = c.p_value = kNaN;
+    c.estimate = c.se = c.p_value = c.lr_statistic = c.delta_aic = c.delta_bic = kNaN;
     c.detection_limit = kNaN;
     c.identifiability = Identifiability::kNotTested;
     c.outcome = CandidateOutcome::kNotTested;
@@ -232,22 +270,54 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st,
     p.loglik = p.ratio_loglik + p.velocity_loglik;
     return p;
   };
+  // The image's own evidence first: the marker distance alone, at its best rate (its sign is
+  // not seen), against none. It needs no fit of the velocities.
+  const double from_ratio = std::abs(RatioOnlyRate(ws, measured, series, st, key, all, upper));
+  const double ratio_loglik_0 =
+      Ratio(ws, measured, series, WithRate(st.motion, key, 0.0)).Loglik(all);
+  const double ratio_lr = std::max(
+      0.0, 2 * (Ratio(ws, measured, series, WithRate(st.motion, key, from_ratio)).Loglik(all) -
+                ratio_loglik_0));
+  const double ratio_p = stats::ChiSquaredUpperTail(ratio_lr, 1);
   constexpr int kSearchPasses = 2;
-  const Point zero = evaluate(0.0, kSearchPasses);
+  Point zero = evaluate(0.0, kSearchPasses);
   if (!std::isfinite(zero.loglik)) {
     c.fitted = false;
     c.message = "the current model could not be refitted to the trials as measured";
     c.identifiability = Identifiability::kNotTested;
     return out;
   }
-  // Where the rate could be: the marker distance's own answer (its sign is not seen), and the
-  // probe size for the velocities when the marker distance has none.
-  const double from_ratio = std::abs(RatioOnlyRate(ws, measured, series, st, key, all, upper));
-  // The image's own evidence: the marker distance alone, at its best rate, against none.
-  const double ratio_lr = std::max(
-      0.0, 2 * (Ratio(ws, measured, series, WithRate(st.motion, key, from_ratio)).Loglik(all) -
-                zero.ratio_loglik));
-  const double ratio_p = stats::ChiSquaredUpperTail(ratio_lr, 1);
+  // Named only with the image's own evidence (below), so where the marker distance does not show
+  // the rate, a later round does not search the velocities for it again: there every refit
+  // carries the added effects, and the search took a fifth of the time of a study that named the
+  // tangential spring (docs/performance.md). The probes on either side of 0 still give the
+  // velocities' information for the detection limit.
+  const double z_level =
+      boost::math::quantile(boost::math::complement(boost::math::normal(), level / 2));
+  const RatioTerms none = Ratio(ws, measured, series, st.motion);
+  if (!st.accepted.empty() && !(ratio_p < level)) {
+    const double curvature_at_0 =
+        (evaluate(probe, kSearchPasses).velocity_loglik - 2 * zero.velocity_loglik +
+         evaluate(-probe, kSearchPasses).velocity_loglik) /
+        (probe * probe);
+    c.fitted = false;
+    c.message = "not searched again after round 1: the marker distance alone does not show it";
+    c.estimate = c.se = c.p_value = c.lr_statistic = c.delta_aic = c.delta_bic = kNaN;
+    c.cv_error = c.cv_error_current = c.cv_p = kNaN;
+    c.identifiability = Identifiability::kIdentified;
+    c.outcome = CandidateOutcome::kNotSignificant;
+    c.reason = "the marker distance alone does not show it (p = " + FmtP(ratio_p) +
+               "), and it is named only with the image's evidence; the velocities were searched "
+               "for it in round 1 and are not searched again";
+    c.detection_limit =
+        DetectionLimit(ws, measured, series, st, key, none, z_level, upper,
+                       std::isfinite(curvature_at_0) ? std::max(0.0, -curvature_at_0) : 0.0);
+    out.fit = zero.fit;
+    out.motion = st.motion;
+    out.remeasured = zero.remeasured.trials;
+    out.ws = std::move(zero.remeasured.ws);
+    return out;
+  }
   std::vector<double> starts;
   if (from_ratio > 1e-3 * probe) starts = {from_ratio, -from_ratio};
   starts.push_back(probe);
@@ -306,11 +376,7 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st,
   c.delta_bic = -c.lr_statistic + std::log(static_cast<double>(frames + residuals));
   c.identifiability = frames == 0 && !(info_velocity > 0) ? Identifiability::kNotTested
                                                           : Identifiability::kIdentified;
-  const boost::math::normal z;
-  const double z_level = boost::math::quantile(boost::math::complement(z, level / 2));
   c.wald_clear = c.se > 0 && std::abs(c.estimate) / c.se > z_level;
-
-  const RatioTerms none = Ratio(ws, measured, series, st.motion);
 
   // Held out: the marker distance of each fold's trials under the rate fitted without them,
   // against no rate, both in units of the no-rate variance of the other folds.
@@ -362,46 +428,12 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st,
         "): a bias of the velocities alone is also what a contact effect on v_x and spin does";
   }
 
-  // Detection limit: the smallest rate whose noncentrality, from the velocities (quadratic in
-  // the rate) and the marker distance (its dip, each trial's mean removed, over the no-rate
-  // variance), gives a two-sided test at `level` 80 % power.
-  {
-    const double var = none.Variance(all);
-    // The velocities' information from the probes; where the noise model's refits bend the
-    // log-likelihood there (it takes up a bias at 0), the observed information at the estimate.
-    const double info = info_velocity > 0 ? info_velocity
-                        : c.se > 0        ? 1 / std::pow(c.se * kDeg, 2)
-                                          : 0.0;
-    auto noncentrality = [&](double rate) {
-      double lambda = info * rate * rate;
-      if (var > 0) {
-        const pipeline::OutOfPlaneMotion m = WithRate(st.motion, key, rate);
-        for (std::size_t i = 0; i < ws.obs.size(); ++i) {
-          const RatioSeries& s = series[i];
-          if (s.t_s.empty()) continue;
-          const auto& specimen = measured[ws.obs[i].trial_index].spec.specimen;
-          std::vector<double> d(s.t_s.size());
-          for (std::size_t j = 0; j < d.size(); ++j)
-            d[j] = pipeline::MarkerDistanceRatio(specimen, m.TiltAt(s.t_s[j]), m.RollAt(s.t_s[j])) -
-                   pipeline::MarkerDistanceRatio(specimen, st.motion.TiltAt(s.t_s[j]),
-                                                 st.motion.RollAt(s.t_s[j]));
-          const double md =
-              std::accumulate(d.begin(), d.end(), 0.0) / static_cast<double>(d.size());
-          for (double x : d) lambda += (x - md) * (x - md) / var;
-        }
-      }
-      return lambda;
-    };
-    const double target = std::pow(z_level + boost::math::quantile(z, 0.8), 2);
-    if (noncentrality(upper) >= target) {
-      double lo = 0, hi = upper;
-      for (int it = 0; it < 60; ++it) {
-        const double m = 0.5 * (lo + hi);
-        (noncentrality(m) >= target ? hi : lo) = m;
-      }
-      c.detection_limit = hi / kDeg;
-    }
-  }
+  // The velocities' information from the probes; where the noise model's refits bend the
+  // log-likelihood there (it takes up a bias at 0), the observed information at the estimate.
+  c.detection_limit = DetectionLimit(ws, measured, series, st, key, none, z_level, upper,
+                                     info_velocity > 0 ? info_velocity
+                                     : c.se > 0        ? 1 / std::pow(c.se * kDeg, 2)
+                                                       : 0.0);
 
   out.fit = fin.fit;
   out.motion = WithRate(st.motion, key, fin.rate);

@@ -363,6 +363,26 @@ TEST(DiscoveryUnderScatterTest, NamesATangentialSpringThatPredictsHeldOutTrialsB
         EXPECT_EQ(roll.fitted, k == 0) << roll.reason;
       }
   EXPECT_EQ(rolls, 2);
+  // A tilt rate that the marker distance does not show cannot be named either: round 1 searches
+  // the velocities for it, later rounds only probe them for its detection limit.
+  const hoof::discovery::CandidateResult* tilt[2] = {nullptr, nullptr};
+  for (std::size_t k = 0; k < 2; ++k)
+    for (const auto& t : r.rounds[k].candidates)
+      if (t.key == "out_of_plane_rate") tilt[k] = &t;
+  ASSERT_NE(tilt[0], nullptr);
+  ASSERT_NE(tilt[1], nullptr);
+  EXPECT_TRUE(tilt[0]->fitted);
+  EXPECT_TRUE(std::isfinite(tilt[0]->p_value));
+  EXPECT_FALSE(tilt[1]->fitted);
+  EXPECT_TRUE(std::isnan(tilt[1]->p_value));
+  EXPECT_EQ(tilt[1]->outcome, hoof::discovery::CandidateOutcome::kNotSignificant);
+  EXPECT_NE(tilt[1]->reason.find("marker distance alone does not show it"), std::string::npos)
+      << tilt[1]->reason;
+  // Its limit, from the probes under the model with the spring, is that of round 1 within the
+  // change the spring makes to the velocities' noise.
+  ASSERT_TRUE(std::isfinite(tilt[0]->detection_limit));
+  ASSERT_TRUE(std::isfinite(tilt[1]->detection_limit));
+  EXPECT_LT(std::abs(std::log(tilt[1]->detection_limit / tilt[0]->detection_limit)), std::log(1.5));
 }
 
 // An out-of-plane rotation that grows through the clip (the renderer's tilt rate) is named from
