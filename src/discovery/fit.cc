@@ -27,6 +27,14 @@ constexpr double kConverged = 0.01;
 /// Halvings of a pass's step tried when the pass lowered the likelihood (FitModel).
 constexpr int kBacktracks = 4;
 
+/// Ceres stops a solve when an iteration lowers the cost (half the whitened sum of squares, about
+/// half the number of residual components at the optimum: 200 for 144 trials) by less than this
+/// fraction of it: 2e-4 there, a fiftieth of kConverged. Where the sensitivities of the stiff
+/// tangential spring turn from trial to trial, Levenberg-Marquardt crawled on at 1e-4 to 1e-6
+/// per iteration to its limit of 40; at 1e-9 a study that named the spring spent a quarter of its
+/// time there (docs/performance.md).
+constexpr double kFunctionTolerance = 1e-6;
+
 /// x = a + t (b - a), element by element.
 void Toward(std::vector<double>& x, const std::vector<double>& a, const std::vector<double>& b,
             double t) {
@@ -304,7 +312,7 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
     ceres::Solver::Options so;
     so.linear_solver_type = ceres::DENSE_QR;
     so.max_num_iterations = 40;
-    so.function_tolerance = 1e-9;
+    so.function_tolerance = kFunctionTolerance;
     so.parameter_tolerance = 1e-8;
     so.num_threads = 1;  // one block: the trials run in parallel inside StudyCost
     so.logging_type = ceres::SILENT;
