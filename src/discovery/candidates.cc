@@ -172,6 +172,18 @@ Evaluation EvaluateTilt(const RoundContext& x, const std::string& key) {
 /// mu_eff: above every trial's need to stick, and low enough that the effect's slip reaches it.
 constexpr double kFrictionLimitedStart = 1.5;
 
+/// The starts of a contact effect's fit where no size of its ladder gains
+/// (LibraryEntry::starts_without_gain).
+std::vector<double> StartsWithoutGain(const LibraryEntry& e) {
+  const double hi = 0.1 * e.probe;
+  if (e.starts_without_gain <= 1) return {hi};
+  const double lo = e.smallest > 0 ? e.smallest : 1e-3 * e.probe;
+  std::vector<double> starts;
+  for (int k = 0; k < e.starts_without_gain; ++k)
+    starts.push_back(lo * std::pow(hi / lo, static_cast<double>(k) / (e.starts_without_gain - 1)));
+  return starts;
+}
+
 /// A contact effect's free fit, shared by all surfaces, from the best of the starts: the
 /// ladder's three largest optima (or a tenth of the probe size when no size gains), each also
 /// from a lowered mu for a friction-limited effect, and the probe's fit. An optimum elsewhere
@@ -181,7 +193,7 @@ Fit FitFromStarts(const RoundContext& x, const std::string& key, const Fit& prob
   const LibraryEntry& e = Entry(key);
   const Fit& current = x.state.current;
   std::vector<double> starts = LadderStarts(x.probes.ladder.at(key), 3);
-  if (starts.empty()) starts.push_back(0.1 * e.probe);
+  if (starts.empty()) starts = StartsWithoutGain(e);
   // Where every trial of a surface sticks, its mu is not identified and no fit moves it; an
   // effect that slips where the rigid contact sticks also starts from a mu the trials allow
   // but a slip can reach (LibraryEntry::friction_limited).
@@ -200,7 +212,7 @@ Fit FitFromStarts(const RoundContext& x, const std::string& key, const Fit& prob
       const auto sens = x.ws.Sensitivities(lowered, x.all);
       std::vector<double> own = LadderStarts(
           Ladder(x.ws, lowered, key, r, sens, Covariances(x.ws, sens, current.noise)), 3);
-      if (own.empty()) own.push_back(0.1 * e.probe);
+      if (own.empty()) own = StartsWithoutGain(e);
       bases.push_back(lowered);
       base_starts.push_back(own);
     }

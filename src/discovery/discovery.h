@@ -69,6 +69,13 @@ struct LibraryEntry {
   /// also starts with mu lowered to 1.5 x the largest mu_eff measured on the surface
   /// (docs/discovery.md, "Fits").
   bool friction_limited = false;
+  /// Starts of its fit where no size of the ladder gains: log-spaced from the ladder's lowest
+  /// size to a tenth of the probe (one start, a tenth of the probe, when 1). The ladder is linear
+  /// in zeta and mu; a tangential spring gains only once a surface's mu moves far (from the
+  /// bound where its trials all stick, say), and its optima lie one per swing of its change, so
+  /// its ladder can show no gain where a fit from the right size finds one (docs/discovery.md,
+  /// "Fits").
+  int starts_without_gain = 1;
   /// A measurement effect that grows through the clip: the trials are re-measured with it
   /// (a tilt or roll rate, docs/discovery.md "Out-of-plane rotation that grows").
   bool rotation_rate = false;

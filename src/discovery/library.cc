@@ -163,6 +163,7 @@ const std::vector<LibraryEntry>& Library() {
        // sizes 1.3 times apart near 0.01, so the ladder needs about 8 sizes per such swing.
        .ladder_per_decade = 80.0,
        .friction_limited = true,
+       .starts_without_gain = 3,
        .extension = "tangential_compliance_ratio"},
       {.key = "rolling_resistance",
        .name = "rolling resistance (contact torque)",
