@@ -231,27 +231,8 @@ hoof::synth::StudyDesign MakeDesign(const StudyPoint& p) {
     return d;
   }
   // unreplicated: every surface and angle three times, each trial at its own speed drawn
-  // uniformly in [1.5, 4] m/s, so no two trials share a cell (36 trials). Trial ids carry the
-  // speed to 0.01 m/s; a draw whose id is taken is drawn again so that ids stay unique.
-  std::mt19937_64 rng(hoof::synth::MixSeed(d.seed, 0x5eed5));
-  std::uniform_real_distribution<double> speed(1.5, 4.0);
-  std::set<std::string> ids;
-  d.cells.clear();
-  for (auto surface : d.surfaces)
-    for (double angle : d.angles_deg)
-      for (int k = 0; k < 3; ++k) {
-        for (;;) {
-          const double v = speed(rng);
-          char id[96];
-          std::snprintf(id, sizeof id, "%s_%gdeg_v%.2f",
-                        hoof::dynamics::SurfaceName(surface).c_str(), angle, v);
-          if (ids.insert(id).second) {
-            d.cells.push_back({surface, angle, v});
-            break;
-          }
-        }
-      }
-  d.trials_per_cell = 1;
+  // uniformly in [1.5, 4] m/s, so no two trials share a cell (36 trials).
+  hoof::synth::DrawUnreplicatedCells(d);
   return d;
 }
 

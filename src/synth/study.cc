@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <mutex>
 #include <random>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -123,6 +124,28 @@ StudyResult RenderStudy(const StudyDesign& design, const SpecimenGeometry& geome
                           StudyJson(design.name, geometry, ids).dump(2) + "\n");
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
+}
+
+void DrawUnreplicatedCells(StudyDesign& design, int per_angle, double lo_m_s, double hi_m_s) {
+  std::mt19937_64 rng(MixSeed(design.seed, 0x5eed5));
+  std::uniform_real_distribution<double> speed(lo_m_s, hi_m_s);
+  std::set<std::string> ids;
+  design.cells.clear();
+  for (auto surface : design.surfaces)
+    for (double angle : design.angles_deg)
+      for (int k = 0; k < per_angle; ++k) {
+        for (;;) {
+          const double v = speed(rng);
+          char id[96];
+          std::snprintf(id, sizeof id, "%s_%gdeg_v%.2f", dynamics::SurfaceName(surface).c_str(),
+                        angle, v);
+          if (ids.insert(id).second) {
+            design.cells.push_back({surface, angle, v});
+            break;
+          }
+        }
+      }
+  design.trials_per_cell = 1;
 }
 
 }  // namespace hoof::synth

@@ -47,6 +47,15 @@ struct StudyDesign {
   std::vector<TrialSpec> Trials() const;
 };
 
+/// Makes `design` unreplicated: `per_angle` trials of every surface and angle, each at its own
+/// speed drawn uniformly in [lo, hi] m/s from a generator seeded by the design's seed, so that
+/// no two trials share a cell (36 trials for the paper's surfaces and angles: the scorecard's
+/// "unreplicated" design, docs/discovery.md). Trial ids carry the speed to 0.01 m/s; a draw
+/// whose id is taken is drawn again, so ids stay unique. Replaces `cells`, sets
+/// `trials_per_cell` to 1.
+void DrawUnreplicatedCells(StudyDesign& design, int per_angle = 3, double lo_m_s = 1.5,
+                           double hi_m_s = 4.0);
+
 /// One trial of a study: its result, or why it failed.
 struct StudyTrial {
   TrialSpec spec;
