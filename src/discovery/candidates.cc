@@ -184,18 +184,6 @@ std::vector<double> StartsWithoutGain(const LibraryEntry& e) {
   return starts;
 }
 
-/// Whether a shared effect's estimate stands clear of its smallest value by its own standard
-/// error (one-sided Wald at `level`).
-bool ClearOfSmallest(const Fit& f, const std::string& key, double level) {
-  const auto v = f.model.effects.find(key);
-  const auto se = f.effect_se.find(key);
-  if (v == f.model.effects.end() || se == f.effect_se.end() || v->second.value.empty() ||
-      se->second.empty() || !(se->second[0] > 0))
-    return false;
-  const double z = boost::math::quantile(boost::math::complement(boost::math::normal(), level));
-  return (v->second.value[0] - Entry(key).smallest) / se->second[0] > z;
-}
-
 /// A contact effect's free fit, shared by all surfaces, from the best of the starts: the
 /// ladder's three largest optima (or a tenth of the probe size when no size gains), each also
 /// from a lowered mu for a friction-limited effect, and the probe's fit. An optimum elsewhere
@@ -242,29 +230,8 @@ Fit FitFromStarts(const RoundContext& x, const std::string& key, const Fit& prob
       if (first || f.loglik > chosen.loglik) chosen = std::move(f);
       first = false;
     }
-  if (probe.loglik > chosen.loglik) {
+  if (probe.loglik > chosen.loglik)
     chosen = FitModel(x.ws, x.all, probe.model, free, probe.noise, true);
-    if (chosen.ok) optima.push_back(chosen);
-  }
-  // An effect whose smallest value is above 0 is tested on the sizes that stand clear of it
-  // (one-sided Wald at the naming level, as the decision asks): an optimum on the smallest value
-  // says only that the data want less of the effect than the library can represent (on null
-  // studies the spring's fit from 0.01 ends there with 2 log-likelihood gains of 67), while an
-  // optimum clear of it, where the spring's likelihood has one per swing, is evidence of the
-  // effect like any other.
-  if (e.smallest > 0 && chosen.ok && !ClearOfSmallest(chosen, key, x.level)) {
-    const Fit* clear = nullptr;
-    for (const Fit& f : optima)
-      if (ClearOfSmallest(f, key, x.level) && (!clear || f.loglik > clear->loglik)) clear = &f;
-    if (clear) {
-      other_optimum = "the best optimum, " + e.parameter + " = " +
-                      Fmt(chosen.model.effects.at(key).value.at(0), 3) + UnitSuffix(e.unit) +
-                      " (2 log-likelihood " + Fmt(2 * (chosen.loglik - clear->loglik), 2) +
-                      " higher), is not clear of the library's smallest value";
-      chosen = *clear;
-      return chosen;
-    }
-  }
   // An optimum elsewhere that the likelihood cannot tell from the best (2 log-likelihood
   // within the 95 % point of chi-square 1): the s.e. describes one optimum, not the choice.
   if (chosen.ok) {

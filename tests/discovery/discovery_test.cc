@@ -346,42 +346,26 @@ TEST(DiscoveryUnderScatterTest, NamesATangentialSpringWhereEveryObliqueTrialStic
   EXPECT_EQ(Confident(r), 1) << r.verdict;
 }
 
-// Two studies of the scorecard's unreplicated design with the spring at k/k_t = 0.02 hidden
-// (twice the null studies' median limit), by the study seeds the scorecard printed for its
-// seeds 14 and 18 (docs/discovery.md, "Where the ladder shows no gain").
-// - Seed 14: asphalt's baseline mu sits on the bound, and the ladder gains at no size, neither
-//   at that mu nor at the lowered one. From a tenth of the probe alone the fit ended near 0.08
-//   below the baseline (likelihood ratio 0); from the smallest value it ends near 0.0106.
-// - Seed 18: the best optimum, 0.0107, is not clear of the smallest value (0.01), and was
-//   refused as such; the optimum at 0.0198 is clear of it, and significant on its own.
-TEST(DiscoveryUnderScatterTest,
-     NamesTheSpringWhereTheLadderShowsNoGainOrItsBestOptimumIsOnTheBound) {
-  struct Case {
-    std::uint64_t study_seed;
-    double low, high;  // where the estimate must lie
-    bool not_clear_noted;
-  };
-  for (const Case& k : {Case{11268363779908301170ULL, 0.0101, 0.03, false},
-                        Case{4374853049126759078ULL, 0.016, 0.024, true}}) {
-    const DiscoveryResult r =
-        DiscoverStudy("scorecard_spring_" + std::to_string(k.study_seed),
-                      ScorecardUnreplicated(k.study_seed) + " --tangential-compliance-ratio 0.02");
-    Print(r);
-    ASSERT_TRUE(r.success) << r.message;
-    EXPECT_EQ(r.trials_used, 36);
-    const auto* f = FindingOf(r, "tangential_compliance");
-    ASSERT_NE(f, nullptr) << k.study_seed << "\n" << r.verdict;
-    EXPECT_EQ(f->status, FindingStatus::kNamed) << r.verdict;
-    EXPECT_GT(f->estimate, k.low) << k.study_seed;
-    EXPECT_LT(f->estimate, k.high) << k.study_seed;
-    EXPECT_EQ(Confident(r), 1) << r.verdict;
-    ASSERT_FALSE(r.rounds.empty());
-    const auto& c = r.rounds.front().candidates.front();
-    ASSERT_EQ(c.key, "tangential_compliance");
-    EXPECT_EQ(c.reason.find("is not clear of the library's smallest value") != std::string::npos,
-              k.not_clear_noted)
-        << c.reason;
-  }
+// A study of the scorecard's unreplicated design with the spring at k/k_t = 0.02 hidden (twice
+// the null studies' median limit), by the study seed the scorecard printed for its seed 14
+// (docs/discovery.md, "Where the ladder shows no gain"): asphalt's baseline mu sits on the
+// bound, and the ladder gains at no size, neither at that mu nor at the lowered one. From a
+// tenth of the probe alone the fit ended near 0.08 below the baseline (likelihood ratio 0);
+// from the smallest value it ends near 0.0106 (another swing's optimum than the truth's).
+TEST(DiscoveryUnderScatterTest, NamesTheSpringWhereItsLadderShowsNoGain) {
+  constexpr std::uint64_t kStudySeed = 11268363779908301170ULL;
+  const DiscoveryResult r =
+      DiscoverStudy("scorecard_spring_" + std::to_string(kStudySeed),
+                    ScorecardUnreplicated(kStudySeed) + " --tangential-compliance-ratio 0.02");
+  Print(r);
+  ASSERT_TRUE(r.success) << r.message;
+  EXPECT_EQ(r.trials_used, 36);
+  const auto* f = FindingOf(r, "tangential_compliance");
+  ASSERT_NE(f, nullptr) << r.verdict;
+  EXPECT_EQ(f->status, FindingStatus::kNamed) << r.verdict;
+  EXPECT_GT(f->estimate, 0.0101);  // clear of the smallest value
+  EXPECT_LT(f->estimate, 0.03);
+  EXPECT_EQ(Confident(r), 1) << r.verdict;
 }
 
 // A tangential spring on the unreplicated design at the paper's scatter, where its held-out
