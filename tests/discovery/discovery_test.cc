@@ -119,6 +119,20 @@ int Confident(const DiscoveryResult& r) {
   return n;
 }
 
+/// Prints `r`; the tangential spring's finding where discovery succeeded on 36 trials and named
+/// the spring and nothing else, else nullptr (each failure reported).
+const hoof::discovery::Finding* SpringNamedAlone(const DiscoveryResult& r) {
+  Print(r);
+  EXPECT_TRUE(r.success) << r.message;
+  EXPECT_EQ(r.trials_used, 36);
+  const auto* f = FindingOf(r, "tangential_compliance");
+  EXPECT_NE(f, nullptr) << r.verdict;
+  if (!f) return nullptr;
+  EXPECT_EQ(f->status, FindingStatus::kNamed) << r.verdict;
+  EXPECT_EQ(Confident(r), 1) << r.verdict;
+  return f->status == FindingStatus::kNamed && Confident(r) == 1 ? f : nullptr;
+}
+
 struct HiddenEffect {
   std::string key;   // library key
   std::string flag;  // synth flag
@@ -336,14 +350,9 @@ TEST(DiscoveryUnderScatterTest, NamesATangentialSpringWhereEveryObliqueTrialStic
   const DiscoveryResult r = DiscoverStudy("scatter_tangential_sticking_5",
                                           "--angles-deg 0,10,20 --trials-per-cell 1 --seed 5 "
                                           "--tangential-compliance-ratio 0.064");
-  Print(r);
-  ASSERT_TRUE(r.success) << r.message;
-  EXPECT_EQ(r.trials_used, 36);
-  const auto* f = FindingOf(r, "tangential_compliance");
-  ASSERT_NE(f, nullptr) << r.verdict;
-  EXPECT_EQ(f->status, FindingStatus::kNamed) << r.verdict;
+  const auto* f = SpringNamedAlone(r);
+  ASSERT_NE(f, nullptr);
   EXPECT_NEAR(f->estimate, truth, 0.2 * truth);
-  EXPECT_EQ(Confident(r), 1) << r.verdict;
 }
 
 // A study of the scorecard's unreplicated design with the spring at k/k_t = 0.02 hidden (twice
@@ -357,15 +366,10 @@ TEST(DiscoveryUnderScatterTest, NamesTheSpringWhereItsLadderShowsNoGain) {
   const DiscoveryResult r =
       DiscoverStudy("scorecard_spring_" + std::to_string(kStudySeed),
                     ScorecardUnreplicated(kStudySeed) + " --tangential-compliance-ratio 0.02");
-  Print(r);
-  ASSERT_TRUE(r.success) << r.message;
-  EXPECT_EQ(r.trials_used, 36);
-  const auto* f = FindingOf(r, "tangential_compliance");
-  ASSERT_NE(f, nullptr) << r.verdict;
-  EXPECT_EQ(f->status, FindingStatus::kNamed) << r.verdict;
+  const auto* f = SpringNamedAlone(r);
+  ASSERT_NE(f, nullptr);
   EXPECT_GT(f->estimate, 0.0101);  // clear of the smallest value
   EXPECT_LT(f->estimate, 0.03);
-  EXPECT_EQ(Confident(r), 1) << r.verdict;
 }
 
 // A tangential spring on the unreplicated design at the paper's scatter, where its held-out
