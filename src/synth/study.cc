@@ -127,6 +127,21 @@ StudyResult RenderStudy(const StudyDesign& design, const SpecimenGeometry& geome
 }
 
 void DrawUnreplicatedCells(StudyDesign& design, int per_angle, double lo_m_s, double hi_m_s) {
+  if (per_angle < 1)
+    throw std::invalid_argument("DrawUnreplicatedCells: per_angle must be >= 1, got " +
+                                std::to_string(per_angle));
+  if (!(lo_m_s > 0 && lo_m_s < hi_m_s && hi_m_s <= 20))
+    throw std::invalid_argument(
+        "DrawUnreplicatedCells: the speed range must satisfy 0 < lo_m_s < "
+        "hi_m_s <= 20 m/s, got [" +
+        std::to_string(lo_m_s) + ", " + std::to_string(hi_m_s) + "]");
+  // Ids carry the speed to 0.01 m/s: the range must hold per_angle distinct ones, or the
+  // redraws below would never end.
+  if (std::round(hi_m_s * 100) - std::round(lo_m_s * 100) + 1 < 2.0 * per_angle)
+    throw std::invalid_argument("DrawUnreplicatedCells: [" + std::to_string(lo_m_s) + ", " +
+                                std::to_string(hi_m_s) +
+                                "] m/s holds too few speeds distinct to 0.01 m/s for " +
+                                std::to_string(per_angle) + " trials per surface and angle");
   std::mt19937_64 rng(MixSeed(design.seed, 0x5eed5));
   std::uniform_real_distribution<double> speed(lo_m_s, hi_m_s);
   std::set<std::string> ids;

@@ -52,7 +52,9 @@ struct StudyDesign {
 /// no two trials share a cell (36 trials for the paper's surfaces and angles: the scorecard's
 /// "unreplicated" design, docs/discovery.md). Trial ids carry the speed to 0.01 m/s; a draw
 /// whose id is taken is drawn again, so ids stay unique. Replaces `cells`, sets
-/// `trials_per_cell` to 1.
+/// `trials_per_cell` to 1. Throws std::invalid_argument naming the argument for per_angle < 1,
+/// a range outside 0 < lo < hi <= 20 m/s, or one with fewer than 2 x per_angle speeds distinct
+/// to 0.01 m/s (where the redraws could take too long or never end).
 void DrawUnreplicatedCells(StudyDesign& design, int per_angle = 3, double lo_m_s = 1.5,
                            double hi_m_s = 4.0);
 

@@ -2,6 +2,7 @@
 // bytes for the same seed whatever the number of threads.
 #include "synth/study.h"
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -180,6 +181,47 @@ TEST(StudyTest, ScatterScaleReachesEveryTrialAndABadOneNamesTheField) {
       EXPECT_NE(std::string(e.what()).find("study.scatter_scale"), std::string::npos) << e.what();
     }
   }
+}
+
+// The unreplicated design (the discovery scorecard's): the same seed draws the same cells, every
+// surface and angle gets its trials at distinct speeds inside the range, and arguments under
+// which the redraws could never end are refused by name.
+TEST(StudyTest, UnreplicatedCellsAreDistinctReproducibleAndBadArgumentsAreNamed) {
+  StudyDesign a, b;
+  a.seed = b.seed = 4374853049126759078ULL;
+  DrawUnreplicatedCells(a);
+  DrawUnreplicatedCells(b);
+  ASSERT_EQ(a.cells.size(), 36u);
+  EXPECT_EQ(a.trials_per_cell, 1);
+  std::set<std::string> ids;
+  for (std::size_t i = 0; i < a.cells.size(); ++i) {
+    EXPECT_EQ(a.cells[i].speed_m_s, b.cells[i].speed_m_s);
+    EXPECT_GE(a.cells[i].speed_m_s, 1.5);
+    EXPECT_LT(a.cells[i].speed_m_s, 4.0);
+    char id[64];
+    std::snprintf(id, sizeof id, "%d_%g_%.2f", static_cast<int>(a.cells[i].surface),
+                  a.cells[i].angle_deg, a.cells[i].speed_m_s);
+    ids.insert(id);
+  }
+  EXPECT_EQ(ids.size(), 36u);
+  EXPECT_EQ(a.Trials().size(), 36u);
+  b.seed = a.seed + 1;
+  DrawUnreplicatedCells(b);
+  EXPECT_NE(a.cells.front().speed_m_s, b.cells.front().speed_m_s);
+  auto message = [](int per_angle, double lo, double hi) {
+    StudyDesign d;
+    try {
+      DrawUnreplicatedCells(d, per_angle, lo, hi);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(message(0, 1.5, 4.0).find("per_angle"), std::string::npos);
+  EXPECT_NE(message(3, 4.0, 1.5).find("speed range"), std::string::npos);
+  EXPECT_NE(message(3, 0.0, 4.0).find("speed range"), std::string::npos);
+  EXPECT_NE(message(3, 2.0, 2.02).find("too few speeds"), std::string::npos);
+  EXPECT_EQ(message(3, 2.0, 2.05), "");
 }
 
 }  // namespace
