@@ -55,6 +55,17 @@ DiscoveryResult DiscoverStudy(const std::string& name, const std::string& option
                   [](const std::string& s) { std::cerr << s << "\n"; });
 }
 
+/// Writes `cells` as a study config beside the test studies, and returns the synth options that
+/// render it with `seed`.
+std::string StudyConfigOptions(const std::string& name, const nlohmann::json& cells,
+                               std::uint64_t seed) {
+  const fs::path config =
+      fs::path(HOOF_BINARY_DIR) / "test-output" / "discovery" / (name + ".json");
+  fs::create_directories(config.parent_path());
+  std::ofstream(config) << nlohmann::json{{"cells", cells}, {"trials_per_cell", 1}}.dump(1);
+  return "--study-config " + config.string() + " --seed " + std::to_string(seed);
+}
+
 /// The design researchers often run: three surfaces, four angles, three trials per surface and
 /// angle at speeds drawn uniformly in [1.5, 4] m/s (one trial per condition, 36 trials), with
 /// the renderer's per-trial scatter of e and mu. Returns the synth options (a study config
@@ -78,11 +89,7 @@ std::string UnreplicatedDesign(std::uint64_t seed, const std::vector<std::string
       }
     }
   }
-  const fs::path config = fs::path(HOOF_BINARY_DIR) / "test-output" / "discovery" /
-                          ("unreplicated_" + tag + "_" + std::to_string(seed) + ".json");
-  fs::create_directories(config.parent_path());
-  std::ofstream(config) << nlohmann::json{{"cells", cells}, {"trials_per_cell", 1}}.dump(1);
-  return "--study-config " + config.string() + " --seed " + std::to_string(seed);
+  return StudyConfigOptions("unreplicated_" + tag + "_" + std::to_string(seed), cells, seed);
 }
 
 /// A study of the scorecard's unreplicated design (bench/discovery_scorecard.cc), by the study
@@ -97,11 +104,8 @@ std::string ScorecardUnreplicated(std::uint64_t study_seed) {
     cells.push_back({{"surface", hoof::dynamics::SurfaceName(c.surface)},
                      {"angle_deg", c.angle_deg},
                      {"speed_m_s", c.speed_m_s}});
-  const fs::path config = fs::path(HOOF_BINARY_DIR) / "test-output" / "discovery" /
-                          ("scorecard_unreplicated_" + std::to_string(study_seed) + ".json");
-  fs::create_directories(config.parent_path());
-  std::ofstream(config) << nlohmann::json{{"cells", cells}, {"trials_per_cell", 1}}.dump(1);
-  return "--study-config " + config.string() + " --seed " + std::to_string(study_seed);
+  return StudyConfigOptions("scorecard_unreplicated_" + std::to_string(study_seed), cells,
+                            study_seed);
 }
 
 void Print(const DiscoveryResult& r) { hoof::testing::PrintDiscoveryRounds(std::cout, r); }
