@@ -25,8 +25,6 @@
 #include <functional>
 #include <iostream>
 #include <map>
-#include <random>
-#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
