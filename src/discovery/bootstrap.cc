@@ -23,6 +23,7 @@ std::unique_ptr<Workspace> WithMeasured(const Workspace& ws,
   out->surfaces = ws.surfaces;
   out->k = ws.k;
   out->has_oblique = ws.has_oblique;
+  out->mu_eff_max = MuEffMax(*out);  // of the simulated velocities
   out->zeta_start = ws.zeta_start;
   out->mu_start = ws.mu_start;
   out->rtol = ws.rtol;
@@ -32,6 +33,18 @@ std::unique_ptr<Workspace> WithMeasured(const Workspace& ws,
 }
 
 }  // namespace
+
+std::vector<double> MuEffMax(const Workspace& ws) {
+  std::vector<double> out(ws.surfaces.size(), 0.0);
+  for (const Obs& o : ws.obs) {
+    if (o.normal) continue;
+    const Eigen::Vector2d dv = o.measured.head<2>() - o.conditions.v_SC_m_s;
+    const double mu_eff = std::abs(dv.x() / dv.y());
+    auto& most = out.at(static_cast<std::size_t>(o.surface));
+    if (std::isfinite(mu_eff)) most = std::max(most, mu_eff);
+  }
+  return out;
+}
 
 std::vector<Eigen::Vector3d> SimulateStudy(const Workspace& ws, const Fit& truth,
                                            std::uint64_t seed) {

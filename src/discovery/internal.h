@@ -416,6 +416,11 @@ CandidateProbes ProbeCandidates(const Workspace& ws, const Model& current,
 
 // ---- the parametric bootstrap of a plan (bootstrap.cc) ----------------------------------------
 
+/// Per surface, the largest |mu_eff| of the oblique obs of `ws` from their velocities in S (the
+/// change of the centre's velocity from first touch to `measured`, tangential over normal): the
+/// Workspace::mu_eff_max of a workspace whose velocities were simulated rather than measured.
+std::vector<double> MuEffMax(const Workspace& ws);
+
 /// Velocities of every obs simulated from `truth` (its model with its effects, and its noise
 /// model): each trial's e (then its zeta, through the two-phase law) and mu drawn about its
 /// surface's with the noise model's scatter (the s.d. of zeta turned into one of e by the law's

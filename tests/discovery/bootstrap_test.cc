@@ -102,5 +102,47 @@ TEST(DiscoveryBootstrapTest, ThePowerAtTheDetectionLimitIsTheLimitsEightyPercent
   EXPECT_GT(high, 0.8) << b.detected << " of " << b.draws << " at c = " << limit;
 }
 
+TEST(DiscoveryBootstrapTest, ASlidingTrialsMuEffIsItsMu) {
+  // Coulomb friction: the tangential impulse is at most mu times the normal one, and exactly
+  // that where the contact slides throughout, so |dv_x / dv_y| of the centre is mu. At 30 deg
+  // and mu = 0.1 the paper's specimen slides throughout; at mu = 0.35 it comes to stick within
+  // the contact, and its mu_eff falls below mu. At 0 deg there is no oblique trial.
+  Workspace sliding;
+  internal::SteelStudy(sliding, {0.0, 30.0}, 6, kZeta, 0.1);
+  ASSERT_EQ(sliding.mu_eff_max.size(), 1u);
+  EXPECT_NEAR(sliding.mu_eff_max[0], 0.1, 1e-6);
+  Workspace sticking;
+  SteelStudy(sticking, {0.0, 30.0}, 6);
+  EXPECT_LT(sticking.mu_eff_max[0], kMu - 0.01);
+  EXPECT_GT(sticking.mu_eff_max[0], 0.5 * kMu);
+  Workspace normal_only;
+  SteelStudy(normal_only, {0.0}, 6);
+  EXPECT_EQ(MuEffMax(normal_only), std::vector<double>{0.0});
+}
+
+TEST(DiscoveryBootstrapTest, AFrictionLimitedEffectIsJudgedOnSimulatedStudies) {
+  // The tangential spring starts its fit from a mu the trials allow (LibraryEntry::
+  // friction_limited), read from the workspace's largest mu_eff: the simulated studies must
+  // carry their own (until session 18 they carried none, and discover --plan-draws crashed for
+  // the spring). At k/k_t = 0.1, ten times the library's smallest value, on 36 trials at 10-30
+  // deg with the scatter of e and mu, both studies must find it.
+  Workspace ws;
+  SteelStudy(ws, {10.0, 20.0, 30.0}, 12);
+  const Fit truth = Truth(0.02, 0.02);
+  const auto all = ws.All();
+  Model start;
+  start.zeta = {kZeta};
+  start.mu = {kMu};
+  const Fit base = FitModel(ws, all, start, {}, truth.noise, true, 12);
+  ASSERT_TRUE(base.ok) << base.message;
+  DiscoveryOptions options;
+  options.per_surface = false;
+  const BootstrapResult b =
+      BootstrapDetection(ws, base, "tangential_compliance", 0.1, 1e-3, options, 2, {});
+  ASSERT_EQ(b.draws, 2);
+  EXPECT_EQ(b.detected, 2);
+  for (double estimate : b.estimates) EXPECT_NEAR(estimate, 0.1, 0.03);
+}
+
 }  // namespace
 }  // namespace hoof::discovery::internal

@@ -44,6 +44,7 @@ inline void SteelStudy(Workspace& ws, const std::vector<double>& angles_deg, int
       EXPECT_TRUE(ok);
       ws.obs.push_back(o);
     }
+  ws.mu_eff_max = MuEffMax(ws);
 }
 
 }  // namespace hoof::discovery::internal
