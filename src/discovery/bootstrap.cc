@@ -108,7 +108,8 @@ BootstrapResult BootstrapDetection(const Workspace& ws, const Fit& baseline, con
     if (say)
       say("  bootstrap study " + std::to_string(b + 1) + "/" + std::to_string(draws) + ": " +
           (c.significant ? "detected" : "not detected") + " (" + c.parameter + " = " +
-          Fmt(c.estimate) + UnitSuffix(c.unit) + ", p = " + FmtP(c.p_value) + ")");
+          Fmt(c.estimate) + UnitSuffix(c.unit) + ", p = " + FmtP(c.p_value) + ")" +
+          (c.significant || c.reason.empty() ? "" : ": " + c.reason));
   }
   return out;
 }

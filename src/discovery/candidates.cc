@@ -184,6 +184,36 @@ std::vector<double> StartsWithoutGain(const LibraryEntry& e) {
   return starts;
 }
 
+/// The sizes of LibraryEntry::profile_sizes at the two best local maxima of the effect's profile
+/// likelihood (none for an effect without a profile).
+std::vector<double> ProfileStarts(const RoundContext& x, const LibraryEntry& e) {
+  const int n = e.profile_sizes;
+  if (n < 2 || !(e.smallest > 0)) return {};
+  const Fit& current = x.state.current;
+  // Evenly in u = size^-1/2, from the smallest size (largest u) to a tenth of the probe.
+  const double u_first = 1 / std::sqrt(e.smallest), u_last = 1 / std::sqrt(0.1 * e.probe);
+  std::vector<double> size(static_cast<std::size_t>(n)), loglik(size.size());
+  for (std::size_t k = 0; k < size.size(); ++k) {
+    const double u = u_first + (u_last - u_first) * static_cast<double>(k) / (n - 1);
+    size[k] = 1 / (u * u);
+    Model held = current.model;
+    held.effects[e.key] = {EffectForm::kShared, {size[k]}};
+    const Fit f = FitModel(x.ws, x.all, held, x.free_current, current.noise, true, 1);
+    loglik[k] = f.ok ? f.loglik : -std::numeric_limits<double>::infinity();
+  }
+  std::vector<std::size_t> peaks;
+  for (std::size_t k = 0; k < size.size(); ++k)
+    if (std::isfinite(loglik[k]) && (k == 0 || loglik[k] >= loglik[k - 1]) &&
+        (k + 1 == size.size() || loglik[k] > loglik[k + 1]))
+      peaks.push_back(k);
+  std::stable_sort(peaks.begin(), peaks.end(),
+                   [&](std::size_t a, std::size_t b) { return loglik[a] > loglik[b]; });
+  if (peaks.size() > 2) peaks.resize(2);
+  std::vector<double> starts;
+  for (std::size_t k : peaks) starts.push_back(size[k]);
+  return starts;
+}
+
 /// A contact effect's free fit, shared by all surfaces, from the best of the starts: the
 /// ladder's three largest optima (or a tenth of the probe size when no size gains), each also
 /// from a lowered mu for a friction-limited effect, and the probe's fit. An optimum elsewhere
@@ -217,6 +247,7 @@ Fit FitFromStarts(const RoundContext& x, const std::string& key, const Fit& prob
       base_starts.push_back(own);
     }
   }
+  for (double size : ProfileStarts(x, e)) base_starts[0].push_back(size);
   Fit chosen;
   bool first = true;
   std::vector<Fit> optima;

@@ -76,6 +76,13 @@ struct LibraryEntry {
   /// its ladder can show no gain where a fit from the right size finds one (docs/discovery.md,
   /// "Fits").
   int starts_without_gain = 1;
+  /// Sizes of a profile from whose best two local maxima its fit also starts (0: none): the
+  /// effect held at each size while zeta, mu and the noise model are refitted (one solve), the
+  /// sizes spaced evenly in size^-1/2 from `smallest` to a tenth of the probe. The spring's
+  /// change swings in sign at a phase that turns with sqrt(k_t / k), and once zeta and mu move its
+  /// likelihood has optima a few per cent of the size wide that the ladder, linear in zeta and
+  /// mu, misses (docs/discovery.md, "A profile of sizes").
+  int profile_sizes = 0;
   /// A measurement effect that grows through the clip: the trials are re-measured with it
   /// (a tilt or roll rate, docs/discovery.md "Out-of-plane rotation that grows").
   bool rotation_rate = false;

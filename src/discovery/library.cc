@@ -164,6 +164,7 @@ const std::vector<LibraryEntry>& Library() {
        .ladder_per_decade = 80.0,
        .friction_limited = true,
        .starts_without_gain = 3,
+       .profile_sizes = 28,
        .extension = "tangential_compliance_ratio"},
       {.key = "rolling_resistance",
        .name = "rolling resistance (contact torque)",
