@@ -33,6 +33,8 @@ struct Evaluation {
   CrossValidation velocity_cv;
   // Another optimum of the candidate's fit that fits nearly as well, in words (empty if none).
   std::string other_optimum;
+  // The starts of its profile of sizes, where this round profiled it.
+  std::vector<double> profile_starts;
 };
 
 std::string Moved(const Workspace& ws, const Fit& probe, const Fit& current) {
@@ -215,11 +217,14 @@ std::vector<double> ProfileStarts(const RoundContext& x, const LibraryEntry& e) 
 }
 
 /// A contact effect's free fit, shared by all surfaces, from the best of the starts: the
-/// ladder's three largest optima (or a tenth of the probe size when no size gains), each also
-/// from a lowered mu for a friction-limited effect, and the probe's fit. An optimum elsewhere
-/// that fits nearly as well is described in `other_optimum`.
+/// ladder's three largest optima (or StartsWithoutGain when no size gains), each also from a
+/// lowered mu for a friction-limited effect, the best sizes of its profile (ProfileStarts, or an
+/// earlier round's, RoundState::profile_starts; those profiled here are returned in `profiled`),
+/// and the probe's fit. An optimum elsewhere that fits nearly as well is described in
+/// `other_optimum`.
 Fit FitFromStarts(const RoundContext& x, const std::string& key, const Fit& probe,
-                  const std::vector<std::string>& free, std::string& other_optimum) {
+                  const std::vector<std::string>& free, std::string& other_optimum,
+                  std::vector<double>& profiled) {
   const LibraryEntry& e = Entry(key);
   const Fit& current = x.state.current;
   std::vector<double> starts = LadderStarts(x.probes.ladder.at(key), 3);
@@ -247,7 +252,14 @@ Fit FitFromStarts(const RoundContext& x, const std::string& key, const Fit& prob
       base_starts.push_back(own);
     }
   }
-  for (double size : ProfileStarts(x, e)) base_starts[0].push_back(size);
+  // The profile's starts: from an earlier round where one profiled it, else profiled now.
+  const auto earlier = x.state.profile_starts.find(key);
+  if (earlier != x.state.profile_starts.end()) {
+    for (double size : earlier->second) base_starts[0].push_back(size);
+  } else {
+    profiled = ProfileStarts(x, e);
+    for (double size : profiled) base_starts[0].push_back(size);
+  }
   Fit chosen;
   bool first = true;
   std::vector<Fit> optima;
@@ -389,7 +401,7 @@ Evaluation EvaluateContact(const RoundContext& x, const std::string& key) {
   const double probe_lr = 2 * (probe.loglik - current.loglik);
   std::vector<std::string> free = x.free_current;
   free.push_back(key);
-  Fit chosen = FitFromStarts(x, key, probe, free, ev.other_optimum);
+  Fit chosen = FitFromStarts(x, key, probe, free, ev.other_optimum, ev.profile_starts);
   const double reference = ReferenceLogLikelihood(x, key, chosen);
   // The current model is this one with the effect at 0: a fit that ends below the reference
   // stopped in a worse local optimum, and the nested point is the better answer.
@@ -738,6 +750,8 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
     if (!ev.c.significant && ev.c.reason.empty()) ExplainNotSignificant(x, ev.c);
   Evaluation* best = ChooseWinner(evals);
   RoundOutcome out;
+  for (const auto& ev : evals)
+    if (!ev.profile_starts.empty()) out.profile_starts[ev.c.key] = ev.profile_starts;
   if (best) out.alike = ExplainAgainstWinner(x, *best, evals);
   for (auto& ev : evals)
     if (!ev.other_optimum.empty() && ev.c.significant) ev.c.reason += "; " + ev.other_optimum;

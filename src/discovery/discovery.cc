@@ -92,6 +92,7 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials,
                                      [](auto& t) { return t.significant; })) +
         " significant trend(s) of " + std::to_string(rd.tests.size()) + " in the residuals");
     const RoundOutcome o = RunCandidates(cw, st, residuals, sens, keys, options, say, rd);
+    st.profile_starts.insert(o.profile_starts.begin(), o.profile_starts.end());
     if (!o.added) {
       out.rounds.push_back(rd);
       break;

@@ -242,6 +242,10 @@ struct RoundState {
   /// are these re-measured with it.
   const std::vector<pipeline::TrialAnalysis>* measured = nullptr;
   pipeline::OutOfPlaneMotion motion;
+  /// Per effect with a profile of sizes (LibraryEntry::profile_sizes): the sizes its fit starts
+  /// from, found by the first round that profiled it. The optima lie where the effect's own
+  /// phase puts them; later rounds start from them without profiling again.
+  std::map<std::string, std::vector<double>> profile_starts;
 };
 
 /// Evaluates every candidate against `state`, ranks them and decides; fills `round` (tests
@@ -256,6 +260,7 @@ struct RoundOutcome {
   pipeline::OutOfPlaneMotion motion;
   std::shared_ptr<const std::vector<pipeline::TrialAnalysis>> remeasured;
   std::shared_ptr<Workspace> ws;  // built from `remeasured`, for the rounds after
+  std::map<std::string, std::vector<double>> profile_starts;  // profiled in this round
 };
 /// `residual_current` and `sens` are the current model's residuals and sensitivities of all obs.
 RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
