@@ -376,11 +376,12 @@ TEST(DiscoveryUnderScatterTest, NamesTheSpringWhereItsLadderShowsNoGain) {
   EXPECT_LT(f->estimate, 0.03);
 }
 
-// The spring at k/k_t = 0.02 on the scorecard's unreplicated study of its seed 9 (docs/discovery.md,
-// "A profile of sizes"). The ladder, linear in zeta and mu, shows one optimum (0.013), from which
-// the fit ends at 0.0127 with a likelihood ratio of 5.5 (p = 0.0094: not named until session 18);
-// with zeta, mu and the noise model refitted at each size the likelihood rises by 31 at 0.0139,
-// an optimum a few per cent wide, where the fit from the profile's best size names it.
+// The spring at k/k_t = 0.02 on the scorecard's unreplicated study of its seed 9
+// (docs/discovery.md, "A profile of sizes"). The ladder, linear in zeta and mu, shows one optimum
+// (0.013), from which the fit ends at 0.0127 with a likelihood ratio of 5.5 (p = 0.0094: not named
+// until session 18); with zeta, mu and the noise model refitted at each size the likelihood rises
+// by 31 at 0.0139, an optimum a few per cent wide, where the fit from the profile's best size names
+// it.
 TEST(DiscoveryUnderScatterTest, NamesTheSpringAtAnOptimumOnlyItsProfileShows) {
   constexpr std::uint64_t kStudySeed = 7047001918490356134ULL;
   const DiscoveryResult r =
