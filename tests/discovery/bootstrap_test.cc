@@ -35,6 +35,15 @@ Fit Truth(double zeta_sd, double mu_sd) {
   return f;
 }
 
+/// The baseline (zeta and mu, no effect) fitted to `ws` from this file's values, with the noise
+/// model re-estimated from `noise`.
+Fit FitBaseline(const Workspace& ws, const Noise& noise) {
+  Model start;
+  start.zeta = {kZeta};
+  start.mu = {kMu};
+  return FitModel(ws, ws.All(), start, {}, noise, true, 12);
+}
+
 TEST(DiscoveryBootstrapTest, ASimulatedStudyHasTheNoiseModelsScatterAndItsSeedsOwnValues) {
   // 200 normal impacts: each v_y residual against the surface's model, over its derivative by
   // zeta, is that trial's departure of zeta to first order; their s.d. must be the noise model's
@@ -79,10 +88,7 @@ TEST(DiscoveryBootstrapTest, ThePowerAtTheDetectionLimitIsTheLimitsEightyPercent
   const auto measured = SimulateStudy(ws, truth, 11);
   for (std::size_t i = 0; i < ws.obs.size(); ++i) ws.obs[i].measured = measured[i];
   const auto all = ws.All();
-  Model start;
-  start.zeta = {kZeta};
-  start.mu = {kMu};
-  const Fit base = FitModel(ws, all, start, {}, truth.noise, true, 12);
+  const Fit base = FitBaseline(ws, truth.noise);
   ASSERT_TRUE(base.ok) << base.message;
   const auto r = ws.Residuals(base.model, all);
   const auto sens = ws.Sensitivities(base.model, all);
@@ -129,11 +135,7 @@ TEST(DiscoveryBootstrapTest, AFrictionLimitedEffectIsJudgedOnSimulatedStudies) {
   Workspace ws;
   SteelStudy(ws, {10.0, 20.0, 30.0}, 12);
   const Fit truth = Truth(0.02, 0.02);
-  const auto all = ws.All();
-  Model start;
-  start.zeta = {kZeta};
-  start.mu = {kMu};
-  const Fit base = FitModel(ws, all, start, {}, truth.noise, true, 12);
+  const Fit base = FitBaseline(ws, truth.noise);
   ASSERT_TRUE(base.ok) << base.message;
   DiscoveryOptions options;
   options.per_surface = false;

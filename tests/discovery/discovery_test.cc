@@ -137,6 +137,22 @@ const hoof::discovery::Finding* SpringNamedAlone(const DiscoveryResult& r) {
   return f->status == FindingStatus::kNamed && Confident(r) == 1 ? f : nullptr;
 }
 
+/// Discovery on the scorecard's unreplicated study of `study_seed` with the spring at
+/// k/k_t = 0.02 hidden (twice the null studies' median limit).
+DiscoveryResult ScorecardSpring(std::uint64_t study_seed) {
+  return DiscoverStudy("scorecard_spring_" + std::to_string(study_seed),
+                       ScorecardUnreplicated(study_seed) + " --tangential-compliance-ratio 0.02");
+}
+
+/// The spring named alone at 0.02, its estimate on an optimum near the truth's and clear of the
+/// library's smallest value (0.01).
+void ExpectSpringClearOfItsSmallestValue(const DiscoveryResult& r) {
+  const auto* f = SpringNamedAlone(r);
+  ASSERT_NE(f, nullptr);
+  EXPECT_GT(f->estimate, 0.0101);
+  EXPECT_LT(f->estimate, 0.03);
+}
+
 struct HiddenEffect {
   std::string key;   // library key
   std::string flag;  // synth flag
@@ -366,14 +382,8 @@ TEST(DiscoveryUnderScatterTest, NamesATangentialSpringWhereEveryObliqueTrialStic
 // tenth of the probe alone the fit ended near 0.08 below the baseline (likelihood ratio 0);
 // from the smallest value it ends near 0.0106 (another swing's optimum than the truth's).
 TEST(DiscoveryUnderScatterTest, NamesTheSpringWhereItsLadderShowsNoGain) {
-  constexpr std::uint64_t kStudySeed = 11268363779908301170ULL;
-  const DiscoveryResult r =
-      DiscoverStudy("scorecard_spring_" + std::to_string(kStudySeed),
-                    ScorecardUnreplicated(kStudySeed) + " --tangential-compliance-ratio 0.02");
-  const auto* f = SpringNamedAlone(r);
-  ASSERT_NE(f, nullptr);
-  EXPECT_GT(f->estimate, 0.0101);  // clear of the smallest value
-  EXPECT_LT(f->estimate, 0.03);
+  const DiscoveryResult r = ScorecardSpring(11268363779908301170ULL);
+  ExpectSpringClearOfItsSmallestValue(r);
 }
 
 // The spring at k/k_t = 0.02 on the scorecard's unreplicated study of its seed 9
@@ -383,14 +393,8 @@ TEST(DiscoveryUnderScatterTest, NamesTheSpringWhereItsLadderShowsNoGain) {
 // by 31 at 0.0139, an optimum a few per cent wide, where the fit from the profile's best size names
 // it.
 TEST(DiscoveryUnderScatterTest, NamesTheSpringAtAnOptimumOnlyItsProfileShows) {
-  constexpr std::uint64_t kStudySeed = 7047001918490356134ULL;
-  const DiscoveryResult r =
-      DiscoverStudy("scorecard_spring_" + std::to_string(kStudySeed),
-                    ScorecardUnreplicated(kStudySeed) + " --tangential-compliance-ratio 0.02");
-  const auto* f = SpringNamedAlone(r);
-  ASSERT_NE(f, nullptr);
-  EXPECT_GT(f->estimate, 0.0101);  // clear of the smallest value
-  EXPECT_LT(f->estimate, 0.03);
+  const DiscoveryResult r = ScorecardSpring(7047001918490356134ULL);
+  ExpectSpringClearOfItsSmallestValue(r);
   ASSERT_FALSE(r.rounds.empty());
   for (const auto& c : r.rounds.front().candidates) {
     if (c.key == "tangential_compliance") {
