@@ -288,6 +288,7 @@ void PrintPlans(const DiscoverArgs& a, const std::vector<pipeline::TrialAnalysis
                    {"bootstrap",
                     {{"draws", p.bootstrap_draws},
                      {"detected", p.bootstrap_detected},
+                     {"likelihood_ratio_significant", p.bootstrap_lr_significant},
                      {"power", JsonNumber(p.bootstrap_power)},
                      {"power_low", JsonNumber(p.bootstrap_low)},
                      {"power_high", JsonNumber(p.bootstrap_high)}}},
@@ -308,7 +309,8 @@ void PrintPlans(const DiscoverArgs& a, const std::vector<pipeline::TrialAnalysis
                 << p.bootstrap_draws << " studies simulated from the baseline with " << p.parameter
                 << " = " << Num(p.size, 3) << unit << ": power " << Percent(p.bootstrap_power)
                 << " (Wilson 95 % " << Percent(p.bootstrap_low) << " to "
-                << Percent(p.bootstrap_high) << ")\n";
+                << Percent(p.bootstrap_high) << "); the likelihood ratio alone below the naming "
+                << "level in " << p.bootstrap_lr_significant << " of " << p.bootstrap_draws << "\n";
     std::cout << "  information per trial, most informative condition first (zeta and mu profiled "
                  "out):\n";
     for (const auto& c : p.conditions)
@@ -317,8 +319,10 @@ void PrintPlans(const DiscoverArgs& a, const std::vector<pipeline::TrialAnalysis
                 << Num(c.speed_high_m_s, 3) << " m/s  " << std::setw(3) << c.trials << " trials  "
                 << std::setw(10) << Num(c.information_per_trial, 3) << " per trial  ("
                 << Percent(c.share) << " of the study's)\n";
-    std::cout << "  (the effect simulated against the baseline fitted with its noise model, "
-                 "linear in the scatter; docs/discovery.md, \"Detection limits and plans\")\n";
+    std::cout << "  (the limit and the power from the study's expected data: the effect simulated "
+                 "without scatter or error, the baseline's zeta and mu refitted to it, under its "
+                 "noise model; the information per trial from the tangent plane; "
+                 "docs/discovery.md, \"Detection limits and plans\")\n";
   }
   if (a.settings.json) std::cout << all.dump(2) << "\n";
 }

@@ -456,8 +456,9 @@ Evaluation EvaluateContact(const RoundContext& x, const std::string& key) {
   } else {
     c.identifiability = Identifiability::kIdentified;
   }
-  // Detection limit: from the change simulated at each size of the ladder.
-  c.detection_limit = LadderDetectionLimit(x.probes.ladder.at(key), x.level);
+  // Detection limit: from the study's expected data with the effect at the ladder's sizes.
+  c.detection_limit =
+      ExpectedDetectionLimit(x.ws, current, x.free_current, key, x.probes.ladder.at(key), x.level);
   // The estimate must also stand clear of 0 by its own standard error (one-sided Wald at the
   // naming level, per value for a per-surface effect): a likelihood ratio whose effect is
   // 0.4 s.e. from 0 is a gain of the other parameters, and naming it would contradict the

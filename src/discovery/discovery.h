@@ -445,7 +445,9 @@ struct Plan {
   double size = 0.0;   ///< the size asked about
   int trials = 0;      ///< trials of the study
   double level = 0.0;  ///< the naming level of the first round (Round::naming_level)
-  /// The smallest size this study detects with 80 % power, and its power at `size`.
+  /// The smallest size this study detects with 80 % power, and its power at `size`, both from
+  /// the noncentrality of the study's expected data (the effect simulated without scatter or
+  /// error, zeta and mu refitted to it).
   double detection_limit = 0.0, power = 0.0;
   /// Trials of this study's design (its conditions in the same proportions) for 80 % power at
   /// `size`.
@@ -454,15 +456,17 @@ struct Plan {
   /// The parametric bootstrap (when asked for): studies of these trials simulated from the
   /// fitted baseline with the effect at `size`, each trial's e and mu drawn from the noise
   /// model's scatter, and in how many the candidate, judged alone at `level` as a round judges
-  /// it, was significant; that rate with its Wilson 95 % interval (NaN without draws).
-  int bootstrap_draws = 0, bootstrap_detected = 0;
+  /// it, was significant; that rate with its Wilson 95 % interval (NaN without draws); and in
+  /// how many its likelihood ratio alone was below `level` (the test whose power `power` is).
+  int bootstrap_draws = 0, bootstrap_detected = 0, bootstrap_lr_significant = 0;
   double bootstrap_power = 0.0, bootstrap_low = 0.0, bootstrap_high = 0.0;
 };
 
 /// The plan for `key` at `size` (its library unit) under the baseline fitted to `trials` with its
 /// noise model: the naming level and the detection limit as the first round of Discover sets
 /// them (the ladder of sizes, CandidateResult::detection_limit), and the power at `size` from the
-/// change simulated at that size (zeta and mu profiled out). Throws std::invalid_argument for a
+/// study's expected data with the effect at that size (zeta and mu refitted). Throws
+/// std::invalid_argument for a
 /// bad key, size or options.
 /// With `bootstrap_draws` > 0, also the parametric bootstrap (Plan::bootstrap_power), each draw
 /// reported through `progress`.

@@ -360,6 +360,15 @@ std::vector<double> LadderStarts(const SizeLadder& ladder, std::size_t most);
 /// limit of DetectionLimit; one whose change swings in sign gives the size above which it never
 /// falls below detection.
 double LadderDetectionLimit(const SizeLadder& ladder, double level);
+/// The detection limit as LadderDetectionLimit gives it, with the noncentrality of each size
+/// from the study's expected data (ExpectedNoncentrality: zeta, mu and the current model's
+/// effects `free_current` refitted nonlinearly) instead of the tangent plane: the first size of
+/// the ladder detected with 80 % power, found by bisection from the tangent plane's bracket, and
+/// refined between it and the size below by two steps of regula falsi in log size. NaN when the
+/// largest size is not detected.
+double ExpectedDetectionLimit(const Workspace& ws, const Fit& current,
+                              const std::vector<std::string>& free_current, const std::string& key,
+                              const SizeLadder& ladder, double level);
 /// A direction of a candidate's change that its secant (the change per unit at the probe size)
 /// does not describe, and the stretch of it that the ladder's sizes reach: the change at the
 /// sizes nearest to it, as multiples `low` to `high` of `change`'s own length along it (zeta and
@@ -434,8 +443,19 @@ std::vector<double> MuEffMax(const Workspace& ws);
 /// the same values, whatever the threads.
 std::vector<Eigen::Vector3d> SimulateStudy(const Workspace& ws, const Fit& truth,
                                            std::uint64_t seed);
+/// The noncentrality of the likelihood ratio for `key` at `size` against `current` (its model,
+/// with the contact effects `free_current`, and its noise model held), from the study's expected
+/// data: every obs's velocities simulated with the effect at `size` and no scatter or error, the
+/// current model refitted to them (zeta, mu and `free_current`, nonlinearly), and twice the
+/// log-likelihood it falls short of the truth's. Where zeta and mu take up an effect only as
+/// they change by a finite amount, this is what the tangent-plane noncentrality of
+/// LadderDetectionLimit misses. NaN where the simulator fails on a trial under both models.
+double ExpectedNoncentrality(const Workspace& ws, const Fit& current,
+                             const std::vector<std::string>& free_current, const std::string& key,
+                             double size, int passes = 8);
 struct BootstrapResult {
   int draws = 0, detected = 0;
+  int lr_significant = 0;         // draws whose likelihood ratio alone is below the level
   std::vector<double> estimates;  // per draw, the candidate's estimate
 };
 /// `draws` studies simulated from `baseline` with `key` at `size`; on each, the baseline is

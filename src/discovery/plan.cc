@@ -1,7 +1,8 @@
 // Detection limits and plans of the discovery workflow (docs/discovery.md, "Detection limits
 // and plans"): the Fisher information about an effect that a study holds once zeta and mu per
-// surface are profiled out, the smallest size it detects with 80 % power (the Wald
-// approximation), and how many trials, and of which conditions, would detect a given size.
+// surface are profiled out, the smallest size it detects with 80 % power (from the noncentrality
+// of the study's expected data with the effect added, zeta and mu refitted), and how many trials,
+// and of which conditions, would detect a given size.
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -152,6 +153,78 @@ double LadderDetectionLimit(const SizeLadder& ladder, double level) {
                   t * (std::log(ladder.size[k]) - std::log(ladder.size[k - 1])));
 }
 
+double ExpectedDetectionLimit(const Workspace& ws, const Fit& current,
+                              const std::vector<std::string>& free_current, const std::string& key,
+                              const SizeLadder& ladder, double level) {
+  const std::size_t n = ladder.size.size();
+  if (n == 0) return kNaN;
+  const boost::math::normal z;
+  const double target =
+      boost::math::quantile(boost::math::complement(z, level)) + boost::math::quantile(z, 0.8);
+  // The root of the noncentrality at a size, from the expected data; where the simulator fails
+  // there, from the tangent plane.
+  auto root_at = [&](double size, double fallback) {
+    const double lambda = ExpectedNoncentrality(ws, current, free_current, key, size);
+    return std::isfinite(lambda) ? std::sqrt(lambda) : fallback;
+  };
+  std::vector<double> root(n, kNaN);
+  auto root_k = [&](std::size_t k) {
+    if (!std::isfinite(root[k])) root[k] = root_at(ladder.size[k], ladder.projected[k].norm());
+    return root[k];
+  };
+  if (!(root_k(n - 1) >= target)) return kNaN;
+  // The first size detected, by bisection over the ladder (the noncentrality taken to grow with
+  // the size), starting from the tangent plane's bracket: where the tangent plane is right, two
+  // solves settle it.
+  std::size_t hi = n - 1;  // detected
+  std::ptrdiff_t lo = -1;  // the last index known missed (-1: none)
+  std::size_t guess = n - 1;
+  while (guess > 0 && ladder.projected[guess - 1].norm() >= target) --guess;
+  if (guess < hi && root_k(guess) >= target)
+    hi = guess;
+  else if (guess < hi)
+    lo = static_cast<std::ptrdiff_t>(guess);
+  if (hi > 0 && static_cast<std::ptrdiff_t>(hi) - 1 > lo) {
+    if (root_k(hi - 1) >= target)
+      hi = hi - 1;
+    else
+      lo = static_cast<std::ptrdiff_t>(hi) - 1;
+  }
+  while (static_cast<std::ptrdiff_t>(hi) - lo > 1) {
+    const auto mid = static_cast<std::size_t>((lo + static_cast<std::ptrdiff_t>(hi)) / 2);
+    if (root_k(mid) >= target)
+      hi = mid;
+    else
+      lo = static_cast<std::ptrdiff_t>(mid);
+  }
+  if (lo < 0) {
+    // Detected at the smallest size: a fit that may not go below it names nothing smaller;
+    // otherwise the change below it is taken to grow in proportion to the size.
+    if (ladder.smallest > 0) return ladder.size[0];
+    return ladder.size[0] * target / root_k(0);
+  }
+  // Between the last size missed and the first detected: regula falsi in log size on the root,
+  // two steps (Illinois), so that the power at the limit is 80 % to a per cent or two.
+  double a = std::log(ladder.size[static_cast<std::size_t>(lo)]), b = std::log(ladder.size[hi]);
+  double fa = root_k(static_cast<std::size_t>(lo)) - target, fb = root_k(hi) - target;
+  int side = 0;
+  for (int step = 0; step < 2; ++step) {
+    const double c = b - fb * (b - a) / (fb - fa);
+    const double fc = root_at(std::exp(c), kNaN) - target;
+    if (!std::isfinite(fc)) break;
+    if (fc >= 0) {
+      b = c, fb = fc;
+      if (side == 1) fa /= 2;
+      side = 1;
+    } else {
+      a = c, fa = fc;
+      if (side == -1) fb /= 2;
+      side = -1;
+    }
+  }
+  return std::exp(b - fb * (b - a) / (fb - fa));
+}
+
 std::vector<LadderRay> LadderRays(const Workspace& ws, const SizeLadder& ladder,
                                   const std::vector<Eigen::Vector3d>& d_r,
                                   const std::vector<Sensitivity>& sens,
@@ -276,7 +349,8 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
   const CandidateProbes probes = ProbeCandidates(ws, base.model, keys, r0, sens, ref, options);
   plan.level = probes.naming.level;
   const auto own = probes.ladder.find(key);
-  plan.detection_limit = LadderDetectionLimit(
+  plan.detection_limit = ExpectedDetectionLimit(
+      ws, base, {}, key,
       own != probes.ladder.end() ? own->second : Ladder(ws, base.model, key, r0, sens, ref),
       plan.level);
   // The change at `size` itself (simulated, not scaled from another size), zeta and mu profiled
@@ -288,13 +362,17 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
   for (std::size_t i = 0; i < ws.obs.size(); ++i) d_r[i] = (r0[i] - r1[i]) / size;
   const auto info = ProfiledInformation(ws, d_r, sens, ref);
   const double total = std::accumulate(info.begin(), info.end(), 0.0);
-  const double noncentrality = size * size * total;
+  // The noncentrality itself from the study's expected data, as the detection limit takes it
+  // (the tangent plane's where the simulator fails); the shares of the conditions are the
+  // tangent plane's.
+  const double expected = ExpectedNoncentrality(ws, base, {}, key, size);
+  const double noncentrality = std::isfinite(expected) ? expected : size * size * total;
   const boost::math::normal z;
   const double z_level = boost::math::quantile(boost::math::complement(z, plan.level));
   const double z_target = z_level + boost::math::quantile(z, 0.8);
-  plan.power = total > 0 ? boost::math::cdf(z, std::sqrt(noncentrality) - z_level) : kNaN;
+  plan.power = noncentrality > 0 ? boost::math::cdf(z, std::sqrt(noncentrality) - z_level) : kNaN;
   plan.trials_needed =
-      total > 0 ? std::ceil(plan.trials * z_target * z_target / noncentrality) : kNaN;
+      noncentrality > 0 ? std::ceil(plan.trials * z_target * z_target / noncentrality) : kNaN;
   // Per condition (surface and angle; speeds as a range): where the information comes from.
   std::map<std::pair<int, double>, PlanCondition> by;
   for (std::size_t i = 0; i < ws.obs.size(); ++i) {
@@ -326,6 +404,7 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
         BootstrapDetection(ws, base, key, size, plan.level, options, bootstrap_draws, progress);
     plan.bootstrap_draws = b.draws;
     plan.bootstrap_detected = b.detected;
+    plan.bootstrap_lr_significant = b.lr_significant;
     plan.bootstrap_power = static_cast<double>(b.detected) / b.draws;
     std::tie(plan.bootstrap_low, plan.bootstrap_high) = stats::WilsonInterval(b.detected, b.draws);
   }
