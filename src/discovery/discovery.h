@@ -284,9 +284,10 @@ struct CandidateResult {
   bool significant = false;
   CandidateOutcome outcome = CandidateOutcome::kNotSignificant;
   std::string reason;  ///< why it was or was not added, in words
-  /// Smallest size (the library entry's unit) from which on these trials, with this noise,
-  /// detect every larger size of the ladder at the naming level with 80 % power (shared form;
-  /// docs/discovery.md "Candidates and the decision"; NaN when not computed).
+  /// Smallest size (the library entry's unit) that these trials, with this noise, detect at
+  /// the naming level with 80 % power, from the study's expected data with the effect at the
+  /// ladder's sizes (shared form; docs/discovery.md "Candidates and the decision", item 6; NaN
+  /// when the ladder's largest size is not detected or the limit was not computed).
   double detection_limit = 0.0;
   int rank = 0;  ///< 1 = added or strongest evidence
 };

@@ -141,7 +141,8 @@ std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& opti
       v << "\nWhat these trials could have missed: the smallest size of each effect not added that "
            "this design and "
            "noise detect with 80 % power at the naming level (shared by all surfaces; from the "
-           "noncentrality of its change, simulated at a ladder of sizes):\n";
+           "study's expected data with the effect simulated at a ladder of sizes, zeta and mu "
+           "refitted):\n";
       for (const auto& l : limits) v << "  - " << l << "\n";
     }
     if (!untested.empty()) {
