@@ -40,8 +40,10 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : hoof::cli::kExitUsage;
   } catch (const std::exception& e) {
+    hoof::io::YieldToInterrupt();  // a failure Ctrl-C caused ends as the interrupt does
     std::cerr << "hoofimpact: error: " << e.what() << "\n";
     return hoof::cli::kExitFailure;
   }
+  if (state.exit_code != 0) hoof::io::YieldToInterrupt();
   return state.exit_code;
 }

@@ -4,7 +4,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <mutex>
@@ -24,6 +26,10 @@ struct Registry {
   std::set<pid_t> children;
 };
 
+/// Set first when an interrupt begins: a failure it causes in another thread (a child it ended,
+/// a temporary it removed) then yields to it (YieldToInterrupt).
+std::atomic<bool> interrupting{false};
+
 Registry& TheRegistry() {
   static Registry* registry = new Registry;  // never destroyed: the signal thread may outlive main
   return *registry;
@@ -39,6 +45,7 @@ sigset_t InterruptSignals() {
 }
 
 [[noreturn]] void OnInterrupt(int signal) {
+  interrupting.store(true);
   Registry& r = TheRegistry();
   std::size_t removed = 0;
   // Held until the process ends: the temporaries under way are made first, and no more after.
@@ -120,6 +127,11 @@ void ResetChildSignals(posix_spawnattr_t& attributes) {
   posix_spawnattr_getflags(&attributes, &flags);
   posix_spawnattr_setflags(
       &attributes, static_cast<short>(flags | POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF));
+}
+
+void YieldToInterrupt() {
+  if (!interrupting.load()) return;
+  for (;;) std::this_thread::sleep_for(std::chrono::hours(1));  // until OnInterrupt's _exit
 }
 
 void HandleInterrupts() {

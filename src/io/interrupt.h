@@ -43,6 +43,12 @@ void UntrackChild(pid_t pid);
 /// `attributes` must be initialised.
 void ResetChildSignals(posix_spawnattr_t& attributes);
 
+/// When an interrupt is under way, waits for it to end the process (with its own exit code);
+/// returns at once otherwise. Call before reporting a failure: one the interrupt caused in this
+/// thread (a child it ended, a temporary it removed under a writer) is then not reported as the
+/// job's own error with exit code 1.
+void YieldToInterrupt();
+
 /// Call first in main(), before any other thread starts. SIGINT, SIGTERM and SIGHUP are then
 /// blocked in every thread and taken by one thread of their own, which waits for the temporaries
 /// being made (CreatingTemporary), ends the tracked children, removes the tracked temporaries,
