@@ -75,13 +75,21 @@ ProfileOut::ProfileOut(const WhitenedDesign& w) {
   q_ = qr.householderQ() * Eigen::MatrixXd::Identity(w.X.rows(), qr.rank());
 }
 
+namespace {
+
+/// The root of the noncentrality at which a one-sided test at `level` has 80 % power:
+/// z_(1-level) + z_0.8.
+double RootForEightyPercent(double level) {
+  const boost::math::normal z;
+  return boost::math::quantile(boost::math::complement(z, level)) + boost::math::quantile(z, 0.8);
+}
+
+}  // namespace
+
 double DetectionLimit(const std::vector<double>& information, double level) {
   const double info = std::accumulate(information.begin(), information.end(), 0.0);
   if (!(info > 0)) return kNaN;
-  const boost::math::normal z;
-  return (boost::math::quantile(boost::math::complement(z, level)) +
-          boost::math::quantile(z, 0.8)) /
-         std::sqrt(info);
+  return RootForEightyPercent(level) / std::sqrt(info);
 }
 
 SizeLadder Ladder(const Workspace& ws, const Model& current, const std::string& key,
@@ -133,9 +141,7 @@ std::vector<double> LadderStarts(const SizeLadder& ladder, std::size_t most) {
 double LadderDetectionLimit(const SizeLadder& ladder, double level) {
   const std::size_t n = ladder.size.size();
   if (n == 0) return kNaN;
-  const boost::math::normal z;
-  const double root_target =
-      boost::math::quantile(boost::math::complement(z, level)) + boost::math::quantile(z, 0.8);
+  const double root_target = RootForEightyPercent(level);
   std::vector<double> root(n);
   for (std::size_t k = 0; k < n; ++k) root[k] = ladder.projected[k].norm();
   if (!(root[n - 1] >= root_target)) return kNaN;
@@ -158,9 +164,7 @@ double ExpectedDetectionLimit(const Workspace& ws, const Fit& current,
                               const SizeLadder& ladder, double level) {
   const std::size_t n = ladder.size.size();
   if (n == 0) return kNaN;
-  const boost::math::normal z;
-  const double target =
-      boost::math::quantile(boost::math::complement(z, level)) + boost::math::quantile(z, 0.8);
+  const double target = RootForEightyPercent(level);
   // The root of the noncentrality at a size, from the expected data; where the simulator fails
   // there, from the tangent plane.
   auto root_at = [&](double size, double fallback) {
@@ -369,7 +373,7 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
   const double noncentrality = std::isfinite(expected) ? expected : size * size * total;
   const boost::math::normal z;
   const double z_level = boost::math::quantile(boost::math::complement(z, plan.level));
-  const double z_target = z_level + boost::math::quantile(z, 0.8);
+  const double z_target = RootForEightyPercent(plan.level);
   plan.power = noncentrality > 0 ? boost::math::cdf(z, std::sqrt(noncentrality) - z_level) : kNaN;
   plan.trials_needed =
       noncentrality > 0 ? std::ceil(plan.trials * z_target * z_target / noncentrality) : kNaN;
