@@ -10,6 +10,7 @@
 #include <ceres/ceres.h>
 #include <boost/math/distributions/students_t.hpp>
 
+#include "core/frames.h"
 #include "dynamics/impact_simulator.h"
 
 namespace hoof::dynamics {
@@ -205,7 +206,7 @@ ContactFitSummary FitNormalContact(const std::vector<NormalImpact>& impacts,
     s.zeta_ci_low = std::max(0.0, s.zeta - t * s.zeta_se);
     s.zeta_ci_high = s.zeta + t * s.zeta_se;
   } else {
-    s.zeta_se = s.zeta_ci_low = s.zeta_ci_high = std::numeric_limits<double>::quiet_NaN();
+    s.zeta_se = s.zeta_ci_low = s.zeta_ci_high = core::kNaN;
   }
 
   // 2. The valley: the best b at each k.

@@ -25,6 +25,7 @@
 #include <boost/math/tools/roots.hpp>
 #include <boost/numeric/odeint.hpp>
 
+#include "core/frames.h"
 #include "dynamics/equations_of_motion.h"
 #include "dynamics/impact_simulator.h"
 
@@ -463,8 +464,7 @@ ImpactResult Run(const SpecimenParameters& specimen, const ContactParameters& co
 
   result.e = std::abs(result.v_ST_after.y() / result.v_ST_before.y());
   const Eigen::Vector2d dv = after.v_SC - touch.v_SC;
-  result.mu_eff =
-      dv.y() != 0.0 ? std::abs(dv.x() / dv.y()) : std::numeric_limits<double>::quiet_NaN();
+  result.mu_eff = dv.y() != 0.0 ? std::abs(dv.x() / dv.y()) : core::kNaN;
   result.kinetic_energy_before_J = KineticEnergy(specimen, touch);
   result.kinetic_energy_after_J = KineticEnergy(specimen, after);
   result.energy_loss_J = result.kinetic_energy_before_J - result.kinetic_energy_after_J;

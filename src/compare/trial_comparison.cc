@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numbers>
 
 #include <boost/math/tools/minima.hpp>
@@ -172,11 +171,9 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& t,
         const bool found = f < t.tracks.frames.size() && m < t.tracks.frames[f].size() &&
                            t.tracks.frames[f][m].found;
         const Eigen::Vector2d meas =
-            found ? t.tracks.frames[f][m].p_I
-                  : Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+            found ? t.tracks.frames[f][m].p_I : Eigen::Vector2d::Constant(core::kNaN);
         fc.markers_px_meas.push_back(meas);
-        fc.marker_residual_px.push_back(found ? (meas - sim_px).norm()
-                                              : std::numeric_limits<double>::quiet_NaN());
+        fc.marker_residual_px.push_back(found ? (meas - sim_px).norm() : core::kNaN);
       }
       out.frames.push_back(fc);
     }
@@ -271,7 +268,7 @@ SurfaceModel FitSurfaceModel(const std::string& surface,
   m.b_N_s_m = dynamics::DampingForRatio(m.zeta_fit.zeta, m.k_N_m, sp.mass_kg);
   m.success = true;
   if (oblique.empty()) {
-    m.mu = std::numeric_limits<double>::quiet_NaN();
+    m.mu = core::kNaN;
     m.mu_se = m.mu;
     m.message = "no oblique trials on " + surface + ": mu not fitted";
     return m;
@@ -320,8 +317,8 @@ SurfaceModel FitSurfaceModel(const std::string& surface,
   // practice: when trials scatter more than their measurement errors, mu is less certain).
   const double dof = std::max(1.0, 2.0 * static_cast<double>(oblique.size()) - 1.0);
   const double scale = std::max(1.0, s_min / dof);
-  m.mu_se = curvature > 0 && !m.mu_only_lower_bound ? std::sqrt(2.0 / curvature * scale)
-                                                    : std::numeric_limits<double>::quiet_NaN();
+  m.mu_se =
+      curvature > 0 && !m.mu_only_lower_bound ? std::sqrt(2.0 / curvature * scale) : core::kNaN;
   if (m.mu_only_lower_bound)
     m.message = "every mu above " + std::to_string(mu) + " fits the oblique trials on " + surface +
                 " as well: their contacts stick, so mu is bounded only from below";

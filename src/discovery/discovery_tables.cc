@@ -476,11 +476,12 @@ std::vector<CandidateResult> ReadCandidates(const std::filesystem::path& h5,
              aic = t.Numbers("delta_aic"), bic = t.Numbers("delta_bic"), cv = t.Numbers("cv_error"),
              cv_current = t.Numbers("cv_error_current"), cv_p = t.Numbers("cv_p"),
              detection_limit = t.Numbers("detection_limit");
-  // Since session 13; older files have none (NaN: judged by the held-out error, as they were).
+  // Study files written before the held-out density was stored have none (NaN: judged by the
+  // held-out error, as they were).
   std::vector<double> density(t.rows(), core::kNaN), density_current(t.rows(), core::kNaN);
   if (t.Has("cv_density"))
     density = t.Numbers("cv_density"), density_current = t.Numbers("cv_density_current");
-  // Since session 16; older files have none (not checked).
+  // Study files written before the influential-trial check have none (not checked).
   std::vector<std::string> influential(t.rows());
   std::vector<double> p_without(t.rows(), core::kNaN);
   if (t.Has("influential_trial"))
@@ -807,7 +808,7 @@ DiscoveryResult ReadDiscovery(const std::filesystem::path& h5) {
                mu_se = t.Numbers("mu_se"), k = t.Numbers("k_N_m"), zeta_sd = t.Numbers("zeta_sd"),
                mu_sd = t.Numbers("mu_sd");
     const auto trials = t.Integers("trials");
-    // Per surface since session 10; older files have none (NaN).
+    // Study files written before the measurement error was per surface have none (NaN).
     std::array<std::vector<double>, 3> measurement_sd;
     if (t.Has("measurement_sd_v_x"))
       measurement_sd = {t.Numbers("measurement_sd_v_x"), t.Numbers("measurement_sd_v_y"),

@@ -2,10 +2,10 @@
 // (docs/discovery.md).
 #include <array>
 #include <cmath>
-#include <limits>
 #include <sstream>
 #include <stdexcept>
 
+#include "core/frames.h"
 #include "discovery/internal.h"
 
 namespace hoof::discovery {
@@ -25,7 +25,7 @@ CandidateResult CandidateOf(const std::string& key) {
   c.parameter = e.parameter;
   c.unit = e.unit;
   c.measurement_effect = e.measurement_effect;
-  c.detection_limit = std::numeric_limits<double>::quiet_NaN();
+  c.detection_limit = core::kNaN;
   return c;
 }
 

@@ -10,19 +10,19 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <numbers>
 #include <numeric>
 
 #include <boost/math/distributions/normal.hpp>
 #include <boost/math/tools/minima.hpp>
 
+#include "core/frames.h"
 #include "discovery/internal.h"
 #include "stats/distributions.h"
 
 namespace hoof::discovery::internal {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180;
+constexpr double kDeg = core::kRadPerDeg;
 
 pipeline::OutOfPlaneMotion WithRate(pipeline::OutOfPlaneMotion m, const std::string& key,
                                     double rate_rad_s) {

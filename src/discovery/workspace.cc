@@ -2,10 +2,10 @@
 // (docs/discovery.md, "Data and residuals").
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <numeric>
 
 #include "compare/trial_comparison.h"
+#include "core/frames.h"
 #include "core/parallel.h"
 #include "discovery/internal.h"
 
@@ -157,7 +157,7 @@ void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOp
     o.t_touch_s = compare::SimulatedTouchTime(*t, contact);
     o.conditions = compare::MeasuredConditions(*t, o.t_touch_s);
     o.impact_time_s = t->impact.impact_time_s;
-    o.phi = o.angle_deg * std::numbers::pi / 180.0;
+    o.phi = core::DegToRad(o.angle_deg);
     const auto& im = t->impact;
     o.measured = {im.v_SC_after.x(), im.v_SC_after.y(), im.w_after_rad_s * o.specimen.d_EC_m};
     // The prediction starts from the measured state before the impact, so its error enters too

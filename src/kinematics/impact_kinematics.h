@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 
+#include "core/frames.h"
 #include "core/specimen.h"
 
 namespace hoof::kinematics {
@@ -32,8 +33,8 @@ struct KinematicsOptions {
   int min_fit_frames = 6;        ///< fewer usable frames than this is an error; >= 3
   double max_contact_s = 50e-6;  ///< longest contact assumed when leaving frames out (s); >= 0
   double exposure_s = -1.0;      ///< exposure time (s); < 0 means one frame period (worst case)
-  double gravity_m_s2 = 9.81;    ///< g along -y_W
-  double confidence = 0.95;      ///< level of the reported intervals; in (0, 1)
+  double gravity_m_s2 = core::kStandardGravity_m_s2;  ///< g along -y_W
+  double confidence = 0.95;  ///< level of the reported intervals; in (0, 1)
 
   void Validate() const;
 };

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <memory>
 #include <sstream>
 
+#include "core/frames.h"
 #include "tracking/frame_source.h"
 #include "tracking/surface_line.h"
 
@@ -25,7 +25,7 @@ std::unique_ptr<tracking::FrameSource> OpenFrames(const TrialSpec& spec) {
 }
 
 double Median(std::vector<double> v) {
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  if (v.empty()) return core::kNaN;
   auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
   std::nth_element(v.begin(), mid, v.end());
   return *mid;
@@ -61,7 +61,7 @@ void CheckOutOfPlane(const TrialSpec& spec, const TrialAnalysisOptions& options,
                      TrialAnalysis& out) {
   const double layout =
       (spec.specimen.markers_B_m[0].second - spec.specimen.markers_B_m[1].second).norm();
-  out.marker_distance_ratio.assign(out.poses.size(), std::numeric_limits<double>::quiet_NaN());
+  out.marker_distance_ratio.assign(out.poses.size(), core::kNaN);
   for (std::size_t f = 0; f < out.poses.size(); ++f)
     if (out.poses[f].valid && out.poses[f].marker_distance_m > 0)
       out.marker_distance_ratio[f] = out.poses[f].marker_distance_m / layout;

@@ -6,6 +6,7 @@
 #include <string>
 #include <tuple>
 
+#include "core/frames.h"
 #include "io/atomic_file.h"
 #include "report/gnuplot.h"
 
@@ -52,7 +53,7 @@ double Rms(const std::vector<double>& v) {
       sum += x * x;
       ++n;
     }
-  return n > 0 ? std::sqrt(sum / n) : std::nan("");
+  return n > 0 ? std::sqrt(sum / n) : core::kNaN;
 }
 
 /// Adds the finite (x, y) points of `s` to `plot`, when there is one.

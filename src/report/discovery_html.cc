@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/frames.h"
 #include "discovery/discovery_tables.h"
 #include "io/atomic_file.h"
 #include "io/interrupt.h"
@@ -225,7 +226,7 @@ std::string SurfacesTableHtml(const discovery::DiscoveryResult& r) {
     const discovery::SurfaceFit* f = nullptr;
     for (const auto& x : r.final_model)
       if (x.surface == b.surface) f = &x;
-    const double nan = std::nan("");
+    const double nan = core::kNaN;
     h << "<tr><td>" << HtmlEscape(b.surface) << "</td><td class=\"num\">"
       << EstimateHtml(b.zeta, b.zeta_se, "") << "</td><td class=\"num\">"
       << (f ? EstimateHtml(f->zeta, f->zeta_se, "") : EstimateHtml(nan, nan, ""))

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/frames.h"
 #include "pipeline/trial_analysis.h"
 #include "studyfile/study_file.h"
 
@@ -45,7 +46,8 @@ struct DisplacementCurves {
 /// trial's surface angle phi). `gravity_m_s2` as in kinematics::KinematicsOptions;
 /// samples_per_fit >= 2. Displacements are relative to the first valid pose when the fit failed.
 DisplacementCurves ComputeDisplacementCurves(const pipeline::TrialAnalysis& trial,
-                                             int samples_per_fit = 60, double gravity_m_s2 = 9.81);
+                                             int samples_per_fit = 60,
+                                             double gravity_m_s2 = core::kStandardGravity_m_s2);
 
 /// Figure 3 for one trial: (a) the displacement of C in S and (b) the angle against time, the
 /// measured points with the fitted curves and the impact time, as two panels of one image.

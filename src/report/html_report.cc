@@ -21,6 +21,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/frames.h"
 #include "discovery/discovery_tables.h"
 #include "io/atomic_file.h"
 #include "io/interrupt.h"
@@ -117,11 +118,11 @@ const studyfile::Column* FindColumn(const Table& t, const std::string& name) {
 
 double Num(const Table& t, const std::string& name, std::size_t row) {
   const auto* c = FindColumn(t, name);
-  if (!c || row >= c->size()) return std::nan("");
+  if (!c || row >= c->size()) return core::kNaN;
   if (const auto* d = std::get_if<std::vector<double>>(&c->values)) return (*d)[row];
   if (const auto* i = std::get_if<std::vector<std::int64_t>>(&c->values))
     return static_cast<double>((*i)[row]);
-  return std::nan("");
+  return core::kNaN;
 }
 
 std::string Text(const Table& t, const std::string& name, std::size_t row) {
@@ -339,7 +340,7 @@ std::string TrialsSection(const studyfile::StudyResults& study, const Table& cmp
     const auto it = row_of.find(t.id);
     std::string note;
     for (const char* z : {"z_v_x", "z_v_y", "z_w"}) {
-      const double v = it == row_of.end() ? std::nan("") : Num(cmp, z, it->second);
+      const double v = it == row_of.end() ? core::kNaN : Num(cmp, z, it->second);
       h << "<td class=\"num" << (std::abs(v) > 3.0 ? " bad" : "") << "\">" << Fmt(v, 3) << "</td>";
     }
     if (it != row_of.end() && Num(cmp, "success", it->second) != 1.0)

@@ -2,10 +2,10 @@
 
 #include <cmath>
 #include <iomanip>
-#include <limits>
 #include <sstream>
 #include <stdexcept>
 
+#include "core/frames.h"
 #include "io/atomic_file.h"
 #include "io/csv.h"
 #include "stats/grouping.h"
@@ -125,7 +125,7 @@ void ScaleTables(const std::string& prefix, const stats::OneWayScaleResults& s,
                   Column::Numbers("mean", "1", "group mean (units of the response)", mean),
                   Column::Numbers("sd", "1", "sample standard deviation", sd)}});
   const auto& a = s.anova;
-  const double nan = std::nan("");
+  const double nan = core::kNaN;
   out.push_back(
       {prefix + "anova",
        "one-way ANOVA table",
@@ -191,7 +191,7 @@ void FactorTables(const std::string& prefix, const stats::OneWayAnalysis& an,
                   std::vector<Table>& out) {
   ScaleTables(prefix, an.original, out);
   const auto& t = an.transform;
-  const double nan = std::nan("");
+  const double nan = core::kNaN;
   const auto bc = [&](double stats::BoxCoxResult::*field) {
     return std::vector<double>{t.box_cox ? (*t.box_cox).*field : nan};
   };

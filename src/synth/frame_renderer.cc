@@ -5,6 +5,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "core/frames.h"
+
 namespace hoof::synth {
 namespace {
 
@@ -25,7 +27,7 @@ FrameRenderer::FrameRenderer(const TrialTruth& truth, const SpecimenGeometry& ge
   view_.d_EC_m = geometry.dynamics.d_EC_m;
   const cv::Size frame(options.width_px, options.height_px);
   SurfacePlacement placement;
-  placement.angle_rad = truth.spec.angle_deg * M_PI / 180.0;
+  placement.angle_rad = core::DegToRad(truth.spec.angle_deg);
   placement.contact_px = truth.contact_px;
   placement.u_offset_px = truth.surface_u_offset_px;
   const cv::Mat background = RenderBackground(assets.Surface(truth.spec.surface), placement, frame,
