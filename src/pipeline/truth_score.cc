@@ -1,11 +1,15 @@
 #include "pipeline/truth_score.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <limits>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
+
+#include "core/frames.h"
+#include "core/parallel.h"
+#include "pipeline/study_format.h"
 
 namespace hoof::pipeline {
 namespace {
@@ -58,9 +62,8 @@ TrialTruth ReadTruth(const std::filesystem::path& trial_dir) {
   t.w_before_rad_s = Num(j, "w_before_rad_s", file);
   t.w_after_rad_s = Num(j, "w_after_rad_s", file);
   t.e = Num(j, "e", file);
-  t.mu_eff = j.contains("mu_eff") && j.at("mu_eff").is_number()
-                 ? j.at("mu_eff").get<double>()
-                 : std::numeric_limits<double>::quiet_NaN();
+  t.mu_eff = j.contains("mu_eff") && j.at("mu_eff").is_number() ? j.at("mu_eff").get<double>()
+                                                                : core::kNaN;
   if (!j.contains("frames") || !j.at("frames").is_array())
     throw std::runtime_error(file + ": field \"frames\" is missing");
   const nlohmann::json& frames = j.at("frames");
@@ -106,6 +109,56 @@ TrialScore ScoreTrial(const TrialAnalysis& a, const TrialTruth& t) {
   s.mu_eff_abs = std::abs(k.mu_eff - t.mu_eff);
   s.impact_time_abs_s = std::abs(k.impact_time_s - t.impact_time_s);
   return s;
+}
+
+StudyScoreSummary SummarizeScores(const std::vector<StudyTrialScore>& trials) {
+  StudyScoreSummary out;
+  out.trials = static_cast<int>(trials.size());
+  double ss = 0.0;
+  long count = 0;
+  for (const auto& t : trials) {
+    if (!t.scored()) continue;
+    ++out.scored;
+    const TrialScore& s = t.score;
+    ss += s.marker_rms_px * s.marker_rms_px * s.marker_count;
+    count += s.marker_count;
+    out.marker_max_px = std::max(out.marker_max_px, s.marker_max_px);
+    out.v_SC_max_rel = std::max({out.v_SC_max_rel, s.v_before_rel, s.v_after_rel});
+    out.w_max_abs_rad_s = std::max({out.w_max_abs_rad_s, s.w_before_abs, s.w_after_abs});
+    out.e_max_abs = std::max(out.e_max_abs, s.e_abs);
+    if (std::isfinite(s.mu_eff_abs))
+      out.mu_eff_max_abs = std::max(out.mu_eff_max_abs, s.mu_eff_abs);
+  }
+  out.marker_rms_px = count > 0 ? std::sqrt(ss / static_cast<double>(count)) : 0.0;
+  return out;
+}
+
+StudyScore ScoreStudy(const std::filesystem::path& study_dir, const TrialAnalysisOptions& options,
+                      int jobs) {
+  const StudySpec study = ReadStudy(study_dir);
+  StudyScore out;
+  out.trials.resize(study.trial_dirs.size());
+  core::ParallelFor(out.trials.size(), jobs, [&](std::size_t i) {
+    StudyTrialScore& t = out.trials[i];
+    t.dir = study.trial_dirs[i];
+    try {
+      const TrialSpec spec = ReadTrial(t.dir, study);
+      t.id = spec.id;
+      const TrialAnalysis analysis = AnalyzeTrial(spec, options);
+      t.flags = analysis.flags;
+      if (!analysis.success) {
+        t.error = analysis.error.empty() ? "the analysis failed" : analysis.error;
+        return;
+      }
+      const TrialTruth truth = ReadTruth(t.dir);
+      t.score = ScoreTrial(analysis, truth);
+      t.truth_out_of_plane = truth.out_of_plane;
+    } catch (const std::exception& e) {
+      t.error = e.what();
+    }
+  });
+  out.summary = SummarizeScores(out.trials);
+  return out;
 }
 
 }  // namespace hoof::pipeline

@@ -38,11 +38,46 @@ struct TrialScore {
   double w_before_abs = 0.0;  ///< |w measured - truth| (rad/s)
   double w_after_abs = 0.0;
   double e_abs = 0.0;
-  double mu_eff_abs = 0.0;         ///< NaN for normal impacts without tangential change
+  double mu_eff_abs = 0.0;         ///< NaN where the measured or the true mu_eff is NaN
   double impact_time_abs_s = 0.0;  ///< |measured impact time - first touch|
 };
 
 /// Scores `analysis` (which must have succeeded) against `truth`.
 TrialScore ScoreTrial(const TrialAnalysis& analysis, const TrialTruth& truth);
+
+/// One trial of a synthetic study, measured and scored against its truth.json.
+struct StudyTrialScore {
+  std::filesystem::path dir;
+  std::string id;                   ///< empty when the trial folder could not be read
+  std::vector<std::string> flags;   ///< the analysis's flags (TrialAnalysis::flags)
+  std::string error;                ///< why the trial was not scored; empty when it was
+  TrialScore score;                 ///< valid when error is empty
+  bool truth_out_of_plane = false;  ///< the truth says an out-of-plane rotation was rendered
+  bool scored() const { return error.empty(); }
+};
+
+/// A study's scores pooled: the RMS marker error over every found marker of every scored trial,
+/// and the worst of each error (mu_eff's over the trials where its error is a number).
+struct StudyScoreSummary {
+  int trials = 0, scored = 0;
+  double marker_rms_px = 0.0, marker_max_px = 0.0;
+  double v_SC_max_rel = 0.0;  ///< the larger of v_before_rel and v_after_rel, over trials
+  double w_max_abs_rad_s = 0.0, e_max_abs = 0.0, mu_eff_max_abs = 0.0;
+};
+
+struct StudyScore {
+  std::vector<StudyTrialScore> trials;  ///< in the order of the study's trial folders
+  StudyScoreSummary summary;
+};
+
+/// Measures every trial of the study in `study_dir` with `options` and scores it against its
+/// truth.json, on `jobs` threads (core::ResolveJobs). A trial that cannot be read, measured or
+/// scored keeps its error and the others go on; the result does not depend on `jobs`. Throws
+/// only when the study itself cannot be read.
+StudyScore ScoreStudy(const std::filesystem::path& study_dir,
+                      const TrialAnalysisOptions& options = {}, int jobs = 0);
+
+/// The summary of already scored trials (ScoreStudy's, for trials scored elsewhere).
+StudyScoreSummary SummarizeScores(const std::vector<StudyTrialScore>& trials);
 
 }  // namespace hoof::pipeline

@@ -1,8 +1,13 @@
 // A synthetic trial's truth.json as ReadTruth reads it: a sample trial's file reads with its
 // numbers, and a broken one names the file and the field (the cases the fuzzer found first:
 // a frame without markers, a marker that is not [x, y], a tilt that is not a number).
+// ScoreStudy: the sample study's trials meet their truth and the summary pools them as its
+// definition says; a trial whose truth or folder is broken keeps its error, and the others are
+// scored.
 #include "pipeline/truth_score.h"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -16,6 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using hoof::pipeline::ReadTruth;
+using hoof::pipeline::ScoreStudy;
 
 fs::path WriteTruth(const std::string& name, const nlohmann::json& j) {
   const fs::path dir = fs::path(HOOF_BINARY_DIR) / "test-output" / "truth_score_test" / name;
@@ -60,6 +66,65 @@ TEST(TruthScoreTest, ABrokenTruthNamesTheFileAndTheField) {
   j = SampleTruth();
   j["v_SC_after_m_s"] = {1.0};
   expect("short_velocity", j, "field \"v_SC_after_m_s\" must be [x, y]");
+}
+
+TEST(ScoreStudyTest, SampleTrialsMeetTheirTruthAndTheSummaryPoolsThem) {
+  const auto score = ScoreStudy(fs::path(HOOF_SOURCE_DIR) / "sample_frames", {}, 2);
+  ASSERT_EQ(score.trials.size(), 4u);
+  double ss = 0, worst_e = 0, worst_mu = 0, worst_v = 0;
+  long markers = 0;
+  for (const auto& t : score.trials) {
+    ASSERT_TRUE(t.scored()) << t.dir << ": " << t.error;
+    EXPECT_FALSE(t.id.empty());
+    // The tracker's own targets (docs/tracking.md): e within 0.001, velocities within 0.1 %.
+    EXPECT_LT(t.score.e_abs, 1e-3) << t.id;
+    EXPECT_LT(std::max(t.score.v_before_rel, t.score.v_after_rel), 1e-3) << t.id;
+    ss += t.score.marker_rms_px * t.score.marker_rms_px * t.score.marker_count;
+    markers += t.score.marker_count;
+    worst_e = std::max(worst_e, t.score.e_abs);
+    worst_v = std::max({worst_v, t.score.v_before_rel, t.score.v_after_rel});
+    if (std::isfinite(t.score.mu_eff_abs)) worst_mu = std::max(worst_mu, t.score.mu_eff_abs);
+  }
+  const auto& s = score.summary;
+  EXPECT_EQ(s.trials, 4);
+  EXPECT_EQ(s.scored, 4);
+  EXPECT_DOUBLE_EQ(s.marker_rms_px, std::sqrt(ss / static_cast<double>(markers)));
+  EXPECT_EQ(s.e_max_abs, worst_e);
+  EXPECT_EQ(s.mu_eff_max_abs, worst_mu);
+  EXPECT_EQ(s.v_SC_max_rel, worst_v);
+  EXPECT_GT(markers, 0);
+}
+
+TEST(ScoreStudyTest, ABrokenTrialKeepsItsErrorAndTheOthersAreScored) {
+  const fs::path study = hoof::testing::FreshDir("truth_score_test/broken_study");
+  fs::copy(fs::path(HOOF_SOURCE_DIR) / "sample_frames", study, fs::copy_options::recursive);
+  const fs::path cut = study / "concrete_20deg_v2.50_r1" / "truth.json";
+  {
+    const std::string text = hoof::testing::ReadAll(cut);
+    std::ofstream(cut, std::ios::trunc) << text.substr(0, text.size() / 2);
+  }
+  fs::remove(study / "asphalt_30deg_v4.00_r1" / "trial.json");
+  const auto score = ScoreStudy(study, {}, 2);
+  ASSERT_EQ(score.trials.size(), 4u);
+  int scored = 0;
+  for (const auto& t : score.trials) {
+    if (t.dir.filename() == "concrete_20deg_v2.50_r1") {
+      EXPECT_FALSE(t.scored());
+      EXPECT_NE(t.error.find(cut.string()), std::string::npos) << t.error;
+      EXPECT_FALSE(t.id.empty());  // read and measured; only its truth is broken
+    } else if (t.dir.filename() == "asphalt_30deg_v4.00_r1") {
+      EXPECT_FALSE(t.scored());
+      EXPECT_NE(t.error.find("trial.json"), std::string::npos) << t.error;
+      EXPECT_TRUE(t.id.empty());
+    } else {
+      EXPECT_TRUE(t.scored()) << t.error;
+      scored += t.scored();
+    }
+  }
+  EXPECT_EQ(scored, 2);
+  EXPECT_EQ(score.summary.scored, 2);
+  EXPECT_EQ(score.summary.trials, 4);
+  EXPECT_LT(score.summary.e_max_abs, 1e-3);
 }
 
 }  // namespace
