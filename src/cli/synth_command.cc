@@ -2,7 +2,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -21,6 +20,7 @@
 #include "synth/contact_sheet.h"
 #include "synth/renderer.h"
 #include "synth/study.h"
+#include "synth/study_config.h"
 
 namespace hoof::cli {
 namespace {
@@ -98,74 +98,17 @@ std::vector<dynamics::Surface> ParseSurfaces(const std::vector<std::string>& nam
   return out;
 }
 
-/// Reads --study-config: the study's design and hidden effects. Unknown keys are an error.
+/// Reads --study-config (synth::ReadStudyConfig) over the design: its design, hidden effects and
+/// markers. A bad file is bad input (exit 1) naming the file.
 void ApplyStudyConfig(const std::string& path, SynthArgs& a) {
-  std::ifstream in(path);
-  if (!in) Bad("--study-config", "'" + path + "' cannot be read");
-  nlohmann::json j;
+  synth::StudyConfig c;
   try {
-    j = nlohmann::json::parse(in);
-    if (!j.is_object()) Bad("--study-config", "'" + path + "' must hold a JSON object ({...})");
-    synth::StudyDesign& d = a.design;
-    for (const auto& [key, value] : j.items()) {
-      if (key == "name")
-        d.name = value.get<std::string>();
-      else if (key == "seed")
-        d.seed = value.get<std::uint64_t>();
-      else if (key == "surfaces")
-        d.surfaces = ParseSurfaces(value.get<std::vector<std::string>>(), path + ": surfaces");
-      else if (key == "angles_deg")
-        d.angles_deg = value.get<std::vector<double>>();
-      else if (key == "speeds_m_s")
-        d.speeds_m_s = value.get<std::vector<double>>();
-      else if (key == "trials_per_cell")
-        d.trials_per_cell = value.get<int>();
-      else if (key == "cells") {
-        for (const auto& c : value)
-          d.cells.push_back(
-              {ParseSurfaces({c.at("surface").get<std::string>()}, path + ": cells").front(),
-               c.at("angle_deg").get<double>(), c.at("speed_m_s").get<double>()});
-      } else if (key == "scatter_parameters")
-        d.scatter_parameters = value.get<bool>();
-      else if (key == "scatter_scale")
-        d.scatter_scale = value.get<double>();
-      else if (key == "out_of_plane_random_deg")
-        d.out_of_plane_random_deg = value.get<double>();
-      else if (key == "markers_B_m") {
-        a.geometry.markers.clear();
-        for (const auto& [name, xy] : value.items())
-          a.geometry.markers.push_back({name, {xy.at(0).get<double>(), xy.at(1).get<double>()}});
-      } else if (key == "hidden_effects") {
-        dynamics::ContactExtensions& x = d.hidden.contact;
-        synth::OutOfPlane& o = d.hidden.out_of_plane;
-        for (const auto& [k, v] : value.items()) {
-          const double val = v.get<double>();
-          if (const auto* f = dynamics::FindContactExtension(k))
-            x.*f->member = val;
-          else if (k == "tilt_deg")
-            o.tilt_deg = val;
-          else if (k == "roll_deg")
-            o.roll_deg = val;
-          else if (k == "tilt_rate_deg_s")
-            o.tilt_rate_deg_s = val;
-          else if (k == "roll_rate_deg_s")
-            o.roll_rate_deg_s = val;
-          else
-            throw std::invalid_argument(path + ": unknown field 'hidden_effects." + k + "'");
-        }
-      } else {
-        throw std::invalid_argument(path + ": unknown field '" + key + "'");
-      }
-    }
-  } catch (const nlohmann::json::exception& e) {
-    throw std::invalid_argument("--study-config '" + path + "': " + e.what());
-  }
-  // The file's values on their own: a bad one is bad input (exit 1) naming the file.
-  try {
-    a.design.Validate();
+    c = synth::ReadStudyConfig(path, a.design);
   } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(path + ": " + e.what());
+    throw std::invalid_argument(std::string("--study-config ") + e.what());
   }
+  a.design = std::move(c.design);
+  if (c.markers_B_m) a.geometry.markers = std::move(*c.markers_B_m);
 }
 
 void AddCameraOptions(CLI::App* cmd, SynthArgs& a) {

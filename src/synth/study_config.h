@@ -1,0 +1,32 @@
+#pragma once
+/// @file
+/// A study config file (`synth --study --study-config FILE`, docs/synthetic-trials.md): the
+/// design of a synthetic study, its hidden effects and, optionally, the specimen's markers, as
+/// one JSON object.
+
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include "synth/options.h"
+#include "synth/study.h"
+
+namespace hoof::synth {
+
+struct StudyConfig {
+  StudyDesign design;
+  /// The config's `markers_B_m`, when it has one: replaces the specimen's markers.
+  std::optional<std::vector<Marker>> markers_B_m;
+};
+
+/// Reads the config in `path` over `base`: each key the file holds replaces that field of the
+/// design (`name`, `seed`, `surfaces`, `angles_deg`, `speeds_m_s`, `trials_per_cell`, `cells`,
+/// `scatter_parameters`, `scatter_scale`, `out_of_plane_random_deg`, `markers_B_m`, and
+/// `hidden_effects` with a key of every contact extension and `tilt_deg`, `roll_deg`,
+/// `tilt_rate_deg_s`, `roll_rate_deg_s`). The design is validated. Every error names the file:
+/// one that cannot be read, JSON that does not parse or is not an object, an unknown key, a value
+/// of the wrong type (std::invalid_argument), or a value out of range (std::runtime_error, from
+/// StudyDesign::Validate, naming the field).
+StudyConfig ReadStudyConfig(const std::filesystem::path& path, const StudyDesign& base = {});
+
+}  // namespace hoof::synth
