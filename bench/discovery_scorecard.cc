@@ -382,13 +382,10 @@ void RenderAndAnalyze(const StudyPoint& p, const hoof::synth::StudyDesign& desig
   }
 
   row.stage = "cache";
-  hoof::studyfile::StudyInfo info;
-  info.name = study.name;
+  auto info = hoof::studyfile::StudyInfo::Of(
+      study, AnalysisSettings(),
+      "discovery_scorecard: " + p.Label() + " (frames deleted after analysis)");
   info.study_dir = frames_dir;
-  info.specimens = study.specimens;
-  info.options = AnalysisSettings();
-  info.warnings = study.warnings;
-  info.command_line = "discovery_scorecard: " + p.Label() + " (frames deleted after analysis)";
   using hoof::studyfile::Column;
   const hoof::studyfile::Table record{
       "study",

@@ -98,14 +98,8 @@ void Run(AnalyzeArgs& a, RunState& state) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  studyfile::StudyInfo info;
-  info.name = study.name;
-  info.study_dir = std::filesystem::absolute(study.dir);
-  info.specimens = study.specimens;
-  info.options = a.options;
-  info.warnings = study.warnings;
-  info.command_line = a.command_line;
-  studyfile::WriteStudyFile(a.output, info, results);
+  studyfile::WriteStudyFile(a.output, studyfile::StudyInfo::Of(study, a.options, a.command_line),
+                            results);
   if (!a.csv.empty()) studyfile::WriteResultsCsv(a.csv, results);
   if (!a.tracks_csv.empty()) studyfile::WriteTracksCsv(a.tracks_csv, results);
   if (!a.figures_dir.empty()) {

@@ -97,14 +97,8 @@ StudyJobSummary RunStudyJob(const StudyJobOptions& options, StudyJobObserver* ob
   });
   for (const auto& t : s.trials) s.measured += t.success ? 1 : 0;
   s.measure_seconds = Since(t0);
-  studyfile::StudyInfo info;
-  info.name = s.study.name;
-  info.study_dir = fs::absolute(s.study.dir);
-  info.specimens = s.study.specimens;
-  info.options = options.analysis;
-  info.warnings = s.study.warnings;
-  info.command_line = options.command_line;
-  studyfile::WriteStudyFile(h5, info, s.trials);
+  studyfile::WriteStudyFile(
+      h5, studyfile::StudyInfo::Of(s.study, options.analysis, options.command_line), s.trials);
   studyfile::WriteResultsCsv(s.results_csv, s.trials);
   tell.StepDone(StudyJobStep::kMeasure, s);
 

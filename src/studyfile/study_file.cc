@@ -12,6 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
+#include <utility>
 
 #include "core/frames.h"
 #include "io/atomic_file.h"
@@ -682,6 +683,18 @@ pipeline::TrialAnalysis ReadTrialGroup(const GroupReader& g) {
 }
 
 }  // namespace
+
+StudyInfo StudyInfo::Of(const pipeline::StudySpec& study,
+                        const pipeline::TrialAnalysisOptions& options, std::string command_line) {
+  StudyInfo info;
+  info.name = study.name;
+  info.study_dir = std::filesystem::absolute(study.dir);
+  info.specimens = study.specimens;
+  info.options = options;
+  info.warnings = study.warnings;
+  info.command_line = std::move(command_line);
+  return info;
+}
 
 // ------------------------------------------------------------------------------------------
 // Column and Table

@@ -49,6 +49,11 @@ struct StudyInfo {
   std::map<std::string, pipeline::SpecimenSpec> specimens;
   pipeline::TrialAnalysisOptions options;  ///< the analysis options every trial used
   std::vector<std::string> warnings;       ///< study-level warnings (study.json and the like)
+
+  /// The info of `study` measured with `options`: its name, absolute folder, specimens and
+  /// warnings; version and time are filled when the file is written.
+  static StudyInfo Of(const pipeline::StudySpec& study,
+                      const pipeline::TrialAnalysisOptions& options, std::string command_line = {});
 };
 
 /// One column of a Table: numbers, integers or text, with its unit and meaning.
