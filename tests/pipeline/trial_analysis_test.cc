@@ -39,6 +39,11 @@ fs::path RenderStudy(const std::string& name, const std::string& options) {
   return hoof::testing::RenderedStudy(name, options);
 }
 
+/// The study of the two re-measuring tests: four trials with a tilt growing at 1000 deg/s.
+constexpr const char* kOutOfPlaneRateStudy =
+    "--seed 11 --surfaces steel,asphalt --angles-deg 0,30 --speeds 3 --trials-per-cell 1 "
+    "--tilt-rate-deg-s 1000";
+
 std::vector<TrialAnalysis> AnalyzeAll(const StudySpec& study) {
   std::vector<TrialAnalysis> out(study.trial_dirs.size());
   std::size_t next = 0;
@@ -116,11 +121,7 @@ TEST(TrialAnalysisTest, OutOfPlaneRotationIsFlagged) {
 // velocity. Re-measured with the rendered motion, the velocities are the body's again.
 TEST(TrialAnalysisTest, ATrialReMeasuredWithItsOutOfPlaneMotionHasTheTrueVelocities) {
   constexpr double kRateDegS = 1000.0;
-  const fs::path dir =
-      RenderStudy("out_of_plane_rate",
-                  "--seed 11 --surfaces steel,asphalt --angles-deg 0,30 --speeds 3 "
-                  "--trials-per-cell 1 --tilt-rate-deg-s " +
-                      std::to_string(kRateDegS));
+  const fs::path dir = RenderStudy("out_of_plane_rate", kOutOfPlaneRateStudy);
   const StudySpec study = ReadStudy(dir);
   ASSERT_EQ(study.trial_dirs.size(), 4u);
   OutOfPlaneMotion motion;
@@ -155,10 +156,7 @@ TEST(TrialAnalysisTest, ATrialReMeasuredWithItsOutOfPlaneMotionHasTheTrueVelocit
 
 // A motion of zero leaves the trial as measured.
 TEST(TrialAnalysisTest, ReMeasuringWithoutAnOutOfPlaneMotionChangesNothing) {
-  const fs::path dir =
-      RenderStudy("out_of_plane_rate",
-                  "--seed 11 --surfaces steel,asphalt --angles-deg 0,30 --speeds 3 "
-                  "--trials-per-cell 1 --tilt-rate-deg-s 1000");
+  const fs::path dir = RenderStudy("out_of_plane_rate", kOutOfPlaneRateStudy);
   const StudySpec study = ReadStudy(dir);
   const TrialAnalysis r = AnalyzeTrial(ReadTrial(study.trial_dirs.at(0), study));
   ASSERT_TRUE(r.success) << r.error;

@@ -40,24 +40,33 @@ inline std::uint64_t ProgramHash() {
 }
 
 /// The folder of a study rendered by `hoofimpact synth --study -o DIR OPTIONS`, made once per
-/// build: it is test-output/studies/NAME-HASH, where HASH is of the options and of the program's
-/// bytes, so that changed options or a rebuilt renderer render anew instead of reusing frames an
-/// older renderer drew under the same name. Folders of NAME made by other builds are removed.
+/// build: it is test-output/studies/NAME-OOOOOOOOPPPPPPPP, where O is a hash of the options and P
+/// one of the program's bytes, so that changed options or a rebuilt renderer render anew instead
+/// of reusing frames an older renderer drew under the same name. Folders of NAME that another
+/// build made (another P) are removed; those of this build with other options are kept, as a
+/// test running beside this one may be reading them (two tests once gave one NAME options that
+/// differed in their spelling, 1000 and 1000.000000, and each removed the other's frames).
 /// ctest runs tests as parallel processes: each renders into a folder of its own and renames it
 /// into place, and whoever renames second keeps the first one's study.
 inline std::filesystem::path RenderedStudy(const std::string& name, const std::string& options) {
   namespace fs = std::filesystem;
-  std::ostringstream key;
-  key << std::hex << std::setw(16) << std::setfill('0') << Fnv1a(options, ProgramHash());
+  const auto hex8 = [](std::uint64_t h) {
+    std::ostringstream os;
+    os << std::hex << std::setw(8) << std::setfill('0') << ((h ^ (h >> 32)) & 0xffffffffULL);
+    return os.str();
+  };
+  const std::string program = hex8(ProgramHash());
+  const std::string key = hex8(Fnv1a(options)) + program;
   const fs::path root = fs::path(HOOF_BINARY_DIR) / "test-output" / "studies";
-  const fs::path dir = root / (name + "-" + key.str());
+  const fs::path dir = root / (name + "-" + key);
   if (fs::exists(dir / "study.json")) return dir;
   std::error_code ec;
   fs::create_directories(root, ec);
   for (const auto& entry : fs::directory_iterator(root, ec)) {
     const std::string other = entry.path().filename().string();
-    // NAME-<16 hex digits>, and not this build's: a study an older renderer drew.
-    if (other.size() == name.size() + 17 && other.rfind(name + "-", 0) == 0 && entry.path() != dir)
+    // NAME-<16 hex digits> whose last 8 are not this build's: a study an older renderer drew.
+    if (other.size() == name.size() + 17 && other.rfind(name + "-", 0) == 0 &&
+        other.compare(name.size() + 9, 8, program) != 0)
       fs::remove_all(entry.path(), ec);
     // NAME-HASH.tmp-PID of a test process that was killed (a timeout) while rendering.
     const std::size_t at = other.rfind(".tmp-");
