@@ -85,19 +85,6 @@ std::vector<synth::Marker> ParseMarkers(const std::string& text) {
   return markers;
 }
 
-std::vector<dynamics::Surface> ParseSurfaces(const std::vector<std::string>& names,
-                                             const std::string& option) {
-  std::vector<dynamics::Surface> out;
-  for (const std::string& n : names) {
-    try {
-      out.push_back(dynamics::ParseSurface(n));
-    } catch (const std::invalid_argument& e) {
-      Bad(option, std::string(": ") + e.what());
-    }
-  }
-  return out;
-}
-
 /// Reads --study-config (synth::ReadStudyConfig) over the design: its design, hidden effects and
 /// markers. A bad file is bad input (exit 1) naming the file.
 void ApplyStudyConfig(const std::string& path, SynthArgs& a) {
@@ -260,7 +247,7 @@ void ApplyOptions(SynthArgs& a, CLI::App* cmd) {
   synth::StudyDesign& d = a.design;
   if (cmd->count("--seed") > 0) d.seed = a.seed;
   if (cmd->count("--name") > 0) d.name = a.name;
-  if (cmd->count("--surfaces") > 0) d.surfaces = ParseSurfaces(a.surfaces, "--surfaces");
+  if (cmd->count("--surfaces") > 0) d.surfaces = synth::ParseSurfaces(a.surfaces, "--surfaces");
   if (cmd->count("--angles-deg") > 0) d.angles_deg = a.angles_deg;
   if (cmd->count("--speeds") > 0) d.speeds_m_s = a.speeds_m_s;
   if (cmd->count("--trials-per-cell") > 0) d.trials_per_cell = a.trials_per_cell;
@@ -309,7 +296,7 @@ void Run(SynthArgs& a, RunState& state, CLI::App* cmd) {
     failed = r.failed;
   } else {
     synth::TrialSpec spec;
-    spec.surface = ParseSurfaces({a.surface}, "--surface").front();
+    spec.surface = synth::ParseSurfaces({a.surface}, "--surface").front();
     spec.angle_deg = a.angle_deg;
     spec.speed_m_s = a.speed_m_s;
     spec.seed = a.seed;

@@ -7,7 +7,6 @@
 #include <nlohmann/json.hpp>
 
 namespace hoof::synth {
-namespace {
 
 std::vector<dynamics::Surface> ParseSurfaces(const std::vector<std::string>& names,
                                              const std::string& where) {
@@ -21,6 +20,8 @@ std::vector<dynamics::Surface> ParseSurfaces(const std::vector<std::string>& nam
   }
   return out;
 }
+
+namespace {
 
 void ReadHiddenEffects(const nlohmann::json& value, const std::string& file, HiddenEffects& h) {
   for (const auto& [k, v] : value.items()) {

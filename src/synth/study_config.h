@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "synth/options.h"
@@ -18,6 +19,11 @@ struct StudyConfig {
   /// The config's `markers_B_m`, when it has one: replaces the specimen's markers.
   std::optional<std::vector<Marker>> markers_B_m;
 };
+
+/// The surfaces named in `names`; std::invalid_argument "WHERE: ..." for a name that is not one
+/// (`where` says where the names came from: an option or a file's key).
+std::vector<dynamics::Surface> ParseSurfaces(const std::vector<std::string>& names,
+                                             const std::string& where);
 
 /// Reads the config in `path` over `base`: each key the file holds replaces that field of the
 /// design (`name`, `seed`, `surfaces`, `angles_deg`, `speeds_m_s`, `trials_per_cell`, `cells`,
