@@ -193,12 +193,14 @@ Table CandidatesTable(const std::string& name, const std::vector<CandidateResult
                         "take, where that is above 0) by its s.e. at the naming level",
                         wald_clear),
        Column::Texts("influential_trial",
-                     "the trial whose log-likelihood gains most from the effect (checked for a "
-                     "contact effect whose evidence holds otherwise; empty when not checked)",
+                     "the trials left out to check the evidence, comma-separated: on each surface "
+                     "the one whose log-likelihood gains most from the effect and the one the "
+                     "current model fits worst (checked for a contact effect whose evidence holds "
+                     "otherwise; empty when not checked)",
                      influential),
        Column::Numbers("p_without_influential", "1",
                        "likelihood-ratio p with the current model and the effect both refitted "
-                       "without influential_trial (NaN when not checked)",
+                       "without the influential_trial ones (NaN when not checked)",
                        p_without),
        Column::Integers(
            "significant", "",
