@@ -42,6 +42,36 @@ Finding FindingOf(const CandidateResult& c, FindingStatus status, double alpha) 
 
 }  // namespace
 
+namespace internal {
+
+void KeepEarlierEvidence(const std::vector<Round>& earlier, const std::vector<std::string>& added,
+                         Round& rd) {
+  for (auto& c : rd.candidates) {
+    if (c.measurement_effect ||
+        (c.outcome != CandidateOutcome::kNotTested && c.outcome != CandidateOutcome::kConfounded))
+      continue;
+    const CandidateResult* before = nullptr;
+    int when = 0;
+    for (const auto& r : earlier)
+      for (const auto& e : r.candidates)
+        if (e.key == c.key && e.p_value < r.naming_level && !before) before = &e, when = r.index;
+    if (!before) continue;
+    std::string names;
+    for (std::size_t i = 0; i < added.size(); ++i)
+      names += (i == 0 ? "" : i + 1 == added.size() ? " and " : ", ") + Entry(added[i]).name;
+    c.identifiability = Identifiability::kIdentified;
+    c.outcome = CandidateOutcome::kNotSignificant;
+    c.reason =
+        "with " + names + " in the model its fit gains " +
+        (c.lr_statistic > 0 ? "only " + Fmt(c.lr_statistic) + " in 2 log-likelihood" : "nothing") +
+        " (p = " + FmtP(c.p_value) + "); in round " + std::to_string(when) +
+        " its likelihood-ratio p was " + FmtP(before->p_value) + " (" + ToString(before->outcome) +
+        "): the effect added since takes up what it explained";
+  }
+}
+
+}  // namespace internal
+
 DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials,
                          const DiscoveryOptions& options,
                          const std::function<void(const std::string&)>& progress) {
@@ -93,6 +123,7 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials,
         " significant trend(s) of " + std::to_string(rd.tests.size()) + " in the residuals");
     const RoundOutcome o = RunCandidates(cw, st, residuals, sens, keys, options, say, rd);
     st.profile_starts.insert(o.profile_starts.begin(), o.profile_starts.end());
+    KeepEarlierEvidence(out.rounds, st.accepted, rd);
     if (!o.added) {
       out.rounds.push_back(rd);
       break;

@@ -269,6 +269,14 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
                            const std::vector<std::string>& keys, const DiscoveryOptions& options,
                            const std::function<void(const std::string&)>& say, Round& round);
 
+/// A contact candidate of `rd` that an earlier round found significant by its likelihood ratio
+/// (p below that round's naming level) is not "not tested by these data" or "confounded" in a
+/// later round: the data did test it. Its fit gaining nothing there says that an effect added
+/// since (`added`, library keys) takes up what it explained: its outcome becomes "not
+/// significant", its identifiability "identified", and its reason says so with the earlier p.
+void KeepEarlierEvidence(const std::vector<Round>& earlier, const std::vector<std::string>& added,
+                         Round& rd);
+
 /// One contact candidate judged against `current` as a round judges it (its fits, likelihood
 /// ratio, held-out error and the estimate's distance from 0), at the naming level `level`, alone:
 /// no other candidate competes. `significant` says whether the round would call it so.

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "discovery/discovery.h"
+#include "discovery/internal.h"
 
 namespace hoof::discovery {
 namespace {
@@ -87,3 +88,54 @@ TEST(DecisionRuleTest, WithoutADensityTheHeldOutErrorDecides) {
 
 }  // namespace
 }  // namespace hoof::discovery
+
+namespace hoof::discovery::internal {
+namespace {
+
+// A later round does not call "not tested by these data" what an earlier round found
+// significant (KeepEarlierEvidence, src/discovery/discovery.cc): a scorecard study had
+// Hunt-Crossley damping at p = 1.6e-8 in round 1, and "not tested" in round 2 once another
+// effect was in the model, both printed in one verdict.
+TEST(KeepEarlierEvidenceTest, ALaterRoundKeepsAnEarlierSignificanceInView) {
+  Round first;
+  first.index = 1;
+  first.naming_level = 7.5e-4;
+  CandidateResult strong = Strong();
+  strong.p_value = 1.6e-8;
+  strong.outcome = CandidateOutcome::kWeakerThanAdded;
+  CandidateResult weak = Strong();
+  weak.key = "static_friction";
+  weak.p_value = 0.2;
+  weak.outcome = CandidateOutcome::kNotSignificant;
+  first.candidates = {strong, weak};
+
+  Round second;
+  second.index = 2;
+  second.naming_level = 6.5e-4;
+  for (const char* key : {"hunt_crossley", "static_friction", "plastic_unloading"}) {
+    CandidateResult c;
+    c.key = key;
+    c.p_value = 1.0;
+    c.lr_statistic = 0.0;
+    c.identifiability = Identifiability::kNotTested;
+    c.outcome = CandidateOutcome::kNotTested;
+    c.reason = "no trial is sensitive to it";
+    second.candidates.push_back(c);
+  }
+  KeepEarlierEvidence({first}, {"tangential_compliance"}, second);
+
+  const CandidateResult& hc = second.candidates[0];
+  EXPECT_EQ(hc.outcome, CandidateOutcome::kNotSignificant);
+  EXPECT_EQ(hc.identifiability, Identifiability::kIdentified);
+  EXPECT_NE(hc.reason.find("in round 1 its likelihood-ratio p was 1.60e-08"), std::string::npos)
+      << hc.reason;
+  EXPECT_NE(hc.reason.find("tangential contact compliance"), std::string::npos) << hc.reason;
+  // Not significant before (p = 0.2), or never tried: "not tested" stands.
+  for (std::size_t i : {1u, 2u}) {
+    EXPECT_EQ(second.candidates[i].outcome, CandidateOutcome::kNotTested);
+    EXPECT_EQ(second.candidates[i].reason, "no trial is sensitive to it");
+  }
+}
+
+}  // namespace
+}  // namespace hoof::discovery::internal
