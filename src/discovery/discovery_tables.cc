@@ -207,7 +207,7 @@ Table CandidatesTable(const std::string& name, const std::vector<CandidateResult
            "1 when p_value < alpha / candidates, wald_clear and the held-out score fell "
            "(cv_density where finite, else cv_error; for cv_density in a round after an added "
            "effect, significantly: cv_p < 0.05), and p_without_influential, where checked, "
-           "below 0.01",
+           "below 0.05",
            significant),
        Column::Texts("outcome", "why it was or was not added: " + outcomes, outcome),
        Column::Texts("reason", "why it was or was not added, in words", reason),
