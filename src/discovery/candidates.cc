@@ -315,59 +315,34 @@ double ReferenceLogLikelihood(const RoundContext& x, const std::string& key, con
   return ReferenceLogLikelihood(x, key, chosen, x.state.current, x.all);
 }
 
-/// On each surface, the obs that the current model fits worst (the smallest chi-square tail
-/// probability of its residuals whitened by the current model's covariance) and the obs whose
-/// log-likelihood gains most from `chosen` against the current model (each under its own noise
-/// model; often the same obs), and the evidence without them: the likelihood-ratio p with the
+/// The obs whose log-likelihood gains most from `chosen` against the current model (each under
+/// its own noise model), and its evidence without that obs: the likelihood-ratio p with the
 /// current model and the candidate both refitted from their full-data fits on the other obs.
-/// A systematic error per surface is shared by that surface's trials, so a single trial that
-/// the current model cannot follow (a 10 deg trial that slid where the rest stuck, say) raises
-/// it for every trial of its surface, and an effect that explains that one trial gains on all
-/// of them; on two surfaces, two such trials do it twice. The worst-fitting obs is left out as
-/// well as the one that gains most because a candidate with several optima may explain one
-/// surface's odd trial at the optimum chosen and the other's at another: left out by its gain
-/// alone, the other would carry the evidence in the refit.
+/// A systematic error per surface is shared by its trials, so a single trial that the current
+/// model cannot follow (a 10 deg trial that slid where the rest stuck, say) raises it for every
+/// trial of its surface, and an effect that explains that one trial gains on all of them.
 void CheckInfluence(const RoundContext& x, const std::string& key,
                     const std::vector<std::string>& free, const Fit& chosen, CandidateResult& c) {
   const Fit& current = x.state.current;
   const auto r = x.ws.Residuals(chosen.model, x.all);
   const auto sens = x.ws.Sensitivities(chosen.model, x.all);
-  const std::size_t S = x.ws.surfaces.size(), none = x.all.size();
-  std::vector<std::size_t> gains_most(S, none), fits_worst(S, none);
-  std::vector<double> gain_most(S, -std::numeric_limits<double>::infinity());
-  std::vector<double> tail_least(S, std::numeric_limits<double>::infinity());
+  std::size_t most = 0;
+  double gain_most = -std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < x.all.size(); ++i) {
-    const auto o = static_cast<std::size_t>(x.all[i]);
     const std::vector<int> one{x.all[i]};
     const double gain =
         LogLikelihood(x.ws, one, {r[i]}, {sens[i]}, chosen.noise) -
         LogLikelihood(x.ws, one, {x.residual_current[i]}, {x.sens[i]}, current.noise);
-    const auto s = static_cast<std::size_t>(x.ws.obs[o].surface);
-    if (gain > gain_most[s]) gain_most[s] = gain, gains_most[s] = i;
-    const TrialCovariance& t = x.ref[o];
-    Eigen::VectorXd v(static_cast<Eigen::Index>(t.components.size()));
-    for (std::size_t a = 0; a < t.components.size(); ++a)
-      v[static_cast<Eigen::Index>(a)] = x.residual_current[i][t.components[a]];
-    const double tail = stats::ChiSquaredUpperTail((t.whiten * v).squaredNorm(),
-                                                   static_cast<double>(t.components.size()));
-    if (tail < tail_least[s]) tail_least[s] = tail, fits_worst[s] = i;
+    if (gain > gain_most) gain_most = gain, most = i;
   }
-  std::vector<std::size_t> out;
-  for (std::size_t s = 0; s < S; ++s)
-    for (std::size_t i : {fits_worst[s], gains_most[s]})
-      if (i != none && std::find(out.begin(), out.end(), i) == out.end()) out.push_back(i);
   std::vector<int> without;
   for (std::size_t i = 0; i < x.all.size(); ++i)
-    if (std::find(out.begin(), out.end(), i) == out.end()) without.push_back(x.all[i]);
+    if (i != most) without.push_back(x.all[i]);
   const Fit base = FitModel(x.ws, without, current.model, x.free_current, current.noise, true);
   const Fit with = FitModel(x.ws, without, chosen.model, free, chosen.noise, true);
   const double reference = ReferenceLogLikelihood(x, key, with, base, without);
-  c.influential_trial.clear();
-  for (std::size_t i : out) {
-    const Obs& o = x.ws.obs[static_cast<std::size_t>(x.all[i])];
-    c.influential_trial += (c.influential_trial.empty() ? "" : ", ") +
-                           (o.trial ? o.trial->spec.id : "trial " + std::to_string(x.all[i] + 1));
-  }
+  const Obs& o = x.ws.obs[static_cast<std::size_t>(x.all[most])];
+  c.influential_trial = o.trial ? o.trial->spec.id : "trial " + std::to_string(x.all[most] + 1);
   c.p_without_influential =
       ChiBarSquareUpperTail(std::max(0.0, 2 * (with.loglik - reference)), c.df);
 }
@@ -537,12 +512,10 @@ void ExplainNotSignificant(const RoundContext& x, CandidateResult& c) {
            "model";
   } else if (c.p_without_influential >= kWithoutInfluentialLevel) {
     c.outcome = CandidateOutcome::kRestsOnOneTrial;
-    why << "likelihood-ratio p = " << FmtP(c.p_value) << ", but without the trials of each surface "
-        << "that it explains most or the current model fits worst (" << c.influential_trial
-        << ") p = " << FmtP(c.p_without_influential) << ", not below "
-        << Fmt(kWithoutInfluentialLevel)
-        << ": a trial the current model cannot follow is no evidence of an effect, and its "
-           "surface's systematic error makes every trial there gain with it";
+    why << "likelihood-ratio p = " << FmtP(c.p_value) << ", but without the trial that gains most "
+        << "from it (" << c.influential_trial << ") p = " << FmtP(c.p_without_influential)
+        << ", not below " << Fmt(kWithoutInfluentialLevel)
+        << ": one trial the current model cannot follow is no evidence of an effect";
   } else if (!HeldOutFell(c)) {
     c.outcome = CandidateOutcome::kWorseHeldOut;
     why << "p = " << FmtP(c.p_value) << " is significant, but its " << HeldOutText(c)

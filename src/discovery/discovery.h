@@ -174,8 +174,7 @@ enum class CandidateOutcome {
                        ///< tilt within DiscoveryOptions::marker_ratio_tolerance)
   kAtSmallestValue,    ///< its likelihood ratio is significant, but its estimate does not stand
                        ///< clear of LibraryEntry::smallest (where that is above 0)
-  kRestsOnOneTrial,    ///< significant, but not without the trials of each surface that gain
-                       ///< most from it or that the current model fits worst
+  kRestsOnOneTrial,    ///< significant, but not without the trial that gains most from it
                        ///< (CandidateResult::influential_trial)
   kNotTested,   ///< see Identifiability::kNotTested; also a rotation rate the marker layout cannot
                 ///< see
@@ -273,11 +272,9 @@ struct CandidateResult {
   /// standard error (one-sided Wald at the naming level; any surface's value for a per-surface
   /// effect).
   bool wald_clear = false;
-  /// The trials left out to check the evidence, ", "-separated: on each surface the one whose
-  /// likelihood gains most from the effect and the one the current model fits worst, often the
-  /// same (a contact effect whose evidence holds otherwise; empty when not checked), and the
-  /// likelihood-ratio p of the effect with both models refitted without them (NaN when not
-  /// checked).
+  /// The trial whose likelihood gains most from the effect (a contact effect whose evidence
+  /// holds otherwise; empty when not checked), and the likelihood-ratio p of the effect with both
+  /// models refitted without that trial (NaN when not checked).
   std::string influential_trial;
   double p_without_influential = core::kNaN;
   /// p_value < the naming level (Round::naming_level), wald_clear, and the held-out score fell
@@ -308,23 +305,20 @@ bool HeldOutFell(const CandidateResult& c);
 /// unreplicated scorecard, 5 of the 8 wrong names that the density alone let through were a
 /// second effect named beside the hidden one (docs/discovery.md, "The held-out rule").
 inline constexpr double kLaterRoundHeldOutLevel = 0.05;
-/// A contact candidate's evidence must also hold without the trials of each surface that gain
-/// most from it or that the current model fits worst: its likelihood-ratio p with both models
-/// refitted without them (CandidateResult::p_without_influential) below this level. It confirms one
-/// candidate already chosen at the naming level rather than searching among them, so it is not
-/// divided among the hypotheses. At the naming level instead it refused 4 of 20 true springs on
-/// the unreplicated scorecard design, two of them with p 6.4e-4 and 0.0033 without the trial;
-/// every wrong or false name it refused had p = 1. It was 0.01 while one trial in all was left
-/// out (sessions 16-20); leaving out up to two per surface (a sixth of an unreplicated study's
-/// trials) took a true Hunt-Crossley effect at the edge of the naming level (p = 5.5e-4) to
-/// 0.017, while the odd-trial evidence the check is for still falls to p = 1
-/// (docs/discovery.md, "One trial is no effect").
-inline constexpr double kWithoutInfluentialLevel = 0.05;
+/// A contact candidate's evidence must also hold without the trial that gains most from it:
+/// its likelihood-ratio p with both models refitted without that trial
+/// (CandidateResult::p_without_influential) below this level. It confirms one candidate already
+/// chosen at the naming level rather than searching among them, so it is not divided among the
+/// hypotheses: the default family-wise alpha. At the naming level instead it refused 4 of 20 true
+/// springs on the unreplicated scorecard design, two of them with p 6.4e-4 and 0.0033 without
+/// the trial; every wrong or false name it refused had p = 1 (docs/discovery.md, "One trial is
+/// no effect").
+inline constexpr double kWithoutInfluentialLevel = 0.01;
 /// Whether a contact candidate's evidence names it: fitted, its likelihood-ratio p below the
 /// round's naming level, its estimate clear of 0 (wald_clear), its held-out score lower
 /// (HeldOutFell), and in a round after an effect was added (`later_round`), significantly lower
 /// (cv_p < kLaterRoundHeldOutLevel), and where it was checked, its p without its most
-/// influential trials below kWithoutInfluentialLevel (CandidateResult::p_without_influential).
+/// influential trial below kWithoutInfluentialLevel (CandidateResult::p_without_influential).
 bool ContactEvidenceHolds(const CandidateResult& c, double naming_level, bool later_round);
 /// That score for this model and for the current model, as text: the density to 3 decimals (its
 /// values sit far from 0 and only their difference matters), the error to 3 significant digits;

@@ -193,21 +193,19 @@ Table CandidatesTable(const std::string& name, const std::vector<CandidateResult
                         "take, where that is above 0) by its s.e. at the naming level",
                         wald_clear),
        Column::Texts("influential_trial",
-                     "the trials left out to check the evidence, comma-separated: on each surface "
-                     "the one whose log-likelihood gains most from the effect and the one the "
-                     "current model fits worst (checked for a contact effect whose evidence holds "
-                     "otherwise; empty when not checked)",
+                     "the trial whose log-likelihood gains most from the effect (checked for a "
+                     "contact effect whose evidence holds otherwise; empty when not checked)",
                      influential),
        Column::Numbers("p_without_influential", "1",
                        "likelihood-ratio p with the current model and the effect both refitted "
-                       "without the influential_trial ones (NaN when not checked)",
+                       "without influential_trial (NaN when not checked)",
                        p_without),
        Column::Integers(
            "significant", "",
            "1 when p_value < alpha / candidates, wald_clear and the held-out score fell "
            "(cv_density where finite, else cv_error; for cv_density in a round after an added "
            "effect, significantly: cv_p < 0.05), and p_without_influential, where checked, "
-           "below 0.05",
+           "below 0.01",
            significant),
        Column::Texts("outcome", "why it was or was not added: " + outcomes, outcome),
        Column::Texts("reason", "why it was or was not added, in words", reason),

@@ -94,10 +94,21 @@ std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& opti
         << ". A measurement that would separate them: " << f.separating_measurement << ".\n";
     }
   }
-  // Every significant candidate, with why it was or was not added.
+  // Every significant candidate, with why it was or was not added; and in a later round, every
+  // candidate that was significant in an earlier one, so that what became of it is said.
+  auto earlier_significant = [&](const Round& later, const std::string& key) {
+    for (const auto& rd : out.rounds) {
+      if (rd.index >= later.index) break;
+      for (const auto& c : rd.candidates)
+        if (c.key == key && c.fitted && c.p_value < rd.naming_level) return true;
+    }
+    return false;
+  };
   for (const auto& rd : out.rounds)
     for (const auto& c : rd.candidates)
-      if (c.fitted && c.p_value < options.alpha && c.outcome != CandidateOutcome::kAdded)
+      if (c.outcome != CandidateOutcome::kAdded &&
+          ((c.fitted && c.p_value < options.alpha) ||
+           (!c.measurement_effect && earlier_significant(rd, c.key))))
         v << "Round " << rd.index << ", " << c.name << " (p = " << FmtP(c.p_value)
           << "): not added, " << c.reason << ".\n";
   if (out.unexplained) {

@@ -1,8 +1,8 @@
-// A contact candidate's evidence without its most influential trial of each surface
-// (CheckInfluence, src/discovery/candidates.cc; docs/discovery.md, "One trial is no effect"). The
-// systematic error of the noise model is one per surface, so a single trial that the current model
-// cannot follow raises it for every trial of the surface, and an effect that explains that trial
-// alone then gains on all of them: its likelihood ratio is significant although only one trial
+// A contact candidate's evidence without its most influential trial (CheckInfluence,
+// src/discovery/candidates.cc; docs/discovery.md, "One trial is no effect"). The systematic error
+// of the noise model is one per surface, so a single trial that the current model cannot
+// follow raises it for every trial of the surface, and an effect that explains that trial alone
+// then gains on all of them: its likelihood ratio is significant although only one trial
 // speaks for it. Judged without that trial, both models refitted, such an effect is not named;
 // an effect that every oblique trial shows still is. And the fit those judgements rest on never
 // ends below its start (FitModel, src/discovery/fit.cc): without that, the fit that found the
@@ -76,31 +76,6 @@ void TwoSurfaceStudy(Workspace& ws, double spring, std::uint64_t seed) {
   ws.mu_eff_max = MuEffMax(ws);
 }
 
-/// Moves the last 10 deg trial of `surface` (at 4 m/s) as a trial that slid where the rest
-/// stuck: v_x and w d off by 2 % and 5 % of its impact speed (a scorecard study, one surface,
-/// showed this). Returns its index.
-std::size_t MoveOneTenDegreeTrial(Workspace& ws, int surface) {
-  std::size_t odd = ws.obs.size();
-  for (std::size_t i = 0; i < ws.obs.size(); ++i)
-    if (ws.obs[i].angle_deg == 10.0 && ws.obs[i].surface == surface) odd = i;
-  EXPECT_LT(odd, ws.obs.size());
-  EXPECT_EQ(ws.obs[odd].speed_m_s, 4.0);
-  ws.obs[odd].measured[0] += 0.02 * ws.obs[odd].scale;
-  ws.obs[odd].measured[2] += 0.05 * ws.obs[odd].scale;
-  return odd;
-}
-
-/// Whether `id` is one of the ", "-separated ids of `list` (CandidateResult::influential_trial).
-bool Listed(const std::string& list, const std::string& id) {
-  std::size_t at = 0;
-  while (at <= list.size()) {
-    const std::size_t end = std::min(list.find(", ", at), list.size());
-    if (list.substr(at, end - at) == id) return true;
-    at = end + 2;
-  }
-  return false;
-}
-
 CandidateResult Judge(const Workspace& ws, const std::string& key) {
   const Fit base = FitBaseline(ws);
   EXPECT_TRUE(base.ok) << base.message;
@@ -114,15 +89,19 @@ TEST(InfluenceTest, AnEffectThatOnlyOneTrialSpeaksForIsNotNamed) {
   Study(ws, 0.0, 31);
   // One 10 deg trial at 4 m/s leaves with v_x and w d off by 2 % and 5 % of its impact speed,
   // as a trial that slid where the rest stuck (a scorecard study, one surface, showed this).
-  const std::size_t odd = MoveOneTenDegreeTrial(ws, 0);
+  std::size_t odd = 0;
+  for (std::size_t i = 0; i < ws.obs.size(); ++i)
+    if (ws.obs[i].angle_deg == 10.0) odd = i;
+  ASSERT_EQ(ws.obs[odd].speed_m_s, 4.0);
+  ws.obs[odd].measured[0] += 0.02 * ws.obs[odd].scale;
+  ws.obs[odd].measured[2] += 0.05 * ws.obs[odd].scale;
   const CandidateResult c = Judge(ws, "tangential_compliance");
   std::cout << "p = " << c.p_value << ", without " << c.influential_trial
             << " p = " << c.p_without_influential << ": " << c.reason << "\n";
   // The case the check is for: significant, clear of 0, and lower held-out density, with that
   // one trial; not without it.
   EXPECT_LT(c.p_value, kLevel);
-  EXPECT_TRUE(Listed(c.influential_trial, "trial " + std::to_string(odd + 1)))
-      << c.influential_trial;
+  EXPECT_EQ(c.influential_trial, "trial " + std::to_string(odd + 1));
   EXPECT_GE(c.p_without_influential, kLevel);
   EXPECT_FALSE(c.significant);
   EXPECT_EQ(c.outcome, CandidateOutcome::kRestsOnOneTrial);
@@ -142,30 +121,8 @@ TEST(InfluenceTest, AnEffectThatEveryObliqueTrialShowsIsNamedWithoutAnyOneOfThem
   EXPECT_GT(c.estimate, 0.0);
 }
 
-// The systematic error is per surface, so one such trial on each of two surfaces raises both,
-// and an effect that explains the two gains on every trial of both surfaces. Left out one at a
-// time, the other trial still carries the evidence (a scorecard study of the paper design,
-// Hunt-Crossley damping hidden, had a spring named so: one 10 deg steel trial that slid with its
-// own mu of 0.04 and a 20 deg asphalt trial with 0.22, where the rest stuck). The check leaves
-// out, on each surface, the trial that gains most and the one the current model fits worst.
-TEST(InfluenceTest, OneSuchTrialOnEachOfTwoSurfacesIsNoEffectEither) {
-  Workspace ws;
-  TwoSurfaceStudy(ws, 0.0, 31);
-  const std::size_t odd0 = MoveOneTenDegreeTrial(ws, 0), odd1 = MoveOneTenDegreeTrial(ws, 1);
-  const CandidateResult c = Judge(ws, "tangential_compliance");
-  std::cout << "p = " << c.p_value << ", without " << c.influential_trial
-            << " p = " << c.p_without_influential << ": " << c.reason << "\n";
-  EXPECT_LT(c.p_value, kLevel);
-  // Each moved trial is the one its surface's current model fits worst; the spring's optimum
-  // may gain most on another trial of the second surface, which is then left out too.
-  for (std::size_t odd : {odd0, odd1})
-    EXPECT_TRUE(Listed(c.influential_trial, "trial " + std::to_string(odd + 1)))
-        << c.influential_trial;
-  EXPECT_GE(c.p_without_influential, kLevel);
-  EXPECT_FALSE(c.significant);
-  EXPECT_EQ(c.outcome, CandidateOutcome::kRestsOnOneTrial);
-}
-
+// An effect that every oblique trial of two surfaces shows holds without the trial that gains
+// most from it, as on one surface.
 TEST(InfluenceTest, AnEffectThatEveryObliqueTrialOfTwoSurfacesShowsIsStillNamed) {
   Workspace ws;
   TwoSurfaceStudy(ws, 0.05, 31);
@@ -173,7 +130,7 @@ TEST(InfluenceTest, AnEffectThatEveryObliqueTrialOfTwoSurfacesShowsIsStillNamed)
   std::cout << "k/k_t = " << c.estimate << " +- " << c.se << ", p = " << c.p_value << ", without "
             << c.influential_trial << " p = " << c.p_without_influential << "\n";
   EXPECT_TRUE(c.significant) << c.reason;
-  EXPECT_NE(c.influential_trial.find(", "), std::string::npos) << c.influential_trial;
+  EXPECT_FALSE(c.influential_trial.empty());
   EXPECT_LT(c.p_without_influential, kLevel);
   EXPECT_GT(c.estimate, 0.0);
 }
