@@ -107,9 +107,8 @@ TEST(InfluenceTest, AnEffectThatOnlyOneTrialSpeaksForIsNotNamed) {
   EXPECT_EQ(c.outcome, CandidateOutcome::kRestsOnOneTrial);
 }
 
-TEST(InfluenceTest, AnEffectThatEveryObliqueTrialShowsIsNamedWithoutAnyOneOfThem) {
-  Workspace ws;
-  Study(ws, 0.05, 31);
+/// The spring hidden in `ws` is named, and holds without the trial that gains most from it.
+void ExpectSpringNamedWithoutItsMostInfluentialTrial(const Workspace& ws) {
   const CandidateResult c = Judge(ws, "tangential_compliance");
   std::cout << "k/k_t = " << c.estimate << " +- " << c.se << ", p = " << c.p_value << ", without "
             << c.influential_trial << " p = " << c.p_without_influential << "\n";
@@ -121,18 +120,18 @@ TEST(InfluenceTest, AnEffectThatEveryObliqueTrialShowsIsNamedWithoutAnyOneOfThem
   EXPECT_GT(c.estimate, 0.0);
 }
 
+TEST(InfluenceTest, AnEffectThatEveryObliqueTrialShowsIsNamedWithoutAnyOneOfThem) {
+  Workspace ws;
+  Study(ws, 0.05, 31);
+  ExpectSpringNamedWithoutItsMostInfluentialTrial(ws);
+}
+
 // An effect that every oblique trial of two surfaces shows holds without the trial that gains
 // most from it, as on one surface.
 TEST(InfluenceTest, AnEffectThatEveryObliqueTrialOfTwoSurfacesShowsIsStillNamed) {
   Workspace ws;
   TwoSurfaceStudy(ws, 0.05, 31);
-  const CandidateResult c = Judge(ws, "tangential_compliance");
-  std::cout << "k/k_t = " << c.estimate << " +- " << c.se << ", p = " << c.p_value << ", without "
-            << c.influential_trial << " p = " << c.p_without_influential << "\n";
-  EXPECT_TRUE(c.significant) << c.reason;
-  EXPECT_FALSE(c.influential_trial.empty());
-  EXPECT_LT(c.p_without_influential, kLevel);
-  EXPECT_GT(c.estimate, 0.0);
+  ExpectSpringNamedWithoutItsMostInfluentialTrial(ws);
 }
 
 // The alternation of Ceres solve and noise model is not monotone by itself: each solve lowers
