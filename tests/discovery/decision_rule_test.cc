@@ -137,5 +137,46 @@ TEST(KeepEarlierEvidenceTest, ALaterRoundKeepsAnEarlierSignificanceInView) {
   }
 }
 
+// The verdict says what became of a candidate that was significant in an earlier round, even
+// where its p in the later round is 1; a candidate never significant is not listed.
+TEST(KeepEarlierEvidenceTest, TheVerdictListsWhatBecameOfAnEarlierSignificance) {
+  DiscoveryResult out;
+  out.success = true;
+  Round first;
+  first.index = 1;
+  first.naming_level = 7.5e-4;
+  first.accepted = "tangential_compliance";
+  CandidateResult strong = Strong();
+  strong.name = "velocity-dependent (Hunt-Crossley) damping";
+  strong.p_value = 1.6e-8;
+  strong.outcome = CandidateOutcome::kWeakerThanAdded;
+  strong.reason = "the earlier reason";
+  CandidateResult never = Strong();
+  never.key = "hertz_stiffness";
+  never.name = "nonlinear (Hertzian) stiffness";
+  never.p_value = 1.0;
+  never.outcome = CandidateOutcome::kNotSignificant;
+  first.candidates = {strong, never};
+  Round second = first;
+  second.index = 2;
+  second.accepted.clear();
+  for (auto& c : second.candidates) {
+    c.p_value = 1.0;
+    c.outcome = CandidateOutcome::kNotSignificant;
+    c.reason = c.key == "hunt_crossley" ? "the later reason" : "never significant";
+  }
+  out.rounds = {first, second};
+  const std::string v = VerdictText(out, DiscoveryOptions{}, 0);
+  EXPECT_NE(v.find("Round 1, velocity-dependent (Hunt-Crossley) damping (p = 1.60e-08): not "
+                   "added, the earlier reason."),
+            std::string::npos)
+      << v;
+  EXPECT_NE(v.find("Round 2, velocity-dependent (Hunt-Crossley) damping (p = 1): not added, the "
+                   "later reason."),
+            std::string::npos)
+      << v;
+  EXPECT_EQ(v.find("never significant"), std::string::npos) << v;
+}
+
 }  // namespace
 }  // namespace hoof::discovery::internal
