@@ -35,6 +35,21 @@ struct FitArgs {
   std::vector<std::string> filters;  // COL=VALUE: keep only the rows where COL equals VALUE
 };
 
+/// Whether a cell's text matches a --where value: the same text, or two numbers equal as numbers
+/// ("0" and "0.0"). A text counts as a number only when all of it parses as one, so that
+/// "steel" and "concrete" (both read by strtod as 0) are not taken for equal.
+bool SameValue(const std::string& text, const std::string& value) {
+  if (text == value) return true;
+  auto number = [](const std::string& t, double& x) {
+    if (t.empty()) return false;
+    char* end = nullptr;
+    x = std::strtod(t.c_str(), &end);
+    return end == t.c_str() + t.size() && std::isfinite(x);
+  };
+  double x = 0.0, y = 0.0;
+  return number(text, x) && number(value, y) && x == y;
+}
+
 /// Draws the paper's objective over (log k, b) in the terminal: darker is a smaller MPE, and
 /// '*' marks the fitted valley. Rows are b (top = b_max), columns log k.
 std::string AsciiMap(const ContactFitSummary& s, double mass_kg) {
@@ -173,14 +188,8 @@ void RegisterFit(CLI::App& app, RunState& state) {
       where.emplace_back(table.Column(f.substr(0, eq)), f.substr(eq + 1));
     }
     auto keep = [&](std::size_t r) {
-      for (const auto& [col, value] : where) {
-        const std::string& text = table.Text(r, col);
-        char* end = nullptr;
-        const double x = std::strtod(text.c_str(), &end), y = std::strtod(value.c_str(), &end);
-        const bool numeric =
-            !text.empty() && !value.empty() && std::isfinite(x) && std::isfinite(y);
-        if (text != value && !(numeric && x == y)) return false;
-      }
+      for (const auto& [col, value] : where)
+        if (!SameValue(table.Text(r, col), value)) return false;
       return true;
     };
     std::vector<std::size_t> above_one;  // lines with e > 1

@@ -2,6 +2,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -15,19 +16,31 @@ namespace {
 
 using hoof::testing::RunHoofimpact;
 
-std::string WriteImpacts(const std::string& name, double k, double zeta) {
+struct Group {
+  std::string surface;
+  double k = 0.0, zeta = 0.0;
+};
+
+/// Normal impacts at six speeds per group, each simulated with its group's contact law.
+std::string WriteGroups(const std::string& name, const std::vector<Group>& groups) {
   const std::string path = std::string(HOOF_BINARY_DIR) + "/" + name;
   const dynamics::SpecimenParameters specimen;
-  const dynamics::ImpactSimulator sim(
-      specimen, {k, dynamics::DampingForRatio(zeta, k, specimen.mass_kg), 0.0});
   std::ofstream out(path);
   out << "surface,v_before_m_s,v_after_m_s\n";
-  for (double v : {1.5, 2.0, 2.5, 3.0, 3.5, 4.0}) {
-    const double after =
-        sim.Simulate(dynamics::ImpactConditions::Paper(v, 0.0)).at_separation.v_SC.y();
-    out << "asphalt," << io::CsvNumber(v) << "," << io::CsvNumber(after) << "\n";
+  for (const Group& g : groups) {
+    const dynamics::ImpactSimulator sim(
+        specimen, {g.k, dynamics::DampingForRatio(g.zeta, g.k, specimen.mass_kg), 0.0});
+    for (double v : {1.5, 2.0, 2.5, 3.0, 3.5, 4.0}) {
+      const double after =
+          sim.Simulate(dynamics::ImpactConditions::Paper(v, 0.0)).at_separation.v_SC.y();
+      out << g.surface << "," << io::CsvNumber(v) << "," << io::CsvNumber(after) << "\n";
+    }
   }
   return path;
+}
+
+std::string WriteImpacts(const std::string& name, double k, double zeta) {
+  return WriteGroups(name, {{"asphalt", k, zeta}});
 }
 
 TEST(FitCommandTest, ReportsZetaAndThatKIsNotIdentified) {
@@ -53,6 +66,23 @@ TEST(FitCommandTest, TextOutputShowsTheValleyNotASingleKB) {
   EXPECT_NE(r.out.find("The valley"), std::string::npos);
   EXPECT_NE(r.out.find("95 % interval"), std::string::npos);
   EXPECT_NE(r.out.find("NOT identified"), std::string::npos);
+}
+
+// --where COL=TEXT keeps the rows whose COL is that text: two words are not equal because
+// strtod reads both as 0 (it fitted every surface before).
+TEST(FitCommandTest, WhereKeepsOnlyTheRowsOfThatText) {
+  const std::string csv =
+      WriteGroups("fit_cli_where.csv", {{"asphalt", 5.86e7, 0.6009}, {"steel", 7.24e8, 0.1105}});
+  auto r = RunHoofimpact("fit " + csv + " --json --where surface=steel");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j.size(), 1u) << r.out;
+  EXPECT_EQ(j[0]["group"], "steel");
+  EXPECT_NEAR(j[0]["zeta"].get<double>(), 0.1105, 5e-4);
+  // No word matches a number (strtod reads "steel" as 0 too).
+  r = RunHoofimpact("fit " + csv + " --json --where surface=0");
+  EXPECT_NE(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.err.find("no data rows (after --where)"), std::string::npos) << r.err;
 }
 
 TEST(FitCommandTest, MissingColumnAndBadValuesAreNamed) {
