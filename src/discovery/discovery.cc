@@ -44,25 +44,34 @@ Finding FindingOf(const CandidateResult& c, FindingStatus status, double alpha) 
 
 namespace internal {
 
+const CandidateResult* EarlierSignificance(const std::vector<Round>& rounds, int before,
+                                           const std::string& key, int* round) {
+  for (const auto& r : rounds) {
+    if (r.index >= before) break;
+    for (const auto& c : r.candidates)
+      if (c.key == key && c.fitted && c.p_value < r.naming_level) {
+        if (round) *round = r.index;
+        return &c;
+      }
+  }
+  return nullptr;
+}
+
 void KeepEarlierEvidence(const std::vector<Round>& earlier, const std::vector<std::string>& added,
                          Round& rd) {
+  std::vector<std::string> names;
+  for (const auto& key : added) names.push_back(Entry(key).name);
   for (auto& c : rd.candidates) {
     if (c.measurement_effect ||
         (c.outcome != CandidateOutcome::kNotTested && c.outcome != CandidateOutcome::kConfounded))
       continue;
-    const CandidateResult* before = nullptr;
     int when = 0;
-    for (const auto& r : earlier)
-      for (const auto& e : r.candidates)
-        if (e.key == c.key && e.p_value < r.naming_level && !before) before = &e, when = r.index;
+    const CandidateResult* before = EarlierSignificance(earlier, rd.index, c.key, &when);
     if (!before) continue;
-    std::string names;
-    for (std::size_t i = 0; i < added.size(); ++i)
-      names += (i == 0 ? "" : i + 1 == added.size() ? " and " : ", ") + Entry(added[i]).name;
     c.identifiability = Identifiability::kIdentified;
     c.outcome = CandidateOutcome::kNotSignificant;
     c.reason =
-        "with " + names + " in the model its fit gains " +
+        "with " + JoinedWords(names) + " in the model its fit gains " +
         (c.lr_statistic > 0 ? "only " + Fmt(c.lr_statistic) + " in 2 log-likelihood" : "nothing") +
         " (p = " + FmtP(c.p_value) + "); in round " + std::to_string(when) +
         " its likelihood-ratio p was " + FmtP(before->p_value) + " (" + ToString(before->outcome) +

@@ -48,6 +48,8 @@ void Apply(const std::string& key, double value, dynamics::ContactExtensions& x)
 
 std::string Fmt(double v, int precision = 3);
 std::string FmtP(double p);
+/// "a", "a and b", "a, b and c".
+std::string JoinedWords(const std::vector<std::string>& words);
 /// " unit", or nothing for a dimensionless "1".
 std::string UnitSuffix(const std::string& unit);
 
@@ -276,6 +278,11 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
 /// significant", its identifiability "identified", and its reason says so with the earlier p.
 void KeepEarlierEvidence(const std::vector<Round>& earlier, const std::vector<std::string>& added,
                          Round& rd);
+/// The first candidate `key` of the rounds before round `before` (Round::index) that was fitted
+/// and whose likelihood-ratio p was below its round's naming level, with that round's index in
+/// `round`; nullptr when there is none.
+const CandidateResult* EarlierSignificance(const std::vector<Round>& rounds, int before,
+                                           const std::string& key, int* round = nullptr);
 
 /// One contact candidate judged against `current` as a round judges it (its fits, likelihood
 /// ratio, held-out error and the estimate's distance from 0), at the naming level `level`, alone:

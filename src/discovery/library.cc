@@ -43,6 +43,13 @@ std::string Fmt(double v, int precision) {
   return s.str();
 }
 
+std::string JoinedWords(const std::vector<std::string>& words) {
+  std::string s;
+  for (std::size_t i = 0; i < words.size(); ++i)
+    s += (i == 0 ? "" : i + 1 == words.size() ? " and " : ", ") + words[i];
+  return s;
+}
+
 std::string UnitSuffix(const std::string& unit) {
   return unit == "1" || unit.empty() ? "" : " " + unit;
 }

@@ -11,10 +11,7 @@ namespace {
 
 std::string Scope(const Finding& f) {
   if (f.form == EffectForm::kShared) return "";
-  std::string s = " on ";
-  for (std::size_t i = 0; i < f.surfaces.size(); ++i)
-    s += (i == 0 ? "" : i + 1 == f.surfaces.size() ? " and " : ", ") + f.surfaces[i];
-  return s;
+  return " on " + JoinedWords(f.surfaces);
 }
 
 std::string Estimate(const Finding& f) {
@@ -96,19 +93,11 @@ std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& opti
   }
   // Every significant candidate, with why it was or was not added; and in a later round, every
   // candidate that was significant in an earlier one, so that what became of it is said.
-  auto earlier_significant = [&](const Round& later, const std::string& key) {
-    for (const auto& rd : out.rounds) {
-      if (rd.index >= later.index) break;
-      for (const auto& c : rd.candidates)
-        if (c.key == key && c.fitted && c.p_value < rd.naming_level) return true;
-    }
-    return false;
-  };
   for (const auto& rd : out.rounds)
     for (const auto& c : rd.candidates)
       if (c.outcome != CandidateOutcome::kAdded &&
           ((c.fitted && c.p_value < options.alpha) ||
-           (!c.measurement_effect && earlier_significant(rd, c.key))))
+           (!c.measurement_effect && EarlierSignificance(out.rounds, rd.index, c.key))))
         v << "Round " << rd.index << ", " << c.name << " (p = " << FmtP(c.p_value)
           << "): not added, " << c.reason << ".\n";
   if (out.unexplained) {
