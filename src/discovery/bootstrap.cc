@@ -29,6 +29,7 @@ std::unique_ptr<Workspace> WithMeasured(const Workspace& ws,
   out->rtol = ws.rtol;
   out->measurement_floor = ws.measurement_floor;
   out->threads = ws.threads;
+  out->counted_in = ws.counted_in ? ws.counted_in : &ws;
   return out;
 }
 

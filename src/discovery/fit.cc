@@ -151,6 +151,15 @@ class BoundedDiffCost final : public ceres::CostFunction {
 /// a decision at its threshold could turn with `--jobs` (docs/discovery.md, Limits). Every
 /// parameter block is a scalar, so a block's Jacobian is one column: a trial writes its rows
 /// of the columns it depends on, and leaves the others at 0.
+///
+/// The last evaluation is kept, and a call at the same parameters, bit for bit, is answered
+/// from it. Ceres asks for the same point more than once in an iteration of a bounded
+/// problem: its line search along the step evaluates the cost and the gradient at the step's
+/// end, and when that end is taken the minimizer evaluates the cost there again, then the
+/// cost and the Jacobian. Each Jacobian here is a difference of two simulations per parameter
+/// and trial, so the repeats had cost half of all simulations of a study (docs/performance.md,
+/// session 22). The answers are the ones a new evaluation would give: the simulator is
+/// deterministic.
 class StudyCost final : public ceres::CostFunction {
  public:
   struct Trial {
@@ -169,8 +178,12 @@ class StudyCost final : public ceres::CostFunction {
 
   bool Evaluate(double const* const* p, double* residuals, double** jacobians) const override {
     const auto rows = static_cast<std::size_t>(num_residuals());
+    const std::size_t blocks = parameter_block_sizes().size();
+    std::vector<double> x(blocks);
+    for (std::size_t b = 0; b < blocks; ++b) x[b] = p[b][0];
+    if (Recall(x, residuals, jacobians)) return last_.ok;
     if (jacobians)
-      for (std::size_t b = 0; b < parameter_block_sizes().size(); ++b)
+      for (std::size_t b = 0; b < blocks; ++b)
         if (jacobians[b]) std::fill(jacobians[b], jacobians[b] + rows, 0.0);
     std::vector<char> ok(trials_.size(), 0);
     core::ParallelFor(trials_.size(), threads_, [&](std::size_t i) {
@@ -183,12 +196,53 @@ class StudyCost final : public ceres::CostFunction {
       }
       ok[i] = t.cost->Evaluate(at.data(), residuals + t.row, jacobians ? J.data() : nullptr);
     });
-    return std::all_of(ok.begin(), ok.end(), [](char v) { return v != 0; });
+    const bool all_ok = std::all_of(ok.begin(), ok.end(), [](char v) { return v != 0; });
+    Keep(std::move(x), all_ok, residuals, jacobians);
+    return all_ok;
   }
 
  private:
+  /// One evaluation: its parameters, its residuals and the Jacobian columns it computed.
+  struct Evaluation {
+    std::vector<double> x;
+    bool ok = false;
+    std::vector<double> residuals;
+    std::vector<std::vector<double>> columns;  // per block; empty where not computed
+  };
+
+  /// Copies the kept evaluation out if it was made at `x` and holds every column asked for.
+  bool Recall(const std::vector<double>& x, double* residuals, double** jacobians) const {
+    if (last_.x.empty() || last_.x != x) return false;
+    if (jacobians)
+      for (std::size_t b = 0; b < x.size(); ++b)
+        if (jacobians[b] && last_.columns[b].empty()) return false;
+    std::copy(last_.residuals.begin(), last_.residuals.end(), residuals);
+    if (jacobians)
+      for (std::size_t b = 0; b < x.size(); ++b)
+        if (jacobians[b]) std::copy(last_.columns[b].begin(), last_.columns[b].end(), jacobians[b]);
+    return true;
+  }
+
+  void Keep(std::vector<double> x, bool ok, const double* residuals, double** jacobians) const {
+    const auto rows = static_cast<std::size_t>(num_residuals());
+    // The columns computed at this point before, if it is the kept one (a cost asked for
+    // after a Jacobian at the same point never reaches here: Recall answers it).
+    std::vector<std::vector<double>> columns(x.size());
+    if (last_.x == x) columns = std::move(last_.columns);
+    if (jacobians)
+      for (std::size_t b = 0; b < x.size(); ++b)
+        if (jacobians[b]) columns[b].assign(jacobians[b], jacobians[b] + rows);
+    last_.x = std::move(x);
+    last_.ok = ok;
+    last_.residuals.assign(residuals, residuals + rows);
+    last_.columns = std::move(columns);
+  }
+
   std::vector<Trial> trials_;
   int threads_;
+  /// Ceres calls a cost function of a solve from one thread (Solver::Options::num_threads = 1,
+  /// FitModel), so the kept evaluation needs no lock.
+  mutable Evaluation last_;
 };
 
 }  // namespace

@@ -118,6 +118,9 @@ class Workspace {
   double measurement_floor = 1e-4;
   int threads = 2;
   mutable std::atomic<long long> simulations{0};
+  /// The workspace whose `simulations` counts this one's, where it is a copy made for a
+  /// simulated study (WithMeasured); null for a workspace of measured trials.
+  const Workspace* counted_in = nullptr;
 
   dynamics::ContactExtensions Extensions(const Model& m, int surface) const;
   /// v_x, v_y and w d after the impact at the measured impact time, in S.

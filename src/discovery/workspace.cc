@@ -27,7 +27,7 @@ Eigen::Vector3d Workspace::Predict(const Obs& o, double zeta, double mu,
   c.extensions = x;
   dynamics::SimulatorOptions so;
   so.relative_tolerance = rtol;
-  ++simulations;
+  ++(counted_in ? counted_in->simulations : simulations);
   *ok = false;
   try {
     const auto r = dynamics::ImpactSimulator(o.specimen, c, so).Simulate(o.conditions);
