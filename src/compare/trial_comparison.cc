@@ -25,8 +25,6 @@ dynamics::SpecimenParameters Specimen(const pipeline::TrialAnalysis& t) {
   return static_cast<const core::SpecimenParameters&>(t.spec.specimen);
 }
 
-Eigen::Vector2d Dir(double angle) { return {std::cos(angle), std::sin(angle)}; }
-
 /// Height of the lowest point of the round end above the touch point, along y_S, for a body in
 /// free flight from `state` after time `dt`.
 double HeightOfT(const dynamics::BodyState& state, const Eigen::Vector2d& g_S, double dt,
@@ -144,7 +142,7 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& t,
     const Eigen::Vector2d p_WC_touch = b.p_WC + b.v_WC * dt + 0.5 * kGravity_W * dt * dt;
     const double theta_touch = b.theta_W_rad + b.w_rad_s * dt;
     const Eigen::Vector2d p_WT =
-        p_WC_touch - sp.d_EC_m * Dir(theta_touch) - sp.end_radius_m * S.y_S();
+        p_WC_touch - sp.d_EC_m * core::BodyRotation(theta_touch).x_B() - sp.end_radius_m * S.y_S();
 
     const tracking::ImageToWorld cam = Camera(t);
     for (std::size_t f = 0; f < frames; ++f) {
@@ -154,17 +152,17 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& t,
       fc.p_WC_sim = p_WT + S.ToW(s.body.p_SC);
       fc.theta_W_sim_rad = S.AngleToW(s.body.theta_S_rad);
       fc.kinetic_energy_sim_J = s.kinetic_energy_J;
-      const Eigen::Vector2d p_WE_sim = fc.p_WC_sim - sp.d_EC_m * Dir(fc.theta_W_sim_rad);
-      const Eigen::Matrix2d R{{std::cos(fc.theta_W_sim_rad), -std::sin(fc.theta_W_sim_rad)},
-                              {std::sin(fc.theta_W_sim_rad), std::cos(fc.theta_W_sim_rad)}};
+      const core::BodyRotation R_WB_sim(fc.theta_W_sim_rad);
+      const Eigen::Vector2d p_WE_sim = fc.p_WC_sim - sp.d_EC_m * R_WB_sim.x_B();
       const auto& pose = t.poses[f];
       fc.measured = pose.valid;
       if (pose.valid) {
-        fc.p_WC_meas = pose.p_WE + sp.d_EC_m * Dir(pose.theta_W_rad);
+        fc.p_WC_meas = pose.p_WE + sp.d_EC_m * core::BodyRotation(pose.theta_W_rad).x_B();
         fc.theta_W_meas_rad = pose.theta_W_rad;
       }
       for (std::size_t m = 0; m < t.spec.specimen.markers_B_m.size(); ++m) {
-        const Eigen::Vector2d sim_W = p_WE_sim + R * t.spec.specimen.markers_B_m[m].second;
+        const Eigen::Vector2d sim_W =
+            p_WE_sim + R_WB_sim.ToW(t.spec.specimen.markers_B_m[m].second);
         fc.markers_W_sim.push_back(sim_W);
         const Eigen::Vector2d sim_px = cam.ToImage(sim_W);
         fc.markers_px_sim.push_back(sim_px);

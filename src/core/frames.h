@@ -73,4 +73,31 @@ class SurfaceRotation {
   Eigen::Vector2d x_S_W_, y_S_W_;
 };
 
+/// R_WB for the specimen's body frame B (origin E, the centre of the round end; x_B toward the
+/// centre of mass C) when x_B makes the angle theta with x_W. The only place that writes this
+/// rotation out: every library turns body vectors into W through BodyRotation.
+class BodyRotation {
+ public:
+  explicit BodyRotation(double theta_W_rad)
+      : c_(std::cos(theta_W_rad)), s_(std::sin(theta_W_rad)) {}
+
+  /// The unit vectors of B, expressed in W.
+  Eigen::Vector2d x_B() const { return {c_, s_}; }
+  Eigen::Vector2d y_B() const { return {-s_, c_}; }
+
+  /// v_W = R_WB v_B.
+  Eigen::Vector2d ToW(const Eigen::Vector2d& v_B) const {
+    return {c_ * v_B.x() - s_ * v_B.y(), s_ * v_B.x() + c_ * v_B.y()};
+  }
+  /// The matrix, whose columns are x_B and y_B in W.
+  Eigen::Matrix2d R_WB() const {
+    Eigen::Matrix2d R;
+    R << c_, -s_, s_, c_;
+    return R;
+  }
+
+ private:
+  double c_, s_;
+};
+
 }  // namespace hoof::core

@@ -15,7 +15,7 @@ namespace hoof::kinematics {
 namespace {
 
 Eigen::Vector2d CentreOfMass(const PoseSample& p, double d) {
-  return p.p_WE + d * Eigen::Vector2d(std::cos(p.theta_W_rad), std::sin(p.theta_W_rad));
+  return p.p_WE + d * core::BodyRotation(p.theta_W_rad).x_B();
 }
 
 /// Weighted-free linear least squares y = a + b tau; returns (a, b), the residual sum of
@@ -90,8 +90,8 @@ FlightFit Shift(FlightFit f, double dt, double g) {
 double HeightOfT(const FlightFit& f, double t, const core::SurfaceRotation& S,
                  const core::SpecimenParameters& body, double g) {
   const Eigen::Vector2d c = f.p_WC + f.v_WC * t + Eigen::Vector2d(0, -0.5 * g * t * t);
-  const double th = f.theta_W_rad + f.w_rad_s * t;
-  const Eigen::Vector2d e = c - body.d_EC_m * Eigen::Vector2d(std::cos(th), std::sin(th));
+  const core::BodyRotation R_WB(f.theta_W_rad + f.w_rad_s * t);
+  const Eigen::Vector2d e = c - body.d_EC_m * R_WB.x_B();
   return S.y_S().dot(e) - body.end_radius_m;
 }
 
@@ -99,8 +99,8 @@ double HeightOfT(const FlightFit& f, double t, const core::SurfaceRotation& S,
 Eigen::Vector2d ContactPointVelocity(const Eigen::Vector2d& v_WC, double w, double theta,
                                      const core::SurfaceRotation& S,
                                      const core::SpecimenParameters& body) {
-  const Eigen::Vector2d r = -body.d_EC_m * Eigen::Vector2d(std::cos(theta), std::sin(theta)) -
-                            body.end_radius_m * S.y_S();
+  const Eigen::Vector2d r =
+      -body.d_EC_m * core::BodyRotation(theta).x_B() - body.end_radius_m * S.y_S();
   return v_WC + w * Eigen::Vector2d(-r.y(), r.x());
 }
 

@@ -239,10 +239,9 @@ std::vector<Eigen::Vector2d> OutlineInBody(const pipeline::SpecimenSpec& s, doub
 Eigen::Vector2d BodyPointToImage(const Eigen::Vector2d& p_B, const Eigen::Vector2d& p_WC,
                                  double theta_W_rad, double d_EC_m,
                                  const tracking::ImageToWorld& camera) {
-  const double c = std::cos(theta_W_rad), s = std::sin(theta_W_rad);
-  const Eigen::Vector2d p_WE = p_WC - d_EC_m * Eigen::Vector2d(c, s);
-  return camera.ToImage(p_WE +
-                        Eigen::Vector2d(c * p_B.x() - s * p_B.y(), s * p_B.x() + c * p_B.y()));
+  const core::BodyRotation R_WB(theta_W_rad);
+  const Eigen::Vector2d p_WE = p_WC - d_EC_m * R_WB.x_B();
+  return camera.ToImage(p_WE + R_WB.ToW(p_B));
 }
 
 std::vector<Eigen::Vector2d> OutlineToImage(const pipeline::SpecimenSpec& specimen,

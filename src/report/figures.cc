@@ -95,8 +95,7 @@ DisplacementCurves ComputeDisplacementCurves(const pipeline::TrialAnalysis& tria
   const double d = trial.spec.specimen.d_EC_m;
   const double fps = trial.spec.fps;
   const auto com = [d](const tracking::BodyPose& p) {
-    return Eigen::Vector2d(p.p_WE +
-                           d * Eigen::Vector2d(std::cos(p.theta_W_rad), std::sin(p.theta_W_rad)));
+    return Eigen::Vector2d(p.p_WE + d * core::BodyRotation(p.theta_W_rad).x_B());
   };
   DisplacementCurves c;
   const auto& k = trial.impact;

@@ -4,6 +4,8 @@
 
 #include <Eigen/Geometry>
 
+#include "core/frames.h"
+
 namespace hoof::synth {
 
 Eigen::Matrix<double, 2, 3> BodyToImage(const BodyPose& pose, double z_B_m,
@@ -16,9 +18,7 @@ Eigen::Matrix<double, 2, 3> BodyToImage(const BodyPose& pose, double z_B_m,
   Eigen::Matrix2d a_body = r_oop.topLeftCorner<2, 2>();
   const Eigen::Vector2d b_body =
       (r_oop * (Eigen::Vector3d{0.0, 0.0, z_B_m} - p_BC) + p_BC).head<2>();
-  const double c = std::cos(pose.theta_W_rad), s = std::sin(pose.theta_W_rad);
-  Eigen::Matrix2d r_w;
-  r_w << c, -s, s, c;
+  const Eigen::Matrix2d r_w = core::BodyRotation(pose.theta_W_rad).R_WB();
   const Eigen::Matrix2d to_px =
       Eigen::Vector2d{1.0 / view.m_per_px, -1.0 / view.m_per_px}.asDiagonal();
   Eigen::Matrix<double, 2, 3> m;

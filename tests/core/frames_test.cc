@@ -52,5 +52,32 @@ TEST(FramesTest, GravityAndAVerticalDropInTheSurfaceFrame) {
   EXPECT_NEAR(RadToDeg(DegToRad(33.0)), 33.0, 1e-13);
 }
 
+TEST(FramesTest, BodyAxesFollowTheBodyAngleCounterclockwise) {
+  // x_B at 30 deg above x_W: y_B is x_B turned a further 90 deg.
+  const BodyRotation R(std::numbers::pi / 6);
+  EXPECT_NEAR(R.x_B().x(), std::sqrt(3.0) / 2, 1e-15);
+  EXPECT_NEAR(R.x_B().y(), 0.5, 1e-15);
+  EXPECT_NEAR(R.y_B().x(), -0.5, 1e-15);
+  EXPECT_NEAR(R.y_B().y(), std::sqrt(3.0) / 2, 1e-15);
+  // A marker 18 mm along x_B and 2 mm along y_B, with the body pointing straight down.
+  const BodyRotation down(-std::numbers::pi / 2);
+  const Eigen::Vector2d p_W = down.ToW({0.018, 0.002});
+  EXPECT_NEAR(p_W.x(), 0.002, 1e-17);
+  EXPECT_NEAR(p_W.y(), -0.018, 1e-17);
+}
+
+TEST(FramesTest, BodyRotationIsProperAndAgreesWithItsMatrix) {
+  for (double theta : {-2.5, -0.3, 0.0, 0.7, 1.9, 3.1}) {
+    const BodyRotation R(theta);
+    const Eigen::Matrix2d M = R.R_WB();
+    EXPECT_NEAR(M.determinant(), 1.0, 1e-15);
+    EXPECT_LT((M.transpose() * M - Eigen::Matrix2d::Identity()).norm(), 1e-15);
+    EXPECT_EQ(M.col(0), R.x_B());
+    EXPECT_EQ(M.col(1), R.y_B());
+    const Eigen::Vector2d v_B(0.013, -0.004);
+    EXPECT_LT((M * v_B - R.ToW(v_B)).norm(), 1e-18);
+  }
+}
+
 }  // namespace
 }  // namespace hoof::core
