@@ -1,15 +1,11 @@
 // hoofimpact discover: where the model and the measurements of a study file disagree, which
 // missing effect explains it, and how much adding it shrinks the gap on held-out trials
 // (docs/discovery.md). Only arguments, reading, storing and printing live here; the workflow is
-// in hoof::discovery, its tables in discovery/discovery_tables.h, its figures in hoof::report.
-#include <algorithm>
-#include <array>
-#include <cmath>
+// in hoof::discovery, its text and JSON in discovery/discovery_text.h and discovery_json.h, its
+// tables in discovery/discovery_tables.h, its figures in hoof::report.
 #include <filesystem>
-#include <iomanip>
 #include <iostream>
 #include <memory>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -21,6 +17,7 @@
 #include "discovery/discovery.h"
 #include "discovery/discovery_json.h"
 #include "discovery/discovery_tables.h"
+#include "discovery/discovery_text.h"
 #include "io/atomic_file.h"
 #include "io/interrupt.h"
 #include "report/discovery_figures.h"
@@ -49,177 +46,6 @@ json ResultJson(const discovery::DiscoveryResult& r, const std::string& study_h5
                   {"measurement_floor", s.measurement_floor}};
   j["figures"] = figures;
   return j;
-}
-
-// ---- text ---------------------------------------------------------------------------------
-
-std::string Num(double v, int precision = 4) {
-  if (!std::isfinite(v)) return "-";
-  std::ostringstream s;
-  s << std::setprecision(precision) << v;
-  return s.str();
-}
-
-std::string Estimate(double estimate, double se, const std::string& parameter,
-                     const std::string& unit) {
-  std::string out = parameter.empty() ? "" : parameter + " = ";
-  out += Num(estimate, 3);
-  if (std::isfinite(se)) out += " +- " + Num(se, 2);
-  if (!unit.empty() && unit != "1") out += " " + unit;
-  return out;
-}
-
-std::string Percent(double fraction) {
-  return std::isfinite(fraction) ? Num(100.0 * fraction, 3) + " %" : "-";
-}
-
-/// Every value ("steel: c = 0.7 +- 0.1 N s/m^2; concrete: ..."; "all surfaces" for a shared
-/// one).
-std::string ValuesText(const std::vector<discovery::EffectValue>& values,
-                       const std::string& parameter, const std::string& unit) {
-  std::string out;
-  for (const auto& v : values)
-    out += (out.empty() ? "" : "; ") + (v.surface.empty() ? "all surfaces" : v.surface) + ": " +
-           Estimate(v.value, v.se, parameter, unit);
-  return out;
-}
-
-/// Width of a column of enum texts: the longest text, and two spaces.
-template <typename Values>
-int TextWidth(const Values& values) {
-  std::size_t width = 0;
-  for (auto v : values) width = std::max(width, std::string(discovery::ToString(v)).size());
-  return static_cast<int>(width) + 2;
-}
-
-/// Whether a candidate gets a line saying why it was or was not added: it is significant, or
-/// its likelihood ratio was and something else decided.
-bool SaysWhy(const discovery::CandidateResult& c) {
-  using discovery::CandidateOutcome;
-  return c.significant || c.outcome == CandidateOutcome::kAdded ||
-         c.outcome == CandidateOutcome::kIndistinguishable ||
-         c.outcome == CandidateOutcome::kWeakerThanAdded ||
-         c.outcome == CandidateOutcome::kWorseHeldOut ||
-         c.outcome == CandidateOutcome::kBelowResolution ||
-         c.outcome == CandidateOutcome::kAtSmallestValue ||
-         c.outcome == CandidateOutcome::kRestsOnOneTrial;
-}
-
-/// The held-out score the candidate is judged by, and the current model's.
-std::string HeldOutColumn(const discovery::CandidateResult& c) {
-  const auto [now, current] = discovery::HeldOutScores(c);
-  return now + " (" + current + ")";
-}
-
-void PrintText(std::ostream& os, const discovery::DiscoveryResult& r, const std::string& h5) {
-  if (!r.success) {
-    os << "Discovery on " << h5 << ": could not run (" << r.trials_used << " trial(s) used, "
-       << r.trials_skipped << " skipped): " << r.message << "\n";
-    return;
-  }
-  os << "Discovery on " << h5 << ": " << r.trials_used << " trial(s) used, " << r.trials_skipped
-     << " skipped; " << r.rounds.size() << " round(s), " << r.simulations << " simulations, "
-     << Num(r.seconds, 3) << " s\n\nVerdict:\n";
-  std::istringstream verdict(r.verdict);
-  for (std::string line; std::getline(verdict, line);)
-    os << (line.empty() ? "" : "  ") << line << "\n";
-  using discovery::CandidateOutcome;
-  using discovery::Identifiability;
-  const int outcome_width = TextWidth(discovery::AllCandidateOutcomes());
-  const int identifiability_width = TextWidth(std::array{
-      Identifiability::kIdentified, Identifiability::kNotTested, Identifiability::kConfounded});
-  const int form_width =
-      TextWidth(std::array{discovery::EffectForm::kShared, discovery::EffectForm::kPerSurface});
-  for (std::size_t i = 0; i < r.rounds.size(); ++i) {
-    const auto& round = r.rounds[i];
-    os << "\nRound " << i + 1 << ": " << round.decision << "\n";
-    if (round.candidates.empty())
-      os << "  (no candidate)\n";
-    else
-      os << "  " << std::left << std::setw(5) << "rank" << std::setw(24) << "effect"
-         << std::setw(form_width) << "form" << std::setw(30) << "estimate +- se" << std::right
-         << std::setw(10) << "LR p" << std::setw(11) << "dAIC" << std::setw(11) << "dBIC"
-         << "  " << std::left << std::setw(outcome_width) << "outcome"
-         << std::setw(identifiability_width) << "identifiability"
-         << "held-out (current)\n"
-         << std::right;
-    for (const auto& c : round.candidates) {
-      os << "  " << std::left << std::setw(5)
-         << (std::to_string(c.rank) + (c.key == round.accepted ? "*" : "")) << std::setw(24)
-         << c.key;
-      if (!c.fitted) {
-        os << "not fitted: " << c.message << std::right << "\n";
-        continue;
-      }
-      // A per-surface effect's estimate is the largest of its surface values.
-      const std::string parameter =
-          c.form == discovery::EffectForm::kPerSurface && !c.parameter.empty()
-              ? "max " + c.parameter
-              : c.parameter;
-      os << std::setw(form_width) << discovery::ToString(c.form) << std::setw(30)
-         << Estimate(c.estimate, c.se, parameter, c.unit) << std::right << std::setw(10)
-         << (c.p_value > 0 ? Num(c.p_value, 3) : std::string("<1e-300")) << std::setw(11)
-         << Num(c.delta_aic, 3) << std::setw(11) << Num(c.delta_bic, 3) << "  " << std::left
-         << std::setw(outcome_width) << discovery::ToString(c.outcome)
-         << std::setw(identifiability_width) << discovery::ToString(c.identifiability) << std::right
-         << HeldOutColumn(c) << "\n";
-    }
-    if (!round.candidates.empty())
-      os << "  held-out: " << discovery::kHeldOutDensityUnit
-         << " under each model's own noise model for a contact effect; "
-         << discovery::kHeldOutErrorUnit << " for an out-of-plane candidate\n";
-    for (const auto& c : round.candidates) {
-      if (!SaysWhy(c)) continue;
-      os << "  " << c.key << " (" << discovery::ToString(c.outcome)
-         << "): " << (c.reason.empty() ? "-" : c.reason);
-      if (c.form == discovery::EffectForm::kPerSurface && !c.values.empty())
-        os << " [per surface: " << ValuesText(c.values, c.parameter, c.unit) << "]";
-      os << "\n";
-    }
-    int significant = 0;
-    for (const auto& t : round.tests)
-      if (t.significant) {
-        if (significant++ == 0) os << "  significant structure (Holm):\n";
-        os << "    " << t.quantity << ", " << t.scope << ", " << t.covariate << ", " << t.test
-           << ": " << Num(t.statistic) << ", p " << Num(t.p, 3) << ", Holm p " << Num(t.p_holm, 3)
-           << (t.description.empty() ? "" : " (" + t.description + ")") << "\n";
-      }
-    if (significant == 0)
-      os << "  no significant structure in the residuals (" << round.tests.size()
-         << (round.tests.size() == 1 ? " test" : " tests") << ")\n";
-    if (!round.accepted.empty())
-      os << "  held-out gap " << Percent(round.gap_before) << " -> " << Percent(round.gap_after)
-         << " (" << discovery::GapChangeText(round.gap_shrink) << ") with " << round.accepted
-         << "\n";
-  }
-  os << "\nFindings:\n";
-  if (r.findings.empty()) os << "  none\n";
-  for (const auto& f : r.findings) {
-    os << "  " << std::left
-       << std::setw(TextWidth(std::array{discovery::FindingStatus::kNamed,
-                                         discovery::FindingStatus::kTentative,
-                                         discovery::FindingStatus::kIndistinguishable}))
-       << discovery::ToString(f.status) << std::right << f.key;
-    if (f.form == discovery::EffectForm::kPerSurface) {
-      std::string on;
-      for (const auto& surface : f.surfaces) on += (on.empty() ? "" : ", ") + surface;
-      os << " (" << discovery::ToString(f.form) << (on.empty() ? "" : ", found on " + on) << "): "
-         << (f.values.empty() ? Estimate(f.estimate, f.se, f.parameter, f.unit)
-                              : ValuesText(f.values, f.parameter, f.unit));
-    } else {
-      os << ": " << Estimate(f.estimate, f.se, f.parameter, f.unit);
-    }
-    if (std::isfinite(f.gap_shrink))
-      os << "; held-out gap " << discovery::GapChangeText(f.gap_shrink);
-    if (!f.partner.empty()) os << "; cannot be told from " << f.partner;
-    if (!f.separating_measurement.empty()) os << "; to separate: " << f.separating_measurement;
-    os << "\n";
-  }
-  os << "\nRemaining significant disagreement: " << (r.remaining.empty() ? "none" : "") << "\n";
-  for (const auto& t : r.remaining)
-    os << "  " << t.quantity << ", " << t.scope << ", " << t.covariate << ", " << t.test
-       << ": Holm p " << Num(t.p_holm, 3)
-       << (t.description.empty() ? "" : " (" + t.description + ")") << "\n";
 }
 
 // ---- the command --------------------------------------------------------------------------
@@ -268,61 +94,8 @@ void PrintPlans(const DiscoverArgs& a, const std::vector<pipeline::TrialAnalysis
       throw CLI::ValidationError("--plan", e.what());
     }
     if (!p.success) throw std::runtime_error(a.study_h5 + ": no plan: " + p.message);
-    json conditions = json::array();
-    for (const auto& c : p.conditions)
-      conditions.push_back({{"surface", c.surface},
-                            {"angle_deg", JsonNumber(c.angle_deg)},
-                            {"speed_low_m_s", JsonNumber(c.speed_low_m_s)},
-                            {"speed_high_m_s", JsonNumber(c.speed_high_m_s)},
-                            {"trials", c.trials},
-                            {"information_per_trial", JsonNumber(c.information_per_trial)},
-                            {"share", JsonNumber(c.share)}});
-    all.push_back({{"key", p.key},
-                   {"size", JsonNumber(p.size)},
-                   {"unit", p.unit},
-                   {"trials", p.trials},
-                   {"level", JsonNumber(p.level)},
-                   {"detection_limit", JsonNumber(p.detection_limit)},
-                   {"power", JsonNumber(p.power)},
-                   {"trials_needed", JsonNumber(p.trials_needed)},
-                   {"bootstrap",
-                    {{"draws", p.bootstrap_draws},
-                     {"detected", p.bootstrap_detected},
-                     {"likelihood_ratio_significant", p.bootstrap_lr_significant},
-                     {"power", JsonNumber(p.bootstrap_power)},
-                     {"power_low", JsonNumber(p.bootstrap_low)},
-                     {"power_high", JsonNumber(p.bootstrap_high)}}},
-                   {"conditions", conditions}});
-    if (a.settings.json) continue;
-    const std::string unit = p.unit == "1" ? "" : " " + p.unit;
-    std::cout << "Plan for " << p.name << " at " << p.parameter << " = " << Num(p.size, 3) << unit
-              << " (" << a.study_h5 << ", " << p.trials << " trials, naming level "
-              << Num(p.level, 2) << "):\n"
-              << "  this study detects " << p.parameter << " >= " << Num(p.detection_limit, 2)
-              << unit << " with 80 % power; its power at " << Num(p.size, 3) << unit << " is "
-              << Percent(p.power) << "\n"
-              << "  80 % power at " << Num(p.size, 3) << unit << " needs about "
-              << Num(p.trials_needed, 6)
-              << " trials of this design (its conditions in the same proportions)\n";
-    if (p.bootstrap_draws > 0)
-      std::cout << "  parametric bootstrap: detected in " << p.bootstrap_detected << " of "
-                << p.bootstrap_draws << " studies simulated from the baseline with " << p.parameter
-                << " = " << Num(p.size, 3) << unit << ": power " << Percent(p.bootstrap_power)
-                << " (Wilson 95 % " << Percent(p.bootstrap_low) << " to "
-                << Percent(p.bootstrap_high) << "); the likelihood ratio alone below the naming "
-                << "level in " << p.bootstrap_lr_significant << " of " << p.bootstrap_draws << "\n";
-    std::cout << "  information per trial, most informative condition first (zeta and mu profiled "
-                 "out):\n";
-    for (const auto& c : p.conditions)
-      std::cout << "    " << std::left << std::setw(10) << c.surface << std::right << std::setw(5)
-                << Num(c.angle_deg, 3) << " deg  " << Num(c.speed_low_m_s, 3) << "-"
-                << Num(c.speed_high_m_s, 3) << " m/s  " << std::setw(3) << c.trials << " trials  "
-                << std::setw(10) << Num(c.information_per_trial, 3) << " per trial  ("
-                << Percent(c.share) << " of the study's)\n";
-    std::cout << "  (the limit and the power from the study's expected data: the effect simulated "
-                 "without scatter or error, the baseline's zeta and mu refitted to it, under its "
-                 "noise model; the information per trial from the tangent plane; "
-                 "docs/discovery.md, \"Detection limits and plans\")\n";
+    all.push_back(discovery::PlanJson(p));
+    if (!a.settings.json) discovery::WritePlanText(std::cout, p, a.study_h5);
   }
   if (a.settings.json) std::cout << all.dump(2) << "\n";
 }
@@ -412,7 +185,7 @@ void Discover(const DiscoverArgs& a, RunState& state) {
 
 void CheckDiscoverSettings(const DiscoverSettings& s) {
   if (!(s.alpha > 0.0 && s.alpha < 0.5))
-    throw CLI::ValidationError("--alpha", "must be in (0, 0.5), got " + Num(s.alpha));
+    throw CLI::ValidationError("--alpha", "must be in (0, 0.5), got " + discovery::Num(s.alpha));
   if (s.folds < 2)
     throw CLI::ValidationError("--folds", "must be at least 2, got " + std::to_string(s.folds));
   if (s.rounds < 1)
@@ -422,7 +195,7 @@ void CheckDiscoverSettings(const DiscoverSettings& s) {
                                "must be 0 (all cores) or more, got " + std::to_string(s.jobs));
   if (!(s.measurement_floor >= 0.0 && s.measurement_floor < 0.1))
     throw CLI::ValidationError("--measurement-floor",
-                               "must be in [0, 0.1), got " + Num(s.measurement_floor));
+                               "must be in [0, 0.1), got " + discovery::Num(s.measurement_floor));
 }
 
 discovery::DiscoveryOptions DiscoveryOptionsOf(const DiscoverSettings& s) {
@@ -446,7 +219,7 @@ bool PrintDiscoveryStep(const study::DiscoveryStep& step, const DiscoverSettings
   if (s.json) {
     std::cout << ResultJson(result, shown, s, figures).dump(2) << "\n";
   } else {
-    PrintText(std::cout, result, shown);
+    discovery::WriteDiscoveryText(std::cout, result, shown);
     std::cout << "\nStored in " << shown << " under /discovery; " << figures.size()
               << " figure file(s)" << (figures.empty() ? "" : " in " + step.figures_dir.string())
               << "\n";

@@ -171,4 +171,32 @@ json DiscoveryJson(const DiscoveryResult& r) {
           {"simulations", r.simulations}};
 }
 
+json PlanJson(const Plan& p) {
+  json conditions = json::array();
+  for (const auto& c : p.conditions)
+    conditions.push_back({{"surface", c.surface},
+                          {"angle_deg", JsonNumber(c.angle_deg)},
+                          {"speed_low_m_s", JsonNumber(c.speed_low_m_s)},
+                          {"speed_high_m_s", JsonNumber(c.speed_high_m_s)},
+                          {"trials", c.trials},
+                          {"information_per_trial", JsonNumber(c.information_per_trial)},
+                          {"share", JsonNumber(c.share)}});
+  return {{"key", p.key},
+          {"size", JsonNumber(p.size)},
+          {"unit", p.unit},
+          {"trials", p.trials},
+          {"level", JsonNumber(p.level)},
+          {"detection_limit", JsonNumber(p.detection_limit)},
+          {"power", JsonNumber(p.power)},
+          {"trials_needed", JsonNumber(p.trials_needed)},
+          {"bootstrap",
+           {{"draws", p.bootstrap_draws},
+            {"detected", p.bootstrap_detected},
+            {"likelihood_ratio_significant", p.bootstrap_lr_significant},
+            {"power", JsonNumber(p.bootstrap_power)},
+            {"power_low", JsonNumber(p.bootstrap_low)},
+            {"power_high", JsonNumber(p.bootstrap_high)}}},
+          {"conditions", conditions}};
+}
+
 }  // namespace hoof::discovery

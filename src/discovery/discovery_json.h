@@ -13,4 +13,8 @@ namespace hoof::discovery {
 /// the residuals and the verdict. Numbers that are not finite are null.
 nlohmann::json DiscoveryJson(const DiscoveryResult& result);
 
+/// A plan (PlanDetection) as `hoofimpact discover --plan --json` prints it; numbers that are
+/// not finite are null.
+nlohmann::json PlanJson(const Plan& plan);
+
 }  // namespace hoof::discovery
