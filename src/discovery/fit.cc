@@ -51,8 +51,8 @@ constexpr double kRelativeEffectStep = 1e-4;
 struct TrialCost {
   const Workspace* ws;
   const Obs* o;
-  Eigen::MatrixXd whiten;
-  std::vector<int> components;
+  SmallMatrix whiten;
+  ComponentList components;
   bool mu_free;
   double mu_fixed;
   std::vector<std::string> effect_keys;  // free effects, in block order
@@ -68,12 +68,12 @@ struct TrialCost {
       Apply(effect_keys[j], p[b++][0] * effect_scale[j], x);
     bool ok = false;
     const Eigen::Vector3d pred = ws->Predict(*o, zeta, mu, x, &ok);
-    Eigen::VectorXd r(static_cast<Eigen::Index>(components.size()));
+    SmallVector r(static_cast<Eigen::Index>(components.size()));
     for (std::size_t i = 0; i < components.size(); ++i) {
       const int c = components[i];
       r[static_cast<Eigen::Index>(i)] = ok ? (o->measured[c] - pred[c]) / o->scale : 1.0;
     }
-    const Eigen::VectorXd w = whiten * r;
+    const SmallVector w = whiten * r;
     for (Eigen::Index i = 0; i < w.size(); ++i) residuals[i] = w[i];
     return true;
   }

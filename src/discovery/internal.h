@@ -27,6 +27,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <boost/container/static_vector.hpp>
 
 #include "core/frames.h"
 #include "discovery/discovery.h"
@@ -143,9 +144,16 @@ void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOp
 
 /// The covariance of one trial's used residual components under `noise`, and the matrix W with
 /// W^T W = covariance^-1 (whitening), both of the trial's dimension.
+/// Matrices and vectors of at most one row per residual component, held inline: a trial's
+/// covariance is formed in every evaluation of a likelihood, and these never allocate.
+using SmallMatrix =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kComponents, kComponents>;
+using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kComponents, 1>;
+/// The indices of a trial's used residual components (0 v_x, 1 v_y, 2 w d), in order.
+using ComponentList = boost::container::static_vector<int, kComponents>;
 struct TrialCovariance {
-  Eigen::MatrixXd cov, whiten;
-  std::vector<int> components;
+  SmallMatrix cov, whiten;
+  ComponentList components;
   double log_det = 0.0;
 };
 TrialCovariance Covariance(const Workspace& ws, const Obs& o, const Sensitivity& s,

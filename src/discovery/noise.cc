@@ -37,9 +37,9 @@ TrialCovariance Covariance(const Workspace& ws, const Obs& o, const Sensitivity&
         t.cov(a, b) += o.measurement_var[ca] +
                        noise.systematic_sd[surface][ca] * noise.systematic_sd[surface][ca] + 1e-16;
     }
-  const Eigen::LLT<Eigen::MatrixXd> llt(t.cov);
-  const Eigen::MatrixXd L = llt.matrixL();
-  t.whiten = L.triangularView<Eigen::Lower>().solve(Eigen::MatrixXd::Identity(n, n));
+  const Eigen::LLT<SmallMatrix> llt(t.cov);
+  const SmallMatrix L = llt.matrixL();
+  t.whiten = L.triangularView<Eigen::Lower>().solve(SmallMatrix::Identity(n, n));
   t.log_det = 0.0;
   for (Eigen::Index a = 0; a < n; ++a) t.log_det += 2 * std::log(L(a, a));
   return t;
@@ -59,7 +59,7 @@ namespace {
 double TrialLogLikelihood(const Workspace& ws, const Obs& o, const Eigen::Vector3d& r,
                           const Sensitivity& s, const Noise& noise) {
   const TrialCovariance t = Covariance(ws, o, s, noise);
-  Eigen::VectorXd v(static_cast<Eigen::Index>(t.components.size()));
+  SmallVector v(static_cast<Eigen::Index>(t.components.size()));
   for (std::size_t a = 0; a < t.components.size(); ++a)
     v[static_cast<Eigen::Index>(a)] = r[t.components[a]];
   return -0.5 * (t.log_det + (t.whiten * v).squaredNorm());
