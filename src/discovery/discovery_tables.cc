@@ -5,8 +5,11 @@
 #include <exception>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
+
+#include "studyfile/table_archive.h"
 
 namespace hoof::discovery {
 namespace {
@@ -57,162 +60,116 @@ std::string FormChoices() {
 
 // ---- writing ------------------------------------------------------------------------------
 
+/// The columns of a structure test, declared once for writing and reading.
+template <class Archive, class T>
+requires std::is_same_v<std::remove_const_t<T>, StructureTest>
+void Serialize(Archive& a, T& t) {
+  a.Text("quantity", t.quantity, "v_x, v_y, w (residuals after impact) or marker_ratio");
+  a.Text("scope", t.scope, "surface name, or all");
+  a.Text("covariate", t.covariate, "what the residuals are tested against");
+  a.Text("test", t.test, "the test against the noise model, e.g. slope z or mean t");
+  a.Number("statistic", t.statistic, "1", "z or t statistic");
+  a.Number("df1", t.df1, "1", "degrees of freedom of a t test (NaN for z)");
+  a.Number("df2", t.df2, "1", "second degrees of freedom, when the test has them (NaN)");
+  a.Number("p", t.p, "1", "p-value, unadjusted");
+  a.Number("p_holm", t.p_holm, "1", "p-value, Holm-adjusted over every test of the round");
+  a.Flag("significant", t.significant, "1 when p_holm < alpha");
+  a.Text("description", t.description, "the test in words");
+}
+
+constexpr studyfile::EnumText<EffectForm> kFormText{&ToString, &EffectFormFromString};
+constexpr studyfile::EnumText<Identifiability> kIdentifiabilityText{&ToString,
+                                                                    &IdentifiabilityFromString};
+constexpr studyfile::EnumText<CandidateOutcome> kOutcomeText{&ToString,
+                                                             &CandidateOutcomeFromString};
+
+/// The columns of a candidate, declared once for writing and reading (its values are in a
+/// table of their own: ValuesTable).
+template <class Archive, class C>
+requires std::is_same_v<std::remove_const_t<C>, CandidateResult>
+void Serialize(Archive& a, C& c) {
+  using studyfile::Presence;
+  a.Integer("rank", c.rank, "1", "1 = added or strongest evidence");
+  a.Text("key", c.key, "library key of the effect");
+  a.Text("name", c.name, "the effect in words");
+  a.Text("parameter", c.parameter, "its parameter");
+  a.Text("unit", c.unit, "unit of the parameter (of estimate, se and detection_limit)");
+  a.Flag("measurement_effect", c.measurement_effect,
+         "1 when it changes the image, not the physics (out-of-plane rotation)");
+  a.Flag("fitted", c.fitted, "1 when the fit ran");
+  a.Text("message", c.message, "why the fit did not run, or empty");
+  a.Choice("form", c.form, kFormText, "the form the data chose: " + FormChoices());
+  a.Number("estimate", c.estimate, kEstimateUnits,
+           "the shared value, or the largest surface value of a per-surface effect (NaN when "
+           "undefined)");
+  a.Number("se", c.se, kEstimateUnits, "its standard error (NaN when undefined)");
+  a.Number("lr_statistic", c.lr_statistic, "1",
+           "likelihood-ratio statistic against the current model under the noise model");
+  a.Integer("df", c.df, "1",
+            "parameters the effect adds (boundary-corrected chi-bar-square with df parameters "
+            "at their lower bound 0)");
+  a.Number("p_value", c.p_value, "1", "likelihood-ratio p-value");
+  a.Number("p_per_surface", c.p_per_surface, "1",
+           "per-surface against shared values (chi-square, surfaces - 1 dof)");
+  a.Number("delta_aic", c.delta_aic, "1", "AIC of this model minus the current (< 0 is better)");
+  a.Number("delta_bic", c.delta_bic, "1", "BIC of this model minus the current (< 0 is better)");
+  a.Number("cv_error", c.cv_error, kHeldOutErrorUnit,
+           "held-out error with this effect, each trial fitted without its fold");
+  a.Number("cv_error_current", c.cv_error_current, kHeldOutErrorUnit,
+           "the same for the current model");
+  // Study files written before the held-out density was stored have none (NaN: judged by the
+  // held-out error, as they were).
+  a.Number("cv_density", c.cv_density, kHeldOutDensityUnit,
+           "held-out density with this effect under its own noise model, each trial fitted "
+           "without its fold; what a contact effect is judged by (NaN for an out-of-plane "
+           "candidate)",
+           Presence::kAddedLater);
+  a.Number("cv_density_current", c.cv_density_current, kHeldOutDensityUnit,
+           "the same for the current model", Presence::kAddedLater);
+  a.Number("cv_p", c.cv_p, "1",
+           "paired one-sided t test that the held-out score the candidate is judged by fell "
+           "(cv_density where finite, else cv_error)");
+  a.Choice("identifiability", c.identifiability, kIdentifiabilityText,
+           Choices(std::array{Identifiability::kIdentified, Identifiability::kNotTested,
+                              Identifiability::kConfounded}));
+  a.Text("confounded_with", c.confounded_with, "baseline parameters that absorb it in the probe");
+  a.Flag("wald_clear", c.wald_clear,
+         "1 when the estimate stands clear of 0 (of the smallest value the fit may take, where "
+         "that is above 0) by its s.e. at the naming level");
+  // Study files written before the influential-trial check have none (not checked).
+  a.Text("influential_trial", c.influential_trial,
+         "the trial whose log-likelihood gains most from the effect (checked for a contact "
+         "effect whose evidence holds otherwise; empty when not checked)",
+         Presence::kAddedLater);
+  a.Number("p_without_influential", c.p_without_influential, "1",
+           "likelihood-ratio p with the current model and the effect both refitted without "
+           "influential_trial (NaN when not checked)",
+           Presence::kAddedLater);
+  a.Flag("significant", c.significant,
+         "1 when p_value < alpha / candidates, wald_clear and the held-out score fell "
+         "(cv_density where finite, else cv_error; for cv_density in a round after an added "
+         "effect, significantly: cv_p < 0.05), and p_without_influential, where checked, below "
+         "0.01");
+  a.Choice("outcome", c.outcome, kOutcomeText,
+           "why it was or was not added: " + Choices(AllCandidateOutcomes()));
+  a.Text("reason", c.reason, "why it was or was not added, in words");
+  a.Number("detection_limit", c.detection_limit, kEstimateUnits,
+           "smallest size these trials would detect at the naming level with 80 % power (shared "
+           "form; NaN when not computed)");
+}
+
 Table TestsTable(const std::string& name, const std::string& description,
                  const std::vector<StructureTest>& tests) {
-  std::vector<std::string> quantity, scope, covariate, test, what;
-  std::vector<double> statistic, df1, df2, p, p_holm;
-  std::vector<std::int64_t> significant;
-  for (const auto& t : tests) {
-    quantity.push_back(t.quantity);
-    scope.push_back(t.scope);
-    covariate.push_back(t.covariate);
-    test.push_back(t.test);
-    statistic.push_back(t.statistic);
-    df1.push_back(t.df1);
-    df2.push_back(t.df2);
-    p.push_back(t.p);
-    p_holm.push_back(t.p_holm);
-    significant.push_back(Flag(t.significant));
-    what.push_back(t.description);
-  }
-  return Table{
-      name,
-      description,
-      {Column::Texts("quantity", "v_x, v_y, w (residuals after impact) or marker_ratio", quantity),
-       Column::Texts("scope", "surface name, or all", scope),
-       Column::Texts("covariate", "what the residuals are tested against", covariate),
-       Column::Texts("test", "the test against the noise model, e.g. slope z or mean t", test),
-       Column::Numbers("statistic", "1", "z or t statistic", statistic),
-       Column::Numbers("df1", "1", "degrees of freedom of a t test (NaN for z)", df1),
-       Column::Numbers("df2", "1", "second degrees of freedom, when the test has them (NaN)", df2),
-       Column::Numbers("p", "1", "p-value, unadjusted", p),
-       Column::Numbers("p_holm", "1", "p-value, Holm-adjusted over every test of the round",
-                       p_holm),
-       Column::Integers("significant", "", "1 when p_holm < alpha", significant),
-       Column::Texts("description", "the test in words", what)}};
+  return studyfile::TableWriter::Of(name, description, tests,
+                                    [](auto& a, const StructureTest& t) { Serialize(a, t); });
 }
 
 Table CandidatesTable(const std::string& name, const std::vector<CandidateResult>& candidates) {
-  std::vector<std::int64_t> rank, measurement, fitted, significant, df, wald_clear;
-  std::vector<std::string> key, label, parameter, unit, message, form, ident, confounded, outcome,
-      reason, influential;
-  std::vector<double> estimate, se, lr, p, p_per_surface, aic, bic, cv, cv_current, density,
-      density_current, cv_p, detection_limit, p_without;
-  for (const auto& c : candidates) {
-    rank.push_back(c.rank);
-    key.push_back(c.key);
-    label.push_back(c.name);
-    parameter.push_back(c.parameter);
-    unit.push_back(c.unit);
-    measurement.push_back(Flag(c.measurement_effect));
-    fitted.push_back(Flag(c.fitted));
-    message.push_back(c.message);
-    form.push_back(ToString(c.form));
-    estimate.push_back(c.estimate);
-    se.push_back(c.se);
-    lr.push_back(c.lr_statistic);
-    df.push_back(c.df);
-    p.push_back(c.p_value);
-    p_per_surface.push_back(c.p_per_surface);
-    aic.push_back(c.delta_aic);
-    bic.push_back(c.delta_bic);
-    cv.push_back(c.cv_error);
-    cv_current.push_back(c.cv_error_current);
-    density.push_back(c.cv_density);
-    density_current.push_back(c.cv_density_current);
-    cv_p.push_back(c.cv_p);
-    ident.push_back(ToString(c.identifiability));
-    confounded.push_back(c.confounded_with);
-    significant.push_back(Flag(c.significant));
-    wald_clear.push_back(Flag(c.wald_clear));
-    influential.push_back(c.influential_trial);
-    p_without.push_back(c.p_without_influential);
-    outcome.push_back(ToString(c.outcome));
-    reason.push_back(c.reason);
-    detection_limit.push_back(c.detection_limit);
-  }
-  const std::string outcomes = Choices(AllCandidateOutcomes());
-  const std::string identifiabilities = Choices(std::array{
-      Identifiability::kIdentified, Identifiability::kNotTested, Identifiability::kConfounded});
-  return Table{
+  return studyfile::TableWriter::Of(
       name,
       "Every candidate effect of the round, fitted jointly with the per-surface parameters, in "
       "rank order (1 = added or strongest evidence); the values of each are in candidate_values",
-      {Column::Integers("rank", "1", "1 = added or strongest evidence", rank),
-       Column::Texts("key", "library key of the effect", key),
-       Column::Texts("name", "the effect in words", label),
-       Column::Texts("parameter", "its parameter", parameter),
-       Column::Texts("unit", "unit of the parameter (of estimate, se and detection_limit)", unit),
-       Column::Integers("measurement_effect", "",
-                        "1 when it changes the image, not the physics (out-of-plane rotation)",
-                        measurement),
-       Column::Integers("fitted", "", "1 when the fit ran", fitted),
-       Column::Texts("message", "why the fit did not run, or empty", message),
-       Column::Texts("form", "the form the data chose: " + FormChoices(), form),
-       Column::Numbers("estimate", kEstimateUnits,
-                       "the shared value, or the largest surface value of a per-surface effect "
-                       "(NaN when undefined)",
-                       estimate),
-       Column::Numbers("se", kEstimateUnits, "its standard error (NaN when undefined)", se),
-       Column::Numbers("lr_statistic", "1",
-                       "likelihood-ratio statistic against the current model under the noise "
-                       "model",
-                       lr),
-       Column::Integers("df", "1",
-                        "parameters the effect adds (boundary-corrected chi-bar-square with df "
-                        "parameters at their lower bound 0)",
-                        df),
-       Column::Numbers("p_value", "1", "likelihood-ratio p-value", p),
-       Column::Numbers("p_per_surface", "1",
-                       "per-surface against shared values (chi-square, surfaces - 1 dof)",
-                       p_per_surface),
-       Column::Numbers("delta_aic", "1", "AIC of this model minus the current (< 0 is better)",
-                       aic),
-       Column::Numbers("delta_bic", "1", "BIC of this model minus the current (< 0 is better)",
-                       bic),
-       Column::Numbers("cv_error", kHeldOutErrorUnit,
-                       "held-out error with this effect, each trial fitted without its fold", cv),
-       Column::Numbers("cv_error_current", kHeldOutErrorUnit, "the same for the current model",
-                       cv_current),
-       Column::Numbers("cv_density", kHeldOutDensityUnit,
-                       "held-out density with this effect under its own noise model, each trial "
-                       "fitted without its fold; what a contact effect is judged by (NaN for an "
-                       "out-of-plane candidate)",
-                       density),
-       Column::Numbers("cv_density_current", kHeldOutDensityUnit, "the same for the current model",
-                       density_current),
-       Column::Numbers("cv_p", "1",
-                       "paired one-sided t test that the held-out score the candidate is judged "
-                       "by fell (cv_density where finite, else cv_error)",
-                       cv_p),
-       Column::Texts("identifiability", identifiabilities, ident),
-       Column::Texts("confounded_with", "baseline parameters that absorb it in the probe",
-                     confounded),
-       Column::Integers("wald_clear", "",
-                        "1 when the estimate stands clear of 0 (of the smallest value the fit may "
-                        "take, where that is above 0) by its s.e. at the naming level",
-                        wald_clear),
-       Column::Texts("influential_trial",
-                     "the trial whose log-likelihood gains most from the effect (checked for a "
-                     "contact effect whose evidence holds otherwise; empty when not checked)",
-                     influential),
-       Column::Numbers("p_without_influential", "1",
-                       "likelihood-ratio p with the current model and the effect both refitted "
-                       "without influential_trial (NaN when not checked)",
-                       p_without),
-       Column::Integers(
-           "significant", "",
-           "1 when p_value < alpha / candidates, wald_clear and the held-out score fell "
-           "(cv_density where finite, else cv_error; for cv_density in a round after an added "
-           "effect, significantly: cv_p < 0.05), and p_without_influential, where checked, "
-           "below 0.01",
-           significant),
-       Column::Texts("outcome", "why it was or was not added: " + outcomes, outcome),
-       Column::Texts("reason", "why it was or was not added, in words", reason),
-       Column::Numbers("detection_limit", kEstimateUnits,
-                       "smallest size these trials would detect at the naming level with 80 % "
-                       "power (shared form; NaN when not computed)",
-                       detection_limit)}};
+      candidates, [](auto& a, const CandidateResult& c) { Serialize(a, c); });
 }
 
 /// The values of effects, one row per value: `owner` is the row of the candidate or finding
@@ -246,95 +203,193 @@ Table ValuesTable(const std::string& name, const std::string& description, const
        Column::Numbers("se", kEstimateUnits, "its standard error", se)}};
 }
 
-Table GapTable(const std::string& name, const std::vector<GapTrial>& gap) {
-  std::vector<std::string> id, surface;
-  std::vector<double> angle, speed, gap_before, gap_after;
-  std::vector<std::int64_t> fold;
-  std::vector<double> before[3], after[3];
-  for (const auto& g : gap) {
-    id.push_back(g.id);
-    surface.push_back(g.surface);
-    angle.push_back(g.angle_deg);
-    speed.push_back(g.speed_m_s);
-    fold.push_back(g.fold);
-    for (int k = 0; k < 3; ++k) {
-      before[k].push_back(g.residual_before[k]);
-      after[k].push_back(g.residual_after[k]);
-    }
-    gap_before.push_back(g.gap_before);
-    gap_after.push_back(g.gap_after);
-  }
+/// The columns of a held-out trial, declared once for writing and reading.
+template <class Archive, class G>
+requires std::is_same_v<std::remove_const_t<G>, GapTrial>
+void Serialize(Archive& a, G& g) {
+  a.Text("id", g.id, "trial id");
+  a.Text("surface", g.surface, "surface");
+  a.Number("angle_deg", g.angle_deg, "deg", "surface angle");
+  a.Number("speed_m_s", g.speed_m_s, "m/s", "impact speed");
+  a.Integer("fold", g.fold, "1", "cross-validation fold the trial was held out in");
   const char* what[3] = {"v_x (along the surface)", "v_y (normal)", "w d_EC"};
   const char* suffix[3] = {"v_x", "v_y", "w"};
-  Table t{name,
-          "Per held-out trial: residuals after impact (fractions of the impact speed) of the "
-          "current model (before) and with the round's effect (after), each fitted without the "
-          "trial's fold",
-          {Column::Texts("id", "trial id", id), Column::Texts("surface", "surface", surface),
-           Column::Numbers("angle_deg", "deg", "surface angle", angle),
-           Column::Numbers("speed_m_s", "m/s", "impact speed", speed),
-           Column::Integers("fold", "1", "cross-validation fold the trial was held out in", fold)}};
   for (int k = 0; k < 3; ++k)
-    t.columns.push_back(Column::Numbers(std::string("residual_before_") + suffix[k], "1",
-                                        std::string("measured - simulated ") + what[k] +
-                                            " after impact / impact speed, current model",
-                                        before[k]));
+    a.Number(std::string("residual_before_") + suffix[k], g.residual_before[k], "1",
+             std::string("measured - simulated ") + what[k] +
+                 " after impact / impact speed, current model");
   for (int k = 0; k < 3; ++k)
-    t.columns.push_back(Column::Numbers(std::string("residual_after_") + suffix[k], "1",
-                                        std::string("measured - simulated ") + what[k] +
-                                            " after impact / impact speed, with the effect",
-                                        after[k]));
-  t.columns.push_back(Column::Numbers(
-      "gap_before", "1", "root mean square of the used components, current model", gap_before));
-  t.columns.push_back(Column::Numbers(
-      "gap_after", "1", "root mean square of the used components, with the effect", gap_after));
-  return t;
+    a.Number(std::string("residual_after_") + suffix[k], g.residual_after[k], "1",
+             std::string("measured - simulated ") + what[k] +
+                 " after impact / impact speed, with the effect");
+  a.Number("gap_before", g.gap_before, "1",
+           "root mean square of the used components, current model");
+  a.Number("gap_after", g.gap_after, "1",
+           "root mean square of the used components, with the effect");
+}
+
+Table GapTable(const std::string& name, const std::vector<GapTrial>& gap) {
+  return studyfile::TableWriter::Of(
+      name,
+      "Per held-out trial: residuals after impact (fractions of the impact speed) of the "
+      "current model (before) and with the round's effect (after), each fitted without the "
+      "trial's fold",
+      gap, [](auto& a, const GapTrial& g) { Serialize(a, g); });
+}
+
+/// A row of the surfaces table: which model, and its fit on one surface.
+struct SurfaceRow {
+  std::string model;  ///< "baseline" or "final"
+  SurfaceFit fit;
+};
+
+template <class Archive, class Row>
+requires std::is_same_v<std::remove_const_t<Row>, SurfaceRow>
+void Serialize(Archive& a, Row& row) {
+  using studyfile::Presence;
+  auto& f = row.fit;
+  a.Text("model", row.model, "baseline or final");
+  a.Text("surface", f.surface, "surface name");
+  a.Number("zeta", f.zeta, "1", "damping ratio");
+  a.Number("zeta_se", f.zeta_se, "1", "its standard error");
+  a.Number("mu", f.mu, "1", "friction coefficient");
+  a.Number("mu_se", f.mu_se, "1", "its standard error");
+  a.Number("k_N_m", f.k_N_m, "N/m", "stiffness used (not identified)");
+  a.Integer("trials", f.trials, "1", "trials fitted");
+  a.Number("zeta_sd", f.zeta_sd, "1", "s.d. of zeta from trial to trial");
+  a.Number("mu_sd", f.mu_sd, "1", "s.d. of mu from trial to trial (NaN without oblique trials)");
+  // Study files written before the measurement error was per surface have none (NaN).
+  a.Number("measurement_sd_v_x", f.measurement_sd[0], "1",
+           "systematic measurement s.d. of v_x on this surface beyond each trial's s.e., "
+           "fraction of the impact speed (NaN without oblique trials)",
+           Presence::kAddedLater);
+  a.Number("measurement_sd_v_y", f.measurement_sd[1], "1", "the same of v_y",
+           Presence::kAddedLater);
+  a.Number("measurement_sd_w", f.measurement_sd[2], "1",
+           "the same of w d_EC (NaN without oblique trials)", Presence::kAddedLater);
 }
 
 Table SurfacesTable(const DiscoveryResult& r) {
-  std::vector<std::string> model, surface;
-  std::vector<double> zeta, zeta_se, mu, mu_se, k, zeta_sd, mu_sd;
-  std::array<std::vector<double>, 3> measurement_sd;
-  std::vector<std::int64_t> trials;
-  for (const auto* fits : {&r.baseline, &r.final_model})
-    for (const auto& f : *fits) {
-      model.push_back(fits == &r.baseline ? "baseline" : "final");
-      surface.push_back(f.surface);
-      zeta.push_back(f.zeta);
-      zeta_se.push_back(f.zeta_se);
-      mu.push_back(f.mu);
-      mu_se.push_back(f.mu_se);
-      k.push_back(f.k_N_m);
-      trials.push_back(f.trials);
-      zeta_sd.push_back(f.zeta_sd);
-      mu_sd.push_back(f.mu_sd);
-      for (int c = 0; c < 3; ++c)
-        measurement_sd[static_cast<std::size_t>(c)].push_back(f.measurement_sd[c]);
-    }
-  return Table{
+  std::vector<SurfaceRow> rows;
+  for (const SurfaceFit& f : r.baseline) rows.push_back({"baseline", f});
+  for (const SurfaceFit& f : r.final_model) rows.push_back({"final", f});
+  return studyfile::TableWriter::Of(
       "surfaces",
       "The model per surface fitted to every used trial: the baseline (the paper's model) and "
       "the final model (with the accepted effects); k is not identified and stays the paper's. "
       "zeta_sd and mu_sd are the noise model's trial-to-trial scatter of the coefficients, "
       "measurement_sd_* its systematic measurement error on the surface",
-      {Column::Texts("model", "baseline or final", model),
-       Column::Texts("surface", "surface name", surface),
-       Column::Numbers("zeta", "1", "damping ratio", zeta),
-       Column::Numbers("zeta_se", "1", "its standard error", zeta_se),
-       Column::Numbers("mu", "1", "friction coefficient", mu),
-       Column::Numbers("mu_se", "1", "its standard error", mu_se),
-       Column::Numbers("k_N_m", "N/m", "stiffness used (not identified)", k),
-       Column::Integers("trials", "1", "trials fitted", trials),
-       Column::Numbers("zeta_sd", "1", "s.d. of zeta from trial to trial", zeta_sd),
-       Column::Numbers("mu_sd", "1", "s.d. of mu from trial to trial (NaN without oblique trials)",
-                       mu_sd),
-       Column::Numbers("measurement_sd_v_x", "1",
-                       "systematic measurement s.d. of v_x on this surface beyond each trial's "
-                       "s.e., fraction of the impact speed (NaN without oblique trials)",
-                       measurement_sd[0]),
-       Column::Numbers("measurement_sd_v_y", "1", "the same of v_y", measurement_sd[1]),
-       Column::Numbers("measurement_sd_w", "1", "the same of w d_EC (NaN without oblique trials)",
-                       measurement_sd[2])}};
+      rows, [](auto& a, const SurfaceRow& row) { Serialize(a, row); });
+}
+
+/// The one-row summary of the workflow; `rounds` is the number of rounds (tables rounds/<n>).
+template <class Archive, class R>
+requires std::is_same_v<std::remove_const_t<R>, DiscoveryResult>
+void SerializeSummary(Archive& a, R& r, std::int64_t& rounds) {
+  a.Flag("success", r.success, "1 when the workflow ran");
+  a.Text("message", r.message, "why it could not run, or empty");
+  a.Integer("trials_used", r.trials_used, "1", "measured trials analysed");
+  a.Integer("trials_skipped", r.trials_skipped, "1", "trials skipped (not measured)");
+  a.Flag("unexplained", r.unexplained,
+         "1 when a significant disagreement remains with the final model");
+  a.Number("seconds", r.seconds, "s", "wall-clock time of the workflow");
+  a.Integer("simulations", r.simulations, "1", "impacts simulated");
+  a.Integer("rounds", rounds, "1", "rounds run (tables rounds/1 ... rounds/<n>)");
+  a.Text("verdict", r.verdict, "the verdict in plain language");
+  a.Number("measurement_sd_v_x", r.measurement_sd[0], "1",
+           "systematic measurement error (s.d.) of v_x after impact, fraction of the impact "
+           "speed (final noise model)");
+  a.Number("measurement_sd_v_y", r.measurement_sd[1], "1", "the same of v_y");
+  a.Number("measurement_sd_w", r.measurement_sd[2], "1", "the same of w d_EC");
+}
+
+/// What a round decided: its one-row summary table.
+template <class Archive, class R>
+requires std::is_same_v<std::remove_const_t<R>, Round>
+void SerializeSummary(Archive& a, R& round) {
+  a.Integer("index", round.index, "1", "round number");
+  a.Text("accepted", round.accepted, "key of the effect added, empty when none");
+  a.Text("decision", round.decision, "the decision in words");
+  a.Number("naming_level", round.naming_level, "1",
+           "level per hypothesis at which the smallest p of the round's hypotheses falls below "
+           "it with probability alpha under the current model (min-P)");
+  a.Number("bonferroni_level", round.bonferroni_level, "1",
+           "alpha / tests (the hypotheses and the further directions of their changes a search "
+           "over sizes tries), for comparison");
+  a.Integer("hypotheses", round.hypotheses, "1", "candidates x forms tried");
+  a.Number("gap_before", round.gap_before, "1",
+           "held-out gap (root mean square over trials and components, fractions of the impact "
+           "speed), current model");
+  a.Number("gap_after", round.gap_after, "1", "the same with the accepted effect");
+  a.Number("gap_shrink", round.gap_shrink, "1", "fraction by which the held-out gap shrank");
+}
+
+/// A row of the final model's effects: a value, and the parameter and unit it is a value of.
+struct EffectRow {
+  EffectValue value;
+  std::string parameter, unit;
+};
+
+template <class Archive, class Row>
+requires std::is_same_v<std::remove_const_t<Row>, EffectRow>
+void Serialize(Archive& a, Row& row) {
+  a.Text("key", row.value.key, "library key of the effect");
+  a.Text("surface", row.value.surface, "surface the value holds on; empty = all surfaces");
+  a.Text("parameter", row.parameter, "its parameter");
+  a.Text("unit", row.unit, "unit of value and se");
+  a.Number("value", row.value.value, kEstimateUnits, "value in the final model");
+  a.Number("se", row.value.se, kEstimateUnits, "its standard error");
+}
+
+constexpr studyfile::EnumText<FindingStatus> kStatusText{&ToString, &FindingStatusFromString};
+
+/// What the verdict says about an effect (its values are in a table of their own).
+template <class Archive, class F>
+requires std::is_same_v<std::remove_const_t<F>, Finding>
+void Serialize(Archive& a, F& f) {
+  a.Text("key", f.key, "library key of the effect");
+  a.Text("name", f.name, "the effect in words");
+  a.Text("parameter", f.parameter, "its parameter");
+  a.Text("unit", f.unit, "unit of estimate and se");
+  a.Choice("status", f.status, kStatusText,
+           Choices(std::array{FindingStatus::kNamed, FindingStatus::kTentative,
+                              FindingStatus::kIndistinguishable}));
+  a.Choice("form", f.form, kFormText, FormChoices());
+  const std::string surfaces_description =
+      "surfaces it was found on, joined with ','; empty for a shared effect";
+  if constexpr (std::remove_cvref_t<Archive>::kWriting) {
+    a.Text("surfaces", JoinSurfaces(f.surfaces), surfaces_description);
+  } else {
+    std::string surfaces;
+    a.Text("surfaces", surfaces, surfaces_description);
+    f.surfaces = SplitSurfaces(surfaces);
+  }
+  a.Number("estimate", f.estimate, kEstimateUnits,
+           "shared value, or the largest surface value (all in finding_values)");
+  a.Number("se", f.se, kEstimateUnits, "its standard error");
+  a.Text("partner", f.partner, "what it cannot be told apart from");
+  a.Text("separating_measurement", f.separating_measurement, "what would separate them");
+  a.Number("gap_shrink", f.gap_shrink, "1", "held-out gap shrink when it was added");
+}
+
+/// A used trial's residuals under the baseline and the final model.
+template <class Archive, class T>
+requires std::is_same_v<std::remove_const_t<T>, TrialResiduals>
+void Serialize(Archive& a, T& t) {
+  a.Text("id", t.id, "trial id");
+  a.Text("surface", t.surface, "surface");
+  a.Number("angle_deg", t.angle_deg, "deg", "surface angle");
+  a.Number("speed_m_s", t.speed_m_s, "m/s", "impact speed");
+  const char* suffix[3] = {"v_x", "v_y", "w"};
+  const char* what[3] = {"v_x (along the surface)", "v_y (normal)", "w d_EC"};
+  for (int k = 0; k < 3; ++k)
+    a.Number(std::string("baseline_") + suffix[k], t.baseline[k], "1",
+             std::string("residual of ") + what[k] + ", baseline");
+  for (int k = 0; k < 3; ++k)
+    a.Number(std::string("final_") + suffix[k], t.final_model[k], "1",
+             std::string("residual of ") + what[k] + ", final model");
+  a.Number("marker_ratio", t.marker_ratio, "1",
+           "mean projected / layout marker distance after impact");
 }
 
 /// Parameter name and unit of an effect key, from the candidates and findings that name it.
@@ -366,6 +421,9 @@ class Reader {
   }
 
   std::size_t rows() const { return rows_; }
+  const Table& table() const { return table_; }
+  /// "<file>: table <path>", how errors name the table.
+  std::string where() const { return h5_.string() + ": table " + path_; }
 
   std::vector<double> Numbers(const std::string& name) const {
     const auto& c = Find(name);
@@ -434,94 +492,15 @@ class Reader {
 
 std::vector<StructureTest> ReadTests(const std::filesystem::path& h5, const std::string& table) {
   const Reader t(h5, table);
-  const auto quantity = t.Texts("quantity"), scope = t.Texts("scope"),
-             covariate = t.Texts("covariate"), test = t.Texts("test"),
-             what = t.Texts("description");
-  const auto statistic = t.Numbers("statistic"), df1 = t.Numbers("df1"), df2 = t.Numbers("df2"),
-             p = t.Numbers("p"), p_holm = t.Numbers("p_holm");
-  const auto significant = t.Flags("significant");
-  std::vector<StructureTest> out(t.rows());
-  for (std::size_t i = 0; i < t.rows(); ++i) {
-    auto& s = out[i];
-    s.quantity = quantity[i];
-    s.scope = scope[i];
-    s.covariate = covariate[i];
-    s.test = test[i];
-    s.statistic = statistic[i];
-    s.df1 = df1[i];
-    s.df2 = df2[i];
-    s.p = p[i];
-    s.p_holm = p_holm[i];
-    s.significant = significant[i];
-    s.description = what[i];
-  }
-  return out;
+  return studyfile::TableReader::Read<StructureTest>(
+      t.table(), t.where(), [](auto& a, StructureTest& s) { Serialize(a, s); });
 }
 
 std::vector<CandidateResult> ReadCandidates(const std::filesystem::path& h5,
                                             const std::string& table) {
   const Reader t(h5, table);
-  const auto rank = t.Integers("rank");
-  const auto key = t.Texts("key"), label = t.Texts("name"), parameter = t.Texts("parameter"),
-             unit = t.Texts("unit"), message = t.Texts("message"),
-             confounded = t.Texts("confounded_with"), reason = t.Texts("reason");
-  const auto form = t.Enums("form", &EffectFormFromString);
-  const auto ident = t.Enums("identifiability", &IdentifiabilityFromString);
-  const auto outcome = t.Enums("outcome", &CandidateOutcomeFromString);
-  const auto measurement = t.Flags("measurement_effect"), fitted = t.Flags("fitted"),
-             significant = t.Flags("significant"), wald_clear = t.Flags("wald_clear");
-  const auto df = t.Integers("df");
-  const auto estimate = t.Numbers("estimate"), se = t.Numbers("se"), lr = t.Numbers("lr_statistic"),
-             p = t.Numbers("p_value"), p_per_surface = t.Numbers("p_per_surface"),
-             aic = t.Numbers("delta_aic"), bic = t.Numbers("delta_bic"), cv = t.Numbers("cv_error"),
-             cv_current = t.Numbers("cv_error_current"), cv_p = t.Numbers("cv_p"),
-             detection_limit = t.Numbers("detection_limit");
-  // Study files written before the held-out density was stored have none (NaN: judged by the
-  // held-out error, as they were).
-  std::vector<double> density(t.rows(), core::kNaN), density_current(t.rows(), core::kNaN);
-  if (t.Has("cv_density"))
-    density = t.Numbers("cv_density"), density_current = t.Numbers("cv_density_current");
-  // Study files written before the influential-trial check have none (not checked).
-  std::vector<std::string> influential(t.rows());
-  std::vector<double> p_without(t.rows(), core::kNaN);
-  if (t.Has("influential_trial"))
-    influential = t.Texts("influential_trial"), p_without = t.Numbers("p_without_influential");
-  std::vector<CandidateResult> out(t.rows());
-  for (std::size_t i = 0; i < t.rows(); ++i) {
-    auto& c = out[i];
-    c.rank = static_cast<int>(rank[i]);
-    c.key = key[i];
-    c.name = label[i];
-    c.parameter = parameter[i];
-    c.unit = unit[i];
-    c.measurement_effect = measurement[i];
-    c.fitted = fitted[i];
-    c.message = message[i];
-    c.form = form[i];
-    c.estimate = estimate[i];
-    c.se = se[i];
-    c.lr_statistic = lr[i];
-    c.df = static_cast<int>(df[i]);
-    c.p_value = p[i];
-    c.p_per_surface = p_per_surface[i];
-    c.delta_aic = aic[i];
-    c.delta_bic = bic[i];
-    c.cv_error = cv[i];
-    c.cv_error_current = cv_current[i];
-    c.cv_density = density[i];
-    c.cv_density_current = density_current[i];
-    c.cv_p = cv_p[i];
-    c.identifiability = ident[i];
-    c.confounded_with = confounded[i];
-    c.significant = significant[i];
-    c.wald_clear = wald_clear[i];
-    c.influential_trial = influential[i];
-    c.p_without_influential = p_without[i];
-    c.outcome = outcome[i];
-    c.reason = reason[i];
-    c.detection_limit = detection_limit[i];
-  }
-  return out;
+  return studyfile::TableReader::Read<CandidateResult>(
+      t.table(), t.where(), [](auto& a, CandidateResult& c) { Serialize(a, c); });
 }
 
 /// Reads a ValuesTable and appends each row's value to the `values` of its owner (`owner`
@@ -545,108 +524,38 @@ void ReadValues(const std::filesystem::path& h5, const std::string& table, const
 
 std::vector<GapTrial> ReadGap(const std::filesystem::path& h5, const std::string& table) {
   const Reader t(h5, table);
-  const auto id = t.Texts("id"), surface = t.Texts("surface");
-  const auto angle = t.Numbers("angle_deg"), speed = t.Numbers("speed_m_s"),
-             gap_before = t.Numbers("gap_before"), gap_after = t.Numbers("gap_after");
-  const auto fold = t.Integers("fold");
-  const char* suffix[3] = {"v_x", "v_y", "w"};
-  std::vector<double> before[3], after[3];
-  for (int k = 0; k < 3; ++k) {
-    before[k] = t.Numbers(std::string("residual_before_") + suffix[k]);
-    after[k] = t.Numbers(std::string("residual_after_") + suffix[k]);
-  }
-  std::vector<GapTrial> out(t.rows());
-  for (std::size_t i = 0; i < t.rows(); ++i) {
-    auto& g = out[i];
-    g.id = id[i];
-    g.surface = surface[i];
-    g.angle_deg = angle[i];
-    g.speed_m_s = speed[i];
-    g.fold = static_cast<int>(fold[i]);
-    for (int k = 0; k < 3; ++k) {
-      g.residual_before[k] = before[k][i];
-      g.residual_after[k] = after[k][i];
-    }
-    g.gap_before = gap_before[i];
-    g.gap_after = gap_after[i];
-  }
-  return out;
+  return studyfile::TableReader::Read<GapTrial>(t.table(), t.where(),
+                                                [](auto& a, GapTrial& g) { Serialize(a, g); });
 }
 
 }  // namespace
 
 std::vector<Table> DiscoveryTables(const DiscoveryResult& r) {
   std::vector<Table> tables;
-  tables.push_back(Table{
-      "summary",
-      "The discovery workflow's outcome (hoofimpact discover; docs/discovery.md)",
-      {Column::Integers("success", "", "1 when the workflow ran", {Flag(r.success)}),
-       Column::Texts("message", "why it could not run, or empty", {r.message}),
-       Column::Integers("trials_used", "1", "measured trials analysed", {r.trials_used}),
-       Column::Integers("trials_skipped", "1", "trials skipped (not measured)", {r.trials_skipped}),
-       Column::Integers("unexplained", "",
-                        "1 when a significant disagreement remains with the final model",
-                        {Flag(r.unexplained)}),
-       Column::Numbers("seconds", "s", "wall-clock time of the workflow", {r.seconds}),
-       Column::Integers("simulations", "1", "impacts simulated", {r.simulations}),
-       Column::Integers("rounds", "1", "rounds run (tables rounds/1 ... rounds/<n>)",
-                        {static_cast<std::int64_t>(r.rounds.size())}),
-       Column::Texts("verdict", "the verdict in plain language", {r.verdict}),
-       Column::Numbers("measurement_sd_v_x", "1",
-                       "systematic measurement error (s.d.) of v_x after impact, fraction of the "
-                       "impact speed (final noise model)",
-                       {r.measurement_sd.x()}),
-       Column::Numbers("measurement_sd_v_y", "1", "the same of v_y", {r.measurement_sd.y()}),
-       Column::Numbers("measurement_sd_w", "1", "the same of w d_EC", {r.measurement_sd.z()})}});
+  std::int64_t rounds = static_cast<std::int64_t>(r.rounds.size());
+  tables.push_back(studyfile::TableWriter::OfOne(
+      "summary", "The discovery workflow's outcome (hoofimpact discover; docs/discovery.md)", r,
+      [&](auto& a, const DiscoveryResult& x) { SerializeSummary(a, x, rounds); }));
   tables.push_back(SurfacesTable(r));
   {
-    std::vector<std::string> key, surface, parameter, unit;
-    std::vector<double> value, se;
+    std::vector<EffectRow> effects;
     for (const auto& e : r.effects) {
-      const auto [p, u] = ParameterOf(r, e.key);
-      key.push_back(e.key);
-      surface.push_back(e.surface);
-      parameter.push_back(p);
-      unit.push_back(u);
-      value.push_back(e.value);
-      se.push_back(e.se);
+      const auto [parameter, unit] = ParameterOf(r, e.key);
+      effects.push_back({e, parameter, unit});
     }
-    tables.push_back(Table{
+    tables.push_back(studyfile::TableWriter::Of(
         "effects",
-        "The final model's effects beyond the paper's model, with their values: one row "
-        "per value (a per-surface effect has one per surface)",
-        {Column::Texts("key", "library key of the effect", key),
-         Column::Texts("surface", "surface the value holds on; empty = all surfaces", surface),
-         Column::Texts("parameter", "its parameter", parameter),
-         Column::Texts("unit", "unit of value and se", unit),
-         Column::Numbers("value", kEstimateUnits, "value in the final model", value),
-         Column::Numbers("se", kEstimateUnits, "its standard error", se)}});
+        "The final model's effects beyond the paper's model, with their values: one row per "
+        "value (a per-surface effect has one per surface)",
+        effects, [](auto& a, const EffectRow& e) { Serialize(a, e); }));
   }
   for (std::size_t i = 0; i < r.rounds.size(); ++i) {
     const Round& round = r.rounds[i];
     const std::string prefix = "rounds/" + std::to_string(i + 1) + "/";
-    tables.push_back(Table{
+    tables.push_back(studyfile::TableWriter::OfOne(
         prefix + "summary",
-        "What round " + std::to_string(i + 1) + " decided, and the held-out gap",
-        {Column::Integers("index", "1", "round number", {round.index}),
-         Column::Texts("accepted", "key of the effect added, empty when none", {round.accepted}),
-         Column::Texts("decision", "the decision in words", {round.decision}),
-         Column::Numbers("naming_level", "1",
-                         "level per hypothesis at which the smallest p of the round's hypotheses "
-                         "falls below it with probability alpha under the current model (min-P)",
-                         {round.naming_level}),
-         Column::Numbers("bonferroni_level", "1",
-                         "alpha / tests (the hypotheses and the further directions of their "
-                         "changes a search over sizes tries), for comparison",
-                         {round.bonferroni_level}),
-         Column::Integers("hypotheses", "1", "candidates x forms tried", {round.hypotheses}),
-         Column::Numbers("gap_before", "1",
-                         "held-out gap (root mean square over trials and components, fractions "
-                         "of the impact speed), current model",
-                         {round.gap_before}),
-         Column::Numbers("gap_after", "1", "the same with the accepted effect", {round.gap_after}),
-         Column::Numbers("gap_shrink", "1", "fraction by which the held-out gap shrank",
-                         {round.gap_shrink})}});
+        "What round " + std::to_string(i + 1) + " decided, and the held-out gap", round,
+        [](auto& a, const Round& x) { SerializeSummary(a, x); }));
     tables.push_back(TestsTable(prefix + "tests",
                                 "Tests of the current model's residuals for structure (Holm over "
                                 "the round's tests)",
@@ -662,47 +571,12 @@ std::vector<Table> DiscoveryTables(const DiscoveryResult& r) {
     tables.push_back(GapTable(prefix + "gap", round.gap));
   }
   {
-    std::vector<std::string> key, label, parameter, unit, status, form, surfaces, partner,
-        separating;
-    std::vector<double> estimate, se, shrink;
     std::vector<ValuesOf> values;
-    for (const auto& f : r.findings) {
-      key.push_back(f.key);
-      label.push_back(f.name);
-      parameter.push_back(f.parameter);
-      unit.push_back(f.unit);
-      status.push_back(ToString(f.status));
-      form.push_back(ToString(f.form));
-      surfaces.push_back(JoinSurfaces(f.surfaces));
-      values.push_back({&f.values, f.unit});
-      estimate.push_back(f.estimate);
-      se.push_back(f.se);
-      partner.push_back(f.partner);
-      separating.push_back(f.separating_measurement);
-      shrink.push_back(f.gap_shrink);
-    }
-    tables.push_back(Table{
+    for (const auto& f : r.findings) values.push_back({&f.values, f.unit});
+    tables.push_back(studyfile::TableWriter::Of(
         "findings",
         "What the verdict says about each effect: named, tentative or indistinguishable",
-        {Column::Texts("key", "library key of the effect", key),
-         Column::Texts("name", "the effect in words", label),
-         Column::Texts("parameter", "its parameter", parameter),
-         Column::Texts("unit", "unit of estimate and se", unit),
-         Column::Texts("status",
-                       Choices(std::array{FindingStatus::kNamed, FindingStatus::kTentative,
-                                          FindingStatus::kIndistinguishable}),
-                       status),
-         Column::Texts("form", FormChoices(), form),
-         Column::Texts("surfaces",
-                       "surfaces it was found on, joined with ','; empty for a shared effect",
-                       surfaces),
-         Column::Numbers("estimate", kEstimateUnits,
-                         "shared value, or the largest surface value (all in finding_values)",
-                         estimate),
-         Column::Numbers("se", kEstimateUnits, "its standard error", se),
-         Column::Texts("partner", "what it cannot be told apart from", partner),
-         Column::Texts("separating_measurement", "what would separate them", separating),
-         Column::Numbers("gap_shrink", "1", "held-out gap shrink when it was added", shrink)}});
+        r.findings, [](auto& a, const Finding& f) { Serialize(a, f); }));
     tables.push_back(ValuesTable("finding_values", "Every value of each finding's effect",
                                  "finding", "row of the finding in findings (0-based)", values));
   }
@@ -710,41 +584,11 @@ std::vector<Table> DiscoveryTables(const DiscoveryResult& r) {
                               "The significant disagreements the final model leaves (no rows: "
                               "none)",
                               r.remaining));
-  {
-    std::vector<std::string> id, surface;
-    std::vector<double> angle, speed, ratio;
-    std::vector<double> base[3], fin[3];
-    for (const auto& t : r.residuals) {
-      id.push_back(t.id);
-      surface.push_back(t.surface);
-      angle.push_back(t.angle_deg);
-      speed.push_back(t.speed_m_s);
-      for (int k = 0; k < 3; ++k) {
-        base[k].push_back(t.baseline[k]);
-        fin[k].push_back(t.final_model[k]);
-      }
-      ratio.push_back(t.marker_ratio);
-    }
-    const char* suffix[3] = {"v_x", "v_y", "w"};
-    const char* what[3] = {"v_x (along the surface)", "v_y (normal)", "w d_EC"};
-    Table t{"residuals",
-            "Per used trial: residuals after impact (measured - simulated, fractions of the "
-            "impact speed) under the baseline and the final model, fitted to every trial",
-            {Column::Texts("id", "trial id", id), Column::Texts("surface", "surface", surface),
-             Column::Numbers("angle_deg", "deg", "surface angle", angle),
-             Column::Numbers("speed_m_s", "m/s", "impact speed", speed)}};
-    for (int k = 0; k < 3; ++k)
-      t.columns.push_back(Column::Numbers(std::string("baseline_") + suffix[k], "1",
-                                          std::string("residual of ") + what[k] + ", baseline",
-                                          base[k]));
-    for (int k = 0; k < 3; ++k)
-      t.columns.push_back(Column::Numbers(std::string("final_") + suffix[k], "1",
-                                          std::string("residual of ") + what[k] + ", final model",
-                                          fin[k]));
-    t.columns.push_back(Column::Numbers(
-        "marker_ratio", "1", "mean projected / layout marker distance after impact", ratio));
-    tables.push_back(std::move(t));
-  }
+  tables.push_back(studyfile::TableWriter::Of(
+      "residuals",
+      "Per used trial: residuals after impact (measured - simulated, fractions of the impact "
+      "speed) under the baseline and the final model, fitted to every trial",
+      r.residuals, [](auto& a, const TrialResiduals& t) { Serialize(a, t); }));
   return tables;
 }
 
@@ -786,74 +630,29 @@ DiscoveryResult ReadDiscovery(const std::filesystem::path& h5) {
   std::int64_t rounds = 0;
   {
     const Reader t(h5, "summary");
-    if (t.rows() != 1)
-      throw std::runtime_error(h5.string() + ": table " + kDiscoveryGroup + "/summary has " +
-                               std::to_string(t.rows()) + " rows, not 1");
-    r.success = t.Flags("success")[0];
-    r.message = t.Texts("message")[0];
-    r.trials_used = static_cast<int>(t.Integers("trials_used")[0]);
-    r.trials_skipped = static_cast<int>(t.Integers("trials_skipped")[0]);
-    r.unexplained = t.Flags("unexplained")[0];
-    r.seconds = t.Numbers("seconds")[0];
-    r.simulations = static_cast<long long>(t.Integers("simulations")[0]);
-    rounds = t.Integers("rounds")[0];
-    r.verdict = t.Texts("verdict")[0];
-    r.measurement_sd = {t.Numbers("measurement_sd_v_x")[0], t.Numbers("measurement_sd_v_y")[0],
-                        t.Numbers("measurement_sd_w")[0]};
+    studyfile::TableReader::ReadOne(t.table(), t.where(), r, [&](auto& a, DiscoveryResult& x) {
+      SerializeSummary(a, x, rounds);
+    });
   }
   {
     const Reader t(h5, "surfaces");
-    const auto model = t.Texts("model"), surface = t.Texts("surface");
-    const auto zeta = t.Numbers("zeta"), zeta_se = t.Numbers("zeta_se"), mu = t.Numbers("mu"),
-               mu_se = t.Numbers("mu_se"), k = t.Numbers("k_N_m"), zeta_sd = t.Numbers("zeta_sd"),
-               mu_sd = t.Numbers("mu_sd");
-    const auto trials = t.Integers("trials");
-    // Study files written before the measurement error was per surface have none (NaN).
-    std::array<std::vector<double>, 3> measurement_sd;
-    if (t.Has("measurement_sd_v_x"))
-      measurement_sd = {t.Numbers("measurement_sd_v_x"), t.Numbers("measurement_sd_v_y"),
-                        t.Numbers("measurement_sd_w")};
-    for (std::size_t i = 0; i < t.rows(); ++i) {
-      SurfaceFit f;
-      for (int c = 0; c < 3; ++c)
-        if (!measurement_sd[0].empty())
-          f.measurement_sd[c] = measurement_sd[static_cast<std::size_t>(c)][i];
-      f.surface = surface[i];
-      f.zeta = zeta[i];
-      f.zeta_se = zeta_se[i];
-      f.mu = mu[i];
-      f.mu_se = mu_se[i];
-      f.k_N_m = k[i];
-      f.trials = static_cast<int>(trials[i]);
-      f.zeta_sd = zeta_sd[i];
-      f.mu_sd = mu_sd[i];
-      (model[i] == "baseline" ? r.baseline : r.final_model).push_back(f);
-    }
+    for (const SurfaceRow& row : studyfile::TableReader::Read<SurfaceRow>(
+             t.table(), t.where(), [](auto&a, SurfaceRow&x) { Serialize(a, x); }))
+      (row.model == "baseline" ? r.baseline : r.final_model).push_back(row.fit);
   }
   {
     const Reader t(h5, "effects");
-    const auto key = t.Texts("key"), surface = t.Texts("surface");
-    const auto value = t.Numbers("value"), se = t.Numbers("se");
-    for (std::size_t i = 0; i < t.rows(); ++i)
-      r.effects.push_back(EffectValue{key[i], surface[i], value[i], se[i]});
+    for (const EffectRow& row : studyfile::TableReader::Read<EffectRow>(
+             t.table(), t.where(), [](auto&a, EffectRow&x) { Serialize(a, x); }))
+      r.effects.push_back(row.value);
   }
   for (std::int64_t n = 1; n <= rounds; ++n) {
     const std::string prefix = "rounds/" + std::to_string(n) + "/";
     Round round;
     {
       const Reader t(h5, prefix + "summary");
-      if (t.rows() != 1)
-        throw std::runtime_error(h5.string() + ": table " + kDiscoveryGroup + "/" + prefix +
-                                 "summary has " + std::to_string(t.rows()) + " rows, not 1");
-      round.index = static_cast<int>(t.Integers("index")[0]);
-      round.accepted = t.Texts("accepted")[0];
-      round.decision = t.Texts("decision")[0];
-      round.naming_level = t.Numbers("naming_level")[0];
-      round.bonferroni_level = t.Numbers("bonferroni_level")[0];
-      round.hypotheses = static_cast<int>(t.Integers("hypotheses")[0]);
-      round.gap_before = t.Numbers("gap_before")[0];
-      round.gap_after = t.Numbers("gap_after")[0];
-      round.gap_shrink = t.Numbers("gap_shrink")[0];
+      studyfile::TableReader::ReadOne(t.table(), t.where(), round,
+                                      [](auto& a, Round& x) { SerializeSummary(a, x); });
     }
     round.tests = ReadTests(h5, prefix + "tests");
     round.candidates = ReadCandidates(h5, prefix + "candidates");
@@ -863,56 +662,15 @@ DiscoveryResult ReadDiscovery(const std::filesystem::path& h5) {
   }
   {
     const Reader t(h5, "findings");
-    const auto key = t.Texts("key"), label = t.Texts("name"), parameter = t.Texts("parameter"),
-               unit = t.Texts("unit"), surfaces = t.Texts("surfaces"), partner = t.Texts("partner"),
-               separating = t.Texts("separating_measurement");
-    const auto status = t.Enums("status", &FindingStatusFromString);
-    const auto form = t.Enums("form", &EffectFormFromString);
-    const auto estimate = t.Numbers("estimate"), se = t.Numbers("se"),
-               shrink = t.Numbers("gap_shrink");
-    for (std::size_t i = 0; i < t.rows(); ++i) {
-      Finding f;
-      f.key = key[i];
-      f.name = label[i];
-      f.parameter = parameter[i];
-      f.unit = unit[i];
-      f.status = status[i];
-      f.form = form[i];
-      f.surfaces = SplitSurfaces(surfaces[i]);
-      f.estimate = estimate[i];
-      f.se = se[i];
-      f.partner = partner[i];
-      f.separating_measurement = separating[i];
-      f.gap_shrink = shrink[i];
-      r.findings.push_back(std::move(f));
-    }
+    r.findings = studyfile::TableReader::Read<Finding>(
+        t.table(), t.where(), [](auto& a, Finding& f) { Serialize(a, f); });
   }
   ReadValues(h5, "finding_values", "finding", r.findings);
   r.remaining = ReadTests(h5, "remaining");
   {
     const Reader t(h5, "residuals");
-    const auto id = t.Texts("id"), surface = t.Texts("surface");
-    const auto angle = t.Numbers("angle_deg"), speed = t.Numbers("speed_m_s"),
-               ratio = t.Numbers("marker_ratio");
-    const char* suffix[3] = {"v_x", "v_y", "w"};
-    std::vector<double> base[3], fin[3];
-    for (int k = 0; k < 3; ++k) {
-      base[k] = t.Numbers(std::string("baseline_") + suffix[k]);
-      fin[k] = t.Numbers(std::string("final_") + suffix[k]);
-    }
-    for (std::size_t i = 0; i < t.rows(); ++i) {
-      TrialResiduals res;
-      res.id = id[i];
-      res.surface = surface[i];
-      res.angle_deg = angle[i];
-      res.speed_m_s = speed[i];
-      for (int k = 0; k < 3; ++k) {
-        res.baseline[k] = base[k][i];
-        res.final_model[k] = fin[k][i];
-      }
-      res.marker_ratio = ratio[i];
-      r.residuals.push_back(std::move(res));
-    }
+    r.residuals = studyfile::TableReader::Read<TrialResiduals>(
+        t.table(), t.where(), [](auto& a, TrialResiduals& x) { Serialize(a, x); });
   }
   return r;
 }

@@ -19,6 +19,7 @@
 #include "io/csv.h"
 #include "io/interrupt.h"
 #include "studyfile/hdf5_util.h"
+#include "studyfile/schema.h"
 
 #ifndef HOOF_VERSION
 #define HOOF_VERSION "unknown"
@@ -28,6 +29,8 @@ namespace hoof::studyfile {
 namespace {
 
 using core::kNaN;
+using internal::GroupReader;
+using internal::ShapeText;
 
 std::string Join(const std::vector<std::string>& parts, const std::string& separator) {
   std::string out;
@@ -91,62 +94,6 @@ void AtomicHdf5(const std::filesystem::path& path,
 // Study info
 // ------------------------------------------------------------------------------------------
 
-void WriteSpecimen(const H5::Group& g, const pipeline::SpecimenSpec& s) {
-  h5::Scalar(g, "mass_kg", s.mass_kg, "kg", "specimen mass");
-  h5::Scalar(g, "inertia_kg_m2", s.inertia_kg_m2, "kg m^2",
-             "moment of inertia about the centre of mass C, out of the image plane");
-  h5::Scalar(g, "end_radius_m", s.end_radius_m, "m", "radius of the round end (centre E)");
-  h5::Scalar(g, "d_EC_m", s.d_EC_m, "m", "distance from E to the centre of mass C");
-  h5::Scalar(g, "length_m", s.length_m, "m", "specimen length (0 when not given)");
-  h5::Scalar(g, "width_m", s.width_m, "m", "specimen width (0 when not given)");
-  h5::Scalar(g, "thickness_m", s.thickness_m, "m", "specimen thickness (0 when not given)");
-  std::vector<std::string> names;
-  std::vector<double> p;
-  for (const auto& [name, p_B] : s.markers_B_m) {
-    names.push_back(name);
-    p.push_back(p_B.x());
-    p.push_back(p_B.y());
-  }
-  h5::Texts(g, "marker_names", names, {names.size()}, "marker names, layout order");
-  h5::Doubles(g, "markers_B_m", p, {names.size(), 2}, "m",
-              "marker centres in the body frame B (origin E, x toward C), [marker, (x, y)]");
-}
-
-void WriteOptions(const H5::Group& g, const pipeline::TrialAnalysisOptions& o) {
-  const auto& k = o.kinematics;
-  const auto& t = o.tracker;
-  h5::Text(g, "centre_method",
-           t.detector.method == tracking::CentreMethod::kEllipseFit ? "ellipse" : "centroid",
-           "sub-pixel dot centre method");
-  h5::Scalar(g, "min_significance", t.detector.min_significance, "1",
-             "dot contrast over noise for a dot to count");
-  h5::Integers(g, "centroid_iterations", {t.detector.centroid_iterations}, {}, "1",
-               "re-centring passes of the weighted centroid");
-  h5::Scalar(g, "min_radius_px", t.detector.min_radius_px, "px",
-             "smallest dot radius the full-frame search considers");
-  h5::Scalar(g, "max_radius_px", t.detector.max_radius_px, "px",
-             "largest dot radius the full-frame search considers");
-  h5::Scalar(g, "search_radius_px", t.search_radius_px, "px",
-             "tracker search radius (0 = automatic)");
-  h5::Integers(g, "max_consecutive_misses", {t.max_consecutive_misses}, {}, "frame",
-               "a marker missing this many frames in a row is lost for good");
-  h5::Scalar(g, "layout_tolerance", t.layout_tolerance, "1",
-             "largest relative mismatch of the marker layout in the first frame");
-  h5::Integers(g, "fit_frames", {k.fit_frames}, {}, "frame", "frames per flight fit");
-  h5::Integers(g, "min_fit_frames", {k.min_fit_frames}, {}, "frame",
-               "fewest usable frames per fit");
-  h5::Scalar(g, "max_contact_s", k.max_contact_s, "s", "longest contact assumed");
-  h5::Scalar(g, "exposure_s", k.exposure_s, "s", "exposure time; < 0 = one frame period");
-  h5::Scalar(g, "gravity_m_s2", k.gravity_m_s2, "m/s^2", "g along -y_W");
-  h5::Scalar(g, "confidence", k.confidence, "1", "level of the reported intervals");
-  h5::Bools(g, "scale_from_markers", {o.scale_from_markers ? std::uint8_t{1} : std::uint8_t{0}}, {},
-            "scale taken from the marker spacing instead of camera.m_per_px");
-  h5::Scalar(g, "out_of_plane_threshold", o.out_of_plane_threshold, "1",
-             "relative change of the projected marker distance that flags out-of-plane rotation");
-  h5::Scalar(g, "surface_angle_tolerance_deg", o.surface_angle_tolerance_deg, "deg",
-             "largest accepted difference between measured and stated surface angle");
-}
-
 void WriteStudyInfo(H5::H5File& file, const StudyInfo& info) {
   const H5::Group root = file.openGroup("/");
   h5::SetAttr(root, "format", std::string(kStudyFileFormat));
@@ -163,58 +110,18 @@ void WriteStudyInfo(H5::H5File& file, const StudyInfo& info) {
   const H5::Group study = h5::MakeGroup(root, "study", "the study as a whole");
   h5::Texts(study, "warnings", info.warnings, {info.warnings.size()}, "study-level warnings");
   const H5::Group specimens = h5::MakeGroup(study, "specimens", "specimens of study.json");
-  for (const auto& [id, spec] : info.specimens)
-    WriteSpecimen(h5::MakeGroup(specimens, id, "specimen " + id), spec);
-  WriteOptions(h5::MakeGroup(study, "analysis_options", "options every trial was analysed with"),
-               info.options);
+  for (const auto& [id, spec] : info.specimens) {
+    internal::H5Writer a(h5::MakeGroup(specimens, id, "specimen " + id));
+    internal::Serialize(a, spec);
+  }
+  internal::H5Writer options(
+      h5::MakeGroup(study, "analysis_options", "options every trial was analysed with"));
+  internal::Serialize(options, info.options);
 }
 
 // ------------------------------------------------------------------------------------------
 // One trial
 // ------------------------------------------------------------------------------------------
-
-double NaNIfZero(double v) { return v == 0.0 ? kNaN : v; }
-
-void WriteTrialMetadata(const H5::Group& g, const pipeline::TrialAnalysis& r) {
-  const pipeline::TrialSpec& s = r.spec;
-  h5::Text(g, "id", s.id, "trial id (trial.json)");
-  h5::Text(g, "dir", s.dir.string(), "trial folder");
-  h5::Text(g, "specimen", s.specimen_id, "specimen id (study.json)");
-  h5::Text(g, "surface", s.surface, "surface name");
-  h5::Scalar(g, "surface_angle_deg", s.surface_angle_deg, "deg", "surface angle (trial.json)");
-  h5::Scalar(g, "fps", s.fps, "1/s", "frame rate");
-  h5::Scalar(g, "nominal_speed_m_s", s.nominal_speed_m_s.value_or(kNaN), "m/s",
-             "nominal impact speed (trial.json; NaN when not given)");
-  h5::Text(g, "frames_source", s.frames.is_video() ? s.frames.video : s.frames.pattern,
-           "image pattern or video file, relative to the trial folder");
-  h5::Integers(g, "frames_first", {s.frames.first}, {}, "frame", "first frame number");
-  h5::Integers(g, "frames_count", {s.frames.count}, {}, "frame", "number of frames");
-  h5::Scalar(g, "camera_m_per_px", s.camera.m_per_px, "m/px", "scale stated in trial.json");
-  h5::Vec2(g, "camera_gravity_image", s.camera.gravity_image, "1",
-           "unit direction of gravity in the image (x right, y down)");
-  if (s.camera.distortion)
-    h5::Doubles(g, "camera_distortion",
-                std::vector<double>(s.camera.distortion->begin(), s.camera.distortion->end()), {5},
-                "1", "OpenCV k1 k2 p1 p2 k3");
-  if (s.camera.camera_matrix)
-    h5::Doubles(g, "camera_matrix",
-                std::vector<double>(s.camera.camera_matrix->begin(), s.camera.camera_matrix->end()),
-                {3, 3}, "px", "camera matrix fx 0 cx / 0 fy cy / 0 0 1");
-  if (s.surface_line_px)
-    h5::Doubles(g, "surface_line_px",
-                {(*s.surface_line_px)[0].x(), (*s.surface_line_px)[0].y(),
-                 (*s.surface_line_px)[1].x(), (*s.surface_line_px)[1].y()},
-                {2, 2}, "px", "two image points on the surface, [point, (x, y)]");
-  h5::Text(g, "notes", s.notes, "notes (trial.json)");
-  h5::Texts(g, "input_warnings", s.warnings, {s.warnings.size()},
-            "warnings from reading trial.json");
-  h5::Scalar(g, "m_per_px_used", r.m_per_px_used, "m/px", "scale the analysis used");
-  h5::Scalar(g, "m_per_px_from_markers", NaNIfZero(r.m_per_px_from_markers), "m/px",
-             "scale measured from the marker spacing (NaN when not measured)");
-  h5::Scalar(g, "surface_angle_measured_deg", r.surface_angle_measured_deg.value_or(kNaN), "deg",
-             "surface angle measured in the first frame (NaN when not measured)");
-  h5::Scalar(g, "analysis_seconds", r.seconds, "s", "wall time of the analysis");
-}
 
 void WriteTracks(const H5::Group& g, const pipeline::TrialAnalysis& r) {
   const auto& t = r.tracks;
@@ -289,70 +196,25 @@ void WritePoses(const H5::Group& g, const pipeline::TrialAnalysis& r) {
              "noise standard deviation of marker_distance_ratio");
 }
 
-void WriteFit(const H5::Group& g, const kinematics::FlightFit& fit) {
-  h5::Integers(g, "first_frame", {fit.first_frame}, {}, "frame", "first frame of the fit window");
-  h5::Integers(g, "last_frame", {fit.last_frame}, {}, "frame", "last frame of the fit window");
-  h5::Integers(g, "n", {fit.n}, {}, "1", "frames used in the fit");
-  h5::Vec2(g, "p_WC_m", fit.p_WC, "m", "position of C at the impact time, W");
-  h5::Vec2(g, "v_WC_m_s", fit.v_WC, "m/s", "velocity of C at the impact time, W");
-  h5::Doubles(g, "cov_v_WC_m2_s2",
-              {fit.cov_v_WC(0, 0), fit.cov_v_WC(0, 1), fit.cov_v_WC(1, 0), fit.cov_v_WC(1, 1)},
-              {2, 2}, "m^2/s^2", "covariance of v_WC");
-  h5::Scalar(g, "theta_W_rad", fit.theta_W_rad, "rad", "angle at the impact time");
-  h5::Scalar(g, "theta_se_rad", fit.theta_se_rad, "rad", "its standard error");
-  h5::Scalar(g, "w_rad_s", fit.w_rad_s, "rad/s", "angular velocity");
-  h5::Scalar(g, "w_se_rad_s", fit.w_se_rad_s, "rad/s", "its standard error");
-  h5::Scalar(g, "rms_residual_m", fit.rms_residual_m, "m", "rms residual of the position fit");
-  h5::Scalar(g, "rms_theta_residual_rad", fit.rms_theta_residual_rad, "rad",
-             "rms residual of the angle fit");
-}
-
-void WriteImpact(const H5::Group& g, const kinematics::ImpactKinematics& k) {
-  const std::string S = ", S = [along the surface (down-slope), normal]";
-  h5::Scalar(g, "impact_time_s", k.impact_time_s, "s", "impact time since frame 0 (sub-frame)");
-  h5::Integers(g, "impact_frame", {k.impact_frame}, {}, "frame", "last frame before the impact");
-  h5::Vec2(g, "v_SC_before_m_s", k.v_SC_before, "m/s", "velocity of C before" + S);
-  h5::Vec2(g, "v_SC_before_se_m_s", k.v_SC_before_se, "m/s", "its standard error");
-  h5::Vec2(g, "v_SC_after_m_s", k.v_SC_after, "m/s", "velocity of C after" + S);
-  h5::Vec2(g, "v_SC_after_se_m_s", k.v_SC_after_se, "m/s", "its standard error");
-  h5::Vec2(g, "v_ST_before_m_s", k.v_ST_before, "m/s",
-           "velocity of the body point at T before" + S);
-  h5::Vec2(g, "v_ST_after_m_s", k.v_ST_after, "m/s", "velocity of the body point at T after" + S);
-  h5::Scalar(g, "w_before_rad_s", k.w_before_rad_s, "rad/s", "angular velocity before");
-  h5::Scalar(g, "w_before_se_rad_s", k.w_before_se_rad_s, "rad/s", "its standard error");
-  h5::Scalar(g, "w_after_rad_s", k.w_after_rad_s, "rad/s", "angular velocity after");
-  h5::Scalar(g, "w_after_se_rad_s", k.w_after_se_rad_s, "rad/s", "its standard error");
-  h5::Scalar(g, "e", k.e, "1", "normal coefficient of restitution");
-  h5::Scalar(g, "e_se", k.e_se, "1", "its standard error");
-  h5::Doubles(g, "e_ci", {k.e_ci_low, k.e_ci_high}, {2}, "1",
-              "confidence interval of e (level: /study/analysis_options/confidence)");
-  h5::Scalar(g, "mu_eff", k.mu_eff, "1", "effective friction coefficient");
-  h5::Scalar(g, "mu_eff_se", k.mu_eff_se, "1", "its standard error");
-  h5::Doubles(g, "mu_eff_ci", {k.mu_eff_ci_low, k.mu_eff_ci_high}, {2}, "1",
-              "confidence interval of mu_eff");
-  h5::Scalar(g, "kinetic_energy_before_J", k.kinetic_energy_before_J, "J",
-             "kinetic energy before (translation and rotation)");
-  h5::Scalar(g, "kinetic_energy_after_J", k.kinetic_energy_after_J, "J", "kinetic energy after");
-  h5::Texts(g, "warnings", k.warnings, {k.warnings.size()}, "warnings of the impact measurement");
-}
-
 void WriteTrial(const H5::Group& trials, const std::string& group_name,
                 const pipeline::TrialAnalysis& r) {
   const H5::Group g = h5::MakeGroup(trials, group_name, "trial " + r.spec.id);
-  h5::Bools(g, "success", {r.success ? std::uint8_t{1} : std::uint8_t{0}}, {},
-            "1 when the impact was measured");
-  h5::Text(g, "error", r.error, "why the trial failed (empty on success)");
-  h5::Texts(g, "flags", r.flags, {r.flags.size()}, "short tags: out_of_plane, surface_angle, ...");
-  h5::Texts(g, "warnings", r.warnings, {r.warnings.size()}, "warnings in words");
-  WriteTrialMetadata(h5::MakeGroup(g, "metadata", "trial.json and the calibration checks"), r);
+  internal::H5Writer outcome(g);
+  internal::SerializeOutcome(outcome, r);
+  internal::H5Writer metadata(
+      h5::MakeGroup(g, "metadata", "trial.json and the calibration checks"));
+  internal::SerializeMetadata(metadata, r);
   WriteTracks(h5::MakeGroup(g, "tracks", "raw marker tracks"), r);
   WritePoses(h5::MakeGroup(g, "poses", "body pose per frame"), r);
   h5::Text(g, "impact_message", r.impact.message, "why the impact measurement failed, if it did");
   if (!r.impact.success) return;
   const H5::Group fits = h5::MakeGroup(g, "fits", "free-flight fits before and after the impact");
-  WriteFit(h5::MakeGroup(fits, "before", "fit before the impact"), r.impact.before);
-  WriteFit(h5::MakeGroup(fits, "after", "fit after the impact"), r.impact.after);
-  WriteImpact(h5::MakeGroup(g, "results", "the impact in the surface frame S"), r.impact);
+  internal::H5Writer before(h5::MakeGroup(fits, "before", "fit before the impact"));
+  internal::Serialize(before, r.impact.before);
+  internal::H5Writer after(h5::MakeGroup(fits, "after", "fit after the impact"));
+  internal::Serialize(after, r.impact.after);
+  internal::H5Writer results(h5::MakeGroup(g, "results", "the impact in the surface frame S"));
+  internal::Serialize(results, r.impact);
 }
 
 // ------------------------------------------------------------------------------------------
@@ -426,143 +288,6 @@ void CheckFormat(const H5::Group& root, const std::filesystem::path& path) {
                              kStudyFileFormat + "\"");
 }
 
-std::string ShapeText(const std::vector<hsize_t>& dims) {
-  std::string out = "[";
-  for (std::size_t i = 0; i < dims.size(); ++i) out += (i ? ", " : "") + std::to_string(dims[i]);
-  return out + "]";
-}
-
-std::optional<double> UnlessNaN(double v) {
-  if (std::isnan(v)) return std::nullopt;
-  return v;
-}
-
-/// The datasets of one group, read with their shapes checked. `where` is the file and the
-/// group ("study.h5:/trials/x"); every error names it and the item.
-class GroupReader {
- public:
-  GroupReader(const H5::Group& group, std::string where)
-      : group_(group), where_(std::move(where)) {}
-
-  const std::string& where() const { return where_; }
-  bool Has(const std::string& name) const { return group_.nameExists(name); }
-
-  GroupReader Group(const std::string& name) const {
-    if (!Has(name)) throw std::runtime_error(Item(name) + " does not exist");
-    if (group_.childObjType(name) != H5O_TYPE_GROUP)
-      throw std::runtime_error(Item(name) + " is not a group");
-    return GroupReader(group_.openGroup(name), Item(name));
-  }
-  /// Length of the 1-D dataset `name`.
-  hsize_t Length(const std::string& name) const {
-    const std::vector<hsize_t> shape = h5::Shape(Open(name));
-    if (shape.size() != 1)
-      throw std::runtime_error(Item(name) + " has shape " + ShapeText(shape) +
-                               ", expected one dimension");
-    return shape[0];
-  }
-  std::vector<double> Doubles(const std::string& name, const std::vector<hsize_t>& dims) const {
-    return h5::ReadDoubles(Open(name, dims), Item(name));
-  }
-  double Scalar(const std::string& name) const { return Doubles(name, {})[0]; }
-  Eigen::Vector2d Vec2(const std::string& name) const {
-    const std::vector<double> v = Doubles(name, {2});
-    return {v[0], v[1]};
-  }
-  std::vector<std::int64_t> Integers(const std::string& name,
-                                     const std::vector<hsize_t>& dims) const {
-    return h5::ReadIntegers(Open(name, dims), Item(name));
-  }
-  int Int(const std::string& name) const {
-    const std::int64_t v = Integers(name, {})[0];
-    if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
-      throw std::runtime_error(Item(name) + " = " + std::to_string(v) + " is out of range");
-    return static_cast<int>(v);
-  }
-  bool Bool(const std::string& name) const { return Integers(name, {})[0] != 0; }
-  std::vector<std::string> Texts(const std::string& name, const std::vector<hsize_t>& dims) const {
-    return h5::ReadTexts(Open(name, dims), Item(name));
-  }
-  std::string Text(const std::string& name) const { return Texts(name, {})[0]; }
-  /// A 1-D text dataset of any length.
-  std::vector<std::string> TextList(const std::string& name) const {
-    return Texts(name, {Length(name)});
-  }
-
- private:
-  std::string Item(const std::string& name) const { return where_ + "/" + name; }
-  H5::DataSet Open(const std::string& name) const {
-    if (!Has(name)) throw std::runtime_error(Item(name) + " does not exist");
-    if (group_.childObjType(name) != H5O_TYPE_DATASET)
-      throw std::runtime_error(Item(name) + " is not a dataset");
-    return group_.openDataSet(name);
-  }
-  H5::DataSet Open(const std::string& name, const std::vector<hsize_t>& dims) const {
-    H5::DataSet d = Open(name);
-    const std::vector<hsize_t> shape = h5::Shape(d);
-    if (shape != dims)
-      throw std::runtime_error(Item(name) + " has shape " + ShapeText(shape) + ", expected " +
-                               ShapeText(dims));
-    return d;
-  }
-
-  H5::Group group_;
-  std::string where_;
-};
-
-pipeline::SpecimenSpec ReadSpecimen(const GroupReader& g) {
-  pipeline::SpecimenSpec s;
-  s.mass_kg = g.Scalar("mass_kg");
-  s.inertia_kg_m2 = g.Scalar("inertia_kg_m2");
-  s.end_radius_m = g.Scalar("end_radius_m");
-  s.d_EC_m = g.Scalar("d_EC_m");
-  s.length_m = g.Scalar("length_m");
-  s.width_m = g.Scalar("width_m");
-  s.thickness_m = g.Scalar("thickness_m");
-  const std::vector<std::string> names = g.TextList("marker_names");
-  const std::vector<double> p = g.Doubles("markers_B_m", {names.size(), 2});
-  for (std::size_t i = 0; i < names.size(); ++i)
-    s.markers_B_m.emplace_back(names[i], Eigen::Vector2d(p[2 * i], p[2 * i + 1]));
-  return s;
-}
-
-void ReadTrialMetadata(const GroupReader& g, pipeline::TrialAnalysis& r) {
-  pipeline::TrialSpec& s = r.spec;
-  s.id = g.Text("id");
-  s.dir = g.Text("dir");
-  s.specimen_id = g.Text("specimen");
-  s.surface = g.Text("surface");
-  s.surface_angle_deg = g.Scalar("surface_angle_deg");
-  s.fps = g.Scalar("fps");
-  s.nominal_speed_m_s = UnlessNaN(g.Scalar("nominal_speed_m_s"));
-  s.frames.first = g.Int("frames_first");
-  s.frames.count = g.Int("frames_count");
-  s.camera.m_per_px = g.Scalar("camera_m_per_px");
-  s.camera.gravity_image = g.Vec2("camera_gravity_image");
-  if (g.Has("camera_distortion")) {
-    const std::vector<double> v = g.Doubles("camera_distortion", {5});
-    s.camera.distortion.emplace();
-    std::copy(v.begin(), v.end(), s.camera.distortion->begin());
-  }
-  if (g.Has("camera_matrix")) {
-    const std::vector<double> v = g.Doubles("camera_matrix", {3, 3});
-    s.camera.camera_matrix.emplace();
-    std::copy(v.begin(), v.end(), s.camera.camera_matrix->begin());
-  }
-  if (g.Has("surface_line_px")) {
-    const std::vector<double> v = g.Doubles("surface_line_px", {2, 2});
-    s.surface_line_px =
-        std::array<Eigen::Vector2d, 2>{Eigen::Vector2d(v[0], v[1]), Eigen::Vector2d(v[2], v[3])};
-  }
-  s.notes = g.Text("notes");
-  s.warnings = g.TextList("input_warnings");
-  r.m_per_px_used = g.Scalar("m_per_px_used");
-  const double from_markers = g.Scalar("m_per_px_from_markers");
-  r.m_per_px_from_markers = std::isnan(from_markers) ? 0.0 : from_markers;
-  r.surface_angle_measured_deg = UnlessNaN(g.Scalar("surface_angle_measured_deg"));
-  r.seconds = g.Scalar("analysis_seconds");
-}
-
 tracking::MarkerTracks ReadTracks(const GroupReader& g) {
   tracking::MarkerTracks t;
   t.names = g.TextList("marker_names");
@@ -615,69 +340,20 @@ void ReadPoses(const GroupReader& g, pipeline::TrialAnalysis& r) {
   r.out_of_plane_noise = g.Scalar("out_of_plane_noise");
 }
 
-kinematics::FlightFit ReadFit(const GroupReader& g) {
-  kinematics::FlightFit fit;
-  fit.first_frame = g.Int("first_frame");
-  fit.last_frame = g.Int("last_frame");
-  fit.n = g.Int("n");
-  fit.p_WC = g.Vec2("p_WC_m");
-  fit.v_WC = g.Vec2("v_WC_m_s");
-  const std::vector<double> cov = g.Doubles("cov_v_WC_m2_s2", {2, 2});
-  fit.cov_v_WC << cov[0], cov[1], cov[2], cov[3];
-  fit.theta_W_rad = g.Scalar("theta_W_rad");
-  fit.theta_se_rad = g.Scalar("theta_se_rad");
-  fit.w_rad_s = g.Scalar("w_rad_s");
-  fit.w_se_rad_s = g.Scalar("w_se_rad_s");
-  fit.rms_residual_m = g.Scalar("rms_residual_m");
-  fit.rms_theta_residual_rad = g.Scalar("rms_theta_residual_rad");
-  return fit;
-}
-
-void ReadImpact(const GroupReader& g, kinematics::ImpactKinematics& k) {
-  k.impact_time_s = g.Scalar("impact_time_s");
-  k.impact_frame = g.Int("impact_frame");
-  k.v_SC_before = g.Vec2("v_SC_before_m_s");
-  k.v_SC_before_se = g.Vec2("v_SC_before_se_m_s");
-  k.v_SC_after = g.Vec2("v_SC_after_m_s");
-  k.v_SC_after_se = g.Vec2("v_SC_after_se_m_s");
-  k.v_ST_before = g.Vec2("v_ST_before_m_s");
-  k.v_ST_after = g.Vec2("v_ST_after_m_s");
-  k.w_before_rad_s = g.Scalar("w_before_rad_s");
-  k.w_before_se_rad_s = g.Scalar("w_before_se_rad_s");
-  k.w_after_rad_s = g.Scalar("w_after_rad_s");
-  k.w_after_se_rad_s = g.Scalar("w_after_se_rad_s");
-  k.e = g.Scalar("e");
-  k.e_se = g.Scalar("e_se");
-  const Eigen::Vector2d e_ci = g.Vec2("e_ci");
-  k.e_ci_low = e_ci.x();
-  k.e_ci_high = e_ci.y();
-  k.mu_eff = g.Scalar("mu_eff");
-  k.mu_eff_se = g.Scalar("mu_eff_se");
-  const Eigen::Vector2d mu_ci = g.Vec2("mu_eff_ci");
-  k.mu_eff_ci_low = mu_ci.x();
-  k.mu_eff_ci_high = mu_ci.y();
-  k.kinetic_energy_before_J = g.Scalar("kinetic_energy_before_J");
-  k.kinetic_energy_after_J = g.Scalar("kinetic_energy_after_J");
-  k.warnings = g.TextList("warnings");
-}
-
 /// One `/trials/<id>` group; the specimen is filled in by the caller.
 pipeline::TrialAnalysis ReadTrialGroup(const GroupReader& g) {
   pipeline::TrialAnalysis r;
-  r.success = g.Bool("success");
-  r.error = g.Text("error");
-  r.flags = g.TextList("flags");
-  r.warnings = g.TextList("warnings");
-  ReadTrialMetadata(g.Group("metadata"), r);
+  internal::SerializeOutcome(internal::H5Reader(g), r);
+  internal::SerializeMetadata(internal::H5Reader(g.Group("metadata")), r);
   r.tracks = ReadTracks(g.Group("tracks"));
   ReadPoses(g.Group("poses"), r);
   r.impact.message = g.Text("impact_message");
   if (g.Has("results")) {  // written only when the impact was measured, with the fits
     r.impact.success = true;
     const GroupReader fits = g.Group("fits");
-    r.impact.before = ReadFit(fits.Group("before"));
-    r.impact.after = ReadFit(fits.Group("after"));
-    ReadImpact(g.Group("results"), r.impact);
+    internal::Serialize(internal::H5Reader(fits.Group("before")), r.impact.before);
+    internal::Serialize(internal::H5Reader(fits.Group("after")), r.impact.after);
+    internal::Serialize(internal::H5Reader(g.Group("results")), r.impact);
   }
   return r;
 }
@@ -815,7 +491,7 @@ Table ResultsTable(const std::vector<pipeline::TrialAnalysis>& trials) {
     put("kinetic_energy_before_J", k.kinetic_energy_before_J, m);
     put("kinetic_energy_after_J", k.kinetic_energy_after_J, m);
     put("m_per_px_used", r.m_per_px_used, true);
-    put("m_per_px_from_markers", NaNIfZero(r.m_per_px_from_markers), true);
+    put("m_per_px_from_markers", r.m_per_px_from_markers, r.m_per_px_from_markers != 0.0);
     put("surface_angle_measured_deg", r.surface_angle_measured_deg.value_or(kNaN), true);
     put("out_of_plane_change", r.out_of_plane_change, !r.poses.empty());
   }
@@ -1080,12 +756,7 @@ kinematics::KinematicsOptions ReadKinematicsOptions(const std::filesystem::path&
     CheckFormat(root_group, path);
     const GroupReader g =
         GroupReader(root_group, path.string() + ":").Group("study").Group("analysis_options");
-    k.fit_frames = g.Int("fit_frames");
-    k.min_fit_frames = g.Int("min_fit_frames");
-    k.max_contact_s = g.Scalar("max_contact_s");
-    k.exposure_s = g.Scalar("exposure_s");
-    k.gravity_m_s2 = g.Scalar("gravity_m_s2");
-    k.confidence = g.Scalar("confidence");
+    internal::Serialize(internal::H5Reader(g), k);
   } catch (const H5::Exception& e) {
     RethrowHdf5(e, path);
   }
@@ -1138,7 +809,9 @@ std::vector<pipeline::TrialAnalysis> ReadTrialAnalyses(const std::filesystem::pa
         auto it = specimens.find(r.spec.specimen_id);
         if (it == specimens.end()) {
           const GroupReader g = root.Group("study").Group("specimens").Group(r.spec.specimen_id);
-          it = specimens.emplace(r.spec.specimen_id, ReadSpecimen(g)).first;
+          pipeline::SpecimenSpec specimen;
+          internal::Serialize(internal::H5Reader(g), specimen);
+          it = specimens.emplace(r.spec.specimen_id, std::move(specimen)).first;
         }
         r.spec.specimen = it->second;
       }

@@ -1,0 +1,181 @@
+#pragma once
+/// @file
+/// The fields of each struct the study file keeps in a group of its own (docs/hdf5-schema.md),
+/// declared once: dataset name, units and description (internal to hoof::study_file). An
+/// archive of studyfile/archive.h visits them: H5Writer writes the group, H5Reader reads it.
+/// `T` is the struct, const when writing.
+///
+/// The tracks and poses of a trial are per-frame arrays, transposed into one dataset per field
+/// with NaN for what a frame did not measure; study_file.cc writes and reads those.
+#include <type_traits>
+
+#include "kinematics/impact_kinematics.h"
+#include "pipeline/study_format.h"
+#include "pipeline/trial_analysis.h"
+#include "studyfile/archive.h"
+#include "tracking/marker_tracker.h"
+
+namespace hoof::studyfile::internal {
+
+/// A specimen of study.json: `/study/specimens/<id>`.
+template <class Archive, class T>
+requires std::is_same_v<std::remove_const_t<T>, pipeline::SpecimenSpec>
+void Serialize(Archive&& a, T& s) {
+  a.Number("mass_kg", s.mass_kg, "kg", "specimen mass");
+  a.Number("inertia_kg_m2", s.inertia_kg_m2, "kg m^2",
+           "moment of inertia about the centre of mass C, out of the image plane");
+  a.Number("end_radius_m", s.end_radius_m, "m", "radius of the round end (centre E)");
+  a.Number("d_EC_m", s.d_EC_m, "m", "distance from E to the centre of mass C");
+  a.Number("length_m", s.length_m, "m", "specimen length (0 when not given)");
+  a.Number("width_m", s.width_m, "m", "specimen width (0 when not given)");
+  a.Number("thickness_m", s.thickness_m, "m", "specimen thickness (0 when not given)");
+  a.NamedPoints("marker_names", "markers_B_m", s.markers_B_m, "m", "marker names, layout order",
+                "marker centres in the body frame B (origin E, x toward C), [marker, (x, y)]");
+}
+
+/// The tracker's options, in `/study/analysis_options`.
+template <class Archive, class T>
+requires std::is_same_v<std::remove_const_t<T>, tracking::TrackerOptions>
+void Serialize(Archive&& a, T& t) {
+  static constexpr EnumNames<tracking::CentreMethod, 2> kMethods{
+      {{tracking::CentreMethod::kEllipseFit, "ellipse"},
+       {tracking::CentreMethod::kWeightedCentroid, "centroid"}}};
+  a.Choice("centre_method", t.detector.method, kMethods, "sub-pixel dot centre method");
+  a.Number("min_significance", t.detector.min_significance, "1",
+           "dot contrast over noise for a dot to count");
+  a.Integer("centroid_iterations", t.detector.centroid_iterations, "1",
+            "re-centring passes of the weighted centroid");
+  a.Number("min_radius_px", t.detector.min_radius_px, "px",
+           "smallest dot radius the full-frame search considers");
+  a.Number("max_radius_px", t.detector.max_radius_px, "px",
+           "largest dot radius the full-frame search considers");
+  a.Number("search_radius_px", t.search_radius_px, "px", "tracker search radius (0 = automatic)");
+  a.Integer("max_consecutive_misses", t.max_consecutive_misses, "frame",
+            "a marker missing this many frames in a row is lost for good");
+  a.Number("layout_tolerance", t.layout_tolerance, "1",
+           "largest relative mismatch of the marker layout in the first frame");
+}
+
+/// The impact measurement's options, in `/study/analysis_options`.
+template <class Archive, class T>
+requires std::is_same_v<std::remove_const_t<T>, kinematics::KinematicsOptions>
+void Serialize(Archive&& a, T& k) {
+  a.Integer("fit_frames", k.fit_frames, "frame", "frames per flight fit");
+  a.Integer("min_fit_frames", k.min_fit_frames, "frame", "fewest usable frames per fit");
+  a.Number("max_contact_s", k.max_contact_s, "s", "longest contact assumed");
+  a.Number("exposure_s", k.exposure_s, "s", "exposure time; < 0 = one frame period");
+  a.Number("gravity_m_s2", k.gravity_m_s2, "m/s^2", "g along -y_W");
+  a.Number("confidence", k.confidence, "1", "level of the reported intervals");
+}
+
+/// Every option a trial was analysed with: `/study/analysis_options`.
+template <class Archive, class T>
+requires std::is_same_v<std::remove_const_t<T>, pipeline::TrialAnalysisOptions>
+void Serialize(Archive&& a, T& o) {
+  Serialize(a, o.tracker);
+  Serialize(a, o.kinematics);
+  a.Flag("scale_from_markers", o.scale_from_markers,
+         "scale taken from the marker spacing instead of camera.m_per_px");
+  a.Number("out_of_plane_threshold", o.out_of_plane_threshold, "1",
+           "relative change of the projected marker distance that flags out-of-plane rotation");
+  a.Number("surface_angle_tolerance_deg", o.surface_angle_tolerance_deg, "deg",
+           "largest accepted difference between measured and stated surface angle");
+}
+
+/// What trial.json said and the calibration checks: `/trials/<id>/metadata`. The frames'
+/// source is written for the reader of the file and not read back.
+template <class Archive, class T>
+requires std::is_same_v<std::remove_const_t<T>, pipeline::TrialAnalysis>
+void SerializeMetadata(Archive&& a, T& r) {
+  auto& s = r.spec;
+  a.Text("id", s.id, "trial id (trial.json)");
+  a.Path("dir", s.dir, "trial folder");
+  a.Text("specimen", s.specimen_id, "specimen id (study.json)");
+  a.Text("surface", s.surface, "surface name");
+  a.Number("surface_angle_deg", s.surface_angle_deg, "deg", "surface angle (trial.json)");
+  a.Number("fps", s.fps, "1/s", "frame rate");
+  a.MaybeNumber("nominal_speed_m_s", s.nominal_speed_m_s, "m/s",
+                "nominal impact speed (trial.json; NaN when not given)");
+  if constexpr (std::remove_cvref_t<Archive>::kWriting)
+    a.Text("frames_source", s.frames.is_video() ? s.frames.video : s.frames.pattern,
+           "image pattern or video file, relative to the trial folder");
+  a.Integer("frames_first", s.frames.first, "frame", "first frame number");
+  a.Integer("frames_count", s.frames.count, "frame", "number of frames");
+  a.Number("camera_m_per_px", s.camera.m_per_px, "m/px", "scale stated in trial.json");
+  a.Vec2("camera_gravity_image", s.camera.gravity_image, "1",
+         "unit direction of gravity in the image (x right, y down)");
+  a.MaybeArray("camera_distortion", s.camera.distortion, {5}, "1", "OpenCV k1 k2 p1 p2 k3");
+  a.MaybeArray("camera_matrix", s.camera.camera_matrix, {3, 3}, "px",
+               "camera matrix fx 0 cx / 0 fy cy / 0 0 1");
+  a.MaybePoints("surface_line_px", s.surface_line_px, "px",
+                "two image points on the surface, [point, (x, y)]");
+  a.Text("notes", s.notes, "notes (trial.json)");
+  a.TextList("input_warnings", s.warnings, "warnings from reading trial.json");
+  a.Number("m_per_px_used", r.m_per_px_used, "m/px", "scale the analysis used");
+  a.NumberZeroUnmeasured("m_per_px_from_markers", r.m_per_px_from_markers, "m/px",
+                         "scale measured from the marker spacing (NaN when not measured)");
+  a.MaybeNumber("surface_angle_measured_deg", r.surface_angle_measured_deg, "deg",
+                "surface angle measured in the first frame (NaN when not measured)");
+  a.Number("analysis_seconds", r.seconds, "s", "wall time of the analysis");
+}
+
+/// A free-flight fit: `/trials/<id>/fits/before` and `.../after`.
+template <class Archive, class T>
+requires std::is_same_v<std::remove_const_t<T>, kinematics::FlightFit>
+void Serialize(Archive&& a, T& fit) {
+  a.Integer("first_frame", fit.first_frame, "frame", "first frame of the fit window");
+  a.Integer("last_frame", fit.last_frame, "frame", "last frame of the fit window");
+  a.Integer("n", fit.n, "1", "frames used in the fit");
+  a.Vec2("p_WC_m", fit.p_WC, "m", "position of C at the impact time, W");
+  a.Vec2("v_WC_m_s", fit.v_WC, "m/s", "velocity of C at the impact time, W");
+  a.Matrix2("cov_v_WC_m2_s2", fit.cov_v_WC, "m^2/s^2", "covariance of v_WC");
+  a.Number("theta_W_rad", fit.theta_W_rad, "rad", "angle at the impact time");
+  a.Number("theta_se_rad", fit.theta_se_rad, "rad", "its standard error");
+  a.Number("w_rad_s", fit.w_rad_s, "rad/s", "angular velocity");
+  a.Number("w_se_rad_s", fit.w_se_rad_s, "rad/s", "its standard error");
+  a.Number("rms_residual_m", fit.rms_residual_m, "m", "rms residual of the position fit");
+  a.Number("rms_theta_residual_rad", fit.rms_theta_residual_rad, "rad",
+           "rms residual of the angle fit");
+}
+
+/// The impact in the surface frame S: `/trials/<id>/results`.
+template <class Archive, class T>
+requires std::is_same_v<std::remove_const_t<T>, kinematics::ImpactKinematics>
+void Serialize(Archive&& a, T& k) {
+  const std::string S = ", S = [along the surface (down-slope), normal]";
+  a.Number("impact_time_s", k.impact_time_s, "s", "impact time since frame 0 (sub-frame)");
+  a.Integer("impact_frame", k.impact_frame, "frame", "last frame before the impact");
+  a.Vec2("v_SC_before_m_s", k.v_SC_before, "m/s", "velocity of C before" + S);
+  a.Vec2("v_SC_before_se_m_s", k.v_SC_before_se, "m/s", "its standard error");
+  a.Vec2("v_SC_after_m_s", k.v_SC_after, "m/s", "velocity of C after" + S);
+  a.Vec2("v_SC_after_se_m_s", k.v_SC_after_se, "m/s", "its standard error");
+  a.Vec2("v_ST_before_m_s", k.v_ST_before, "m/s", "velocity of the body point at T before" + S);
+  a.Vec2("v_ST_after_m_s", k.v_ST_after, "m/s", "velocity of the body point at T after" + S);
+  a.Number("w_before_rad_s", k.w_before_rad_s, "rad/s", "angular velocity before");
+  a.Number("w_before_se_rad_s", k.w_before_se_rad_s, "rad/s", "its standard error");
+  a.Number("w_after_rad_s", k.w_after_rad_s, "rad/s", "angular velocity after");
+  a.Number("w_after_se_rad_s", k.w_after_se_rad_s, "rad/s", "its standard error");
+  a.Number("e", k.e, "1", "normal coefficient of restitution");
+  a.Number("e_se", k.e_se, "1", "its standard error");
+  a.Pair("e_ci", k.e_ci_low, k.e_ci_high, "1",
+         "confidence interval of e (level: /study/analysis_options/confidence)");
+  a.Number("mu_eff", k.mu_eff, "1", "effective friction coefficient");
+  a.Number("mu_eff_se", k.mu_eff_se, "1", "its standard error");
+  a.Pair("mu_eff_ci", k.mu_eff_ci_low, k.mu_eff_ci_high, "1", "confidence interval of mu_eff");
+  a.Number("kinetic_energy_before_J", k.kinetic_energy_before_J, "J",
+           "kinetic energy before (translation and rotation)");
+  a.Number("kinetic_energy_after_J", k.kinetic_energy_after_J, "J", "kinetic energy after");
+  a.TextList("warnings", k.warnings, "warnings of the impact measurement");
+}
+
+/// The outcome of a trial, in `/trials/<id>` beside its groups.
+template <class Archive, class T>
+requires std::is_same_v<std::remove_const_t<T>, pipeline::TrialAnalysis>
+void SerializeOutcome(Archive&& a, T& r) {
+  a.Flag("success", r.success, "1 when the impact was measured");
+  a.Text("error", r.error, "why the trial failed (empty on success)");
+  a.TextList("flags", r.flags, "short tags: out_of_plane, surface_angle, ...");
+  a.TextList("warnings", r.warnings, "warnings in words");
+}
+
+}  // namespace hoof::studyfile::internal
