@@ -23,16 +23,4 @@ struct StudyComparison {
 /// Fits each surface's model and compares every successful trial, on `jobs` threads.
 StudyComparison CompareStudy(const std::vector<pipeline::TrialAnalysis>& trials, int jobs = 2);
 
-/// The comparison as study-file tables: `surfaces`, `trials` (one row per trial), and per
-/// measured trial `frames/<id>` (one row per frame) and `energy/<id>` (kinetic energy through
-/// the contact, paper Figure 8).
-std::vector<studyfile::Table> ComparisonTables(const std::vector<pipeline::TrialAnalysis>& trials,
-                                               const StudyComparison& comparison);
-
-/// Soft links that put each compared trial's tables under its own group too:
-/// `/trials/<group>/comparison_frames` -> `/comparison/frames/<id>` and
-/// `/trials/<group>/comparison_energy` -> `/comparison/energy/<id>` (for WriteTables).
-std::vector<std::pair<std::string, std::string>> ComparisonLinks(
-    const std::vector<pipeline::TrialAnalysis>& trials, const StudyComparison& comparison);
-
 }  // namespace hoof::compare

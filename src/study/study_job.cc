@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "compare/comparison_tables.h"
 #include "core/parallel.h"
 #include "io/atomic_file.h"
 #include "pipeline/study_analysis.h"

@@ -39,17 +39,20 @@ class TableWriter {
   static constexpr bool kWriting = true;
 
   /// The table `name` of `rows`, each visited by `serialize(writer, row)`. The columns are
-  /// declared by a visit of a default row, so a table of no rows still has them.
+  /// declared by a visit of `declared` (a default row unless given: a row whose columns depend
+  /// on its contents, such as one per marker, passes one that has them all), so a table of no
+  /// rows still has them.
   template <class Row, class Serializer>
   static Table Of(std::string name, std::string description, const std::vector<Row>& rows,
-                  Serializer&& serialize) {
+                  Serializer&& serialize, const Row& declared = Row{}) {
     TableWriter w;
-    const Row declared{};
     serialize(w, declared);
     w.declaring_ = false;
     for (const Row& row : rows) {
       w.next_ = 0;
       serialize(w, row);
+      if (w.next_ != w.columns_.size())
+        throw std::logic_error("table " + name + ": a row visits fewer columns than declared");
     }
     return Table{std::move(name), std::move(description), std::move(w.columns_)};
   }

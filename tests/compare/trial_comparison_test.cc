@@ -1,6 +1,7 @@
 // Simulation against measurement on rendered studies without hidden effects: the model that
 // made the frames, fitted back from the measurements, must reproduce every trial.
 #include "compare/trial_comparison.h"
+#include "compare/comparison_tables.h"
 #include "compare/study_comparison.h"
 
 #include <cmath>

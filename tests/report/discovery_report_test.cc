@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "compare/comparison_tables.h"
 #include "compare/study_comparison.h"
 #include "discovery/discovery_json.h"
 #include "discovery/discovery_tables.h"
