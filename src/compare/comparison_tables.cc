@@ -126,6 +126,21 @@ std::vector<std::string> MarkerNames(const pipeline::TrialAnalysis& trial) {
   return names;
 }
 
+/// The rows of a frames table with the markers `markers`.
+std::vector<FrameComparison> ReadFrames(const Table& table, const std::string& where,
+                                        const std::vector<std::string>& markers) {
+  const auto rows = TableReader::Read<FrameRow>(table, where, [&](auto& a, FrameRow& row) {
+    row.f.markers_W_sim.resize(markers.size());
+    row.f.markers_px_sim.resize(markers.size());
+    row.f.markers_px_meas.resize(markers.size());
+    row.f.marker_residual_px.resize(markers.size());
+    Serialize(a, row, markers);
+  });
+  std::vector<FrameComparison> frames;
+  for (const FrameRow& row : rows) frames.push_back(row.f);
+  return frames;
+}
+
 }  // namespace
 
 std::vector<Table> ComparisonTables(const std::vector<pipeline::TrialAnalysis>& trials,
@@ -247,18 +262,19 @@ std::vector<FrameComparison> ReadComparedFrames(const std::filesystem::path& h5,
                                                 const std::string& id,
                                                 const std::vector<std::string>& marker_names) {
   const std::string path = std::string(kGroup) + "/frames/" + id;
-  const auto rows = TableReader::Read<FrameRow>(studyfile::ReadTable(h5, path), Where(h5, path),
-                                                [&](auto& a, FrameRow& row) {
-                                                  const std::size_t n = marker_names.size();
-                                                  row.f.markers_W_sim.resize(n);
-                                                  row.f.markers_px_sim.resize(n);
-                                                  row.f.markers_px_meas.resize(n);
-                                                  row.f.marker_residual_px.resize(n);
-                                                  Serialize(a, row, marker_names);
-                                                });
-  std::vector<FrameComparison> frames;
-  for (const FrameRow& row : rows) frames.push_back(row.f);
-  return frames;
+  return ReadFrames(studyfile::ReadTable(h5, path), Where(h5, path), marker_names);
+}
+
+ComparedFrames ReadComparedFrames(const std::filesystem::path& h5, const std::string& id) {
+  const std::string path = std::string(kGroup) + "/frames/" + id;
+  const Table table = studyfile::ReadTable(h5, path);
+  ComparedFrames out;
+  const std::string suffix = "_sim_x_px";  // the first pixel column of each marker's group
+  for (const auto& c : table.columns)
+    if (c.name.size() > suffix.size() && c.name.ends_with(suffix))
+      out.markers.push_back(c.name.substr(0, c.name.size() - suffix.size()));
+  out.frames = ReadFrames(table, Where(h5, path), out.markers);
+  return out;
 }
 
 void ReadContactEnergy(const std::filesystem::path& h5, const std::string& id,

@@ -43,6 +43,13 @@ std::vector<ComparedTrial> ReadComparedTrials(const std::filesystem::path& h5);
 std::vector<FrameComparison> ReadComparedFrames(const std::filesystem::path& h5,
                                                 const std::string& id,
                                                 const std::vector<std::string>& marker_names);
+/// The frames of trial `id` and the markers its table holds (from its columns "<marker>_sim_x_px",
+/// in their order), for a reader that does not know the trial's layout.
+struct ComparedFrames {
+  std::vector<std::string> markers;
+  std::vector<FrameComparison> frames;
+};
+ComparedFrames ReadComparedFrames(const std::filesystem::path& h5, const std::string& id);
 /// The kinetic energy through the contact of trial `id` (`/comparison/energy/<id>`): times
 /// since first touch (s) and energies (J), into `contact_t_s` and `contact_kinetic_energy_J`.
 void ReadContactEnergy(const std::filesystem::path& h5, const std::string& id,

@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "compare/comparison_tables.h"
 #include "core/frames.h"
 #include "io/atomic_file.h"
 #include "io/interrupt.h"
@@ -41,19 +42,6 @@ void AddArc(std::vector<Eigen::Vector2d>& out, double r, double a0, double a1, d
   for (int i = 0; i < n; ++i) out.push_back(r * Dir(a0 + (a1 - a0) * i / n));
 }
 
-const std::vector<double>& Numbers(const studyfile::Table& t, const std::string& name) {
-  const auto* v = std::get_if<std::vector<double>>(&t.Get(name).values);
-  if (!v) throw std::runtime_error(t.name + ": column " + name + " is not numeric");
-  return *v;
-}
-
-double NumberAt(const studyfile::Column& c, std::size_t row) {
-  if (const auto* d = std::get_if<std::vector<double>>(&c.values)) return (*d)[row];
-  if (const auto* i = std::get_if<std::vector<std::int64_t>>(&c.values))
-    return static_cast<double>((*i)[row]);
-  throw std::runtime_error("column " + c.name + " is not numeric");
-}
-
 /// The trial folder recorded in the study file: as written, or, when the study was run from
 /// another working directory, the folder of that name in the study folder.
 fs::path FindTrialDir(const studyfile::TrialResult& r, const fs::path& study_dir,
@@ -78,7 +66,7 @@ struct TrialData {
   studyfile::TrialResult result;
   pipeline::TrialSpec spec;
   tracking::ImageToWorld camera;
-  studyfile::Table frames;
+  std::vector<compare::FrameComparison> frames;  ///< the simulation against the measurement
   double t_touch_s = kNaN;
 };
 
@@ -93,30 +81,28 @@ TrialData LoadTrial(const fs::path& h5, const std::string& id) {
     throw std::runtime_error(h5.string() + ": no trial with id '" + id + "' (trials: " + ids + ")");
   }
   d.result = *it;
-  studyfile::Table cmp;
-  try {
-    cmp = studyfile::ReadTable(h5, "/comparison/trials");
-  } catch (const std::exception&) {
+  if (!compare::HasComparison(h5))
     throw std::runtime_error(h5.string() +
                              " has no /comparison (the simulation against the "
                              "measurement): run `hoofimpact run` first");
-  }
-  const auto& ids = std::get<std::vector<std::string>>(cmp.Get("id").values);
-  const auto row = static_cast<std::size_t>(std::find(ids.begin(), ids.end(), id) - ids.begin());
-  if (row == ids.size() || NumberAt(cmp.Get("success"), row) == 0.0) {
-    std::string why =
-        row == ids.size() ? "" : std::get<std::vector<std::string>>(cmp.Get("message").values)[row];
+  const std::vector<compare::ComparedTrial> compared = compare::ReadComparedTrials(h5);
+  const auto row = std::find_if(compared.begin(), compared.end(),
+                                [&](const compare::ComparedTrial& t) { return t.id == id; });
+  if (row == compared.end() || !row->comparison.success) {
+    const std::string why = row == compared.end() ? "" : row->comparison.message;
     throw std::runtime_error(h5.string() + ": trial '" + id +
                              "' was not simulated against its "
                              "measurement" +
                              (why.empty() ? "" : ": " + why));
   }
-  d.t_touch_s = NumberAt(cmp.Get("t_touch_s"), row);
-  d.frames = studyfile::ReadTable(h5, "/comparison/frames/" + id);
+  d.t_touch_s = row->comparison.t_touch_s;
   const fs::path trial_dir = FindTrialDir(d.result, results.study_dir, h5);
   const fs::path study_json = fs::path(results.study_dir) / "study.json";
   d.spec = pipeline::ReadTrial(
       trial_dir, fs::exists(study_json) ? std::optional<fs::path>(study_json) : std::nullopt);
+  std::vector<std::string> markers;
+  for (const auto& [name, p_B] : d.spec.specimen.markers_B_m) markers.push_back(name);
+  d.frames = compare::ReadComparedFrames(h5, id, markers);
   d.camera.m_per_px = d.result.m_per_px_used;  // the scale the comparison used
   d.camera.gravity_I = d.spec.camera.gravity_image;
   d.camera.camera_matrix = d.spec.camera.camera_matrix;
@@ -126,13 +112,13 @@ TrialData LoadTrial(const fs::path& h5, const std::string& id) {
 
 /// Simulated pose of C at time t (s since frame 0), linear between frames.
 std::pair<Eigen::Vector2d, double> SimPoseAt(const TrialData& d, double t) {
-  const auto &x = Numbers(d.frames, "p_WC_sim_x_m"), &y = Numbers(d.frames, "p_WC_sim_y_m"),
-             &th = Numbers(d.frames, "theta_W_sim_rad");
-  const double f = std::clamp(t * d.spec.fps, 0.0, static_cast<double>(x.size() - 1));
-  const auto i = std::min(static_cast<std::size_t>(f), x.size() - (x.size() > 1 ? 2 : 1));
-  const double a = x.size() > 1 ? f - static_cast<double>(i) : 0.0;
-  const std::size_t j = std::min(i + 1, x.size() - 1);
-  return {{x[i] + a * (x[j] - x[i]), y[i] + a * (y[j] - y[i])}, th[i] + a * (th[j] - th[i])};
+  const auto& fr = d.frames;
+  const double f = std::clamp(t * d.spec.fps, 0.0, static_cast<double>(fr.size() - 1));
+  const auto i = std::min(static_cast<std::size_t>(f), fr.size() - (fr.size() > 1 ? 2 : 1));
+  const double a = fr.size() > 1 ? f - static_cast<double>(i) : 0.0;
+  const std::size_t j = std::min(i + 1, fr.size() - 1);
+  return {fr[i].p_WC_sim + a * (fr[j].p_WC_sim - fr[i].p_WC_sim),
+          fr[i].theta_W_sim_rad + a * (fr[j].theta_W_sim_rad - fr[i].theta_W_sim_rad)};
 }
 
 FrameOverlay BuildFrame(const TrialData& d, std::size_t f) {
@@ -141,16 +127,11 @@ FrameOverlay BuildFrame(const TrialData& d, std::size_t f) {
   o.title = d.spec.id;
   o.t_since_impact_s = static_cast<double>(f) / d.spec.fps - d.result.impact_time_s;
   const auto& sp = d.spec.specimen;
-  if (f >= d.frames.columns.front().size()) return o;
-  for (const auto& [name, p_B] : sp.markers_B_m) {
-    o.markers_sim_px.emplace_back(Numbers(d.frames, name + "_sim_x_px")[f],
-                                  Numbers(d.frames, name + "_sim_y_px")[f]);
-    o.markers_meas_px.emplace_back(Numbers(d.frames, name + "_meas_x_px")[f],
-                                   Numbers(d.frames, name + "_meas_y_px")[f]);
-  }
-  const Eigen::Vector2d p_WC{Numbers(d.frames, "p_WC_sim_x_m")[f],
-                             Numbers(d.frames, "p_WC_sim_y_m")[f]};
-  o.outline_sim_px = OutlineToImage(sp, p_WC, Numbers(d.frames, "theta_W_sim_rad")[f], d.camera);
+  if (f >= d.frames.size()) return o;
+  const compare::FrameComparison& fc = d.frames[f];
+  o.markers_sim_px = fc.markers_px_sim;
+  o.markers_meas_px = fc.markers_px_meas;
+  o.outline_sim_px = OutlineToImage(sp, fc.p_WC_sim, fc.theta_W_sim_rad, d.camera);
   // Contact point T at first touch: the round end's lowest point along the surface normal y_S.
   if (std::isfinite(d.t_touch_s)) {
     const auto [p_WC_touch, theta_touch] = SimPoseAt(d, d.t_touch_s);

@@ -7,16 +7,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "compare/comparison_tables.h"
 #include "io/atomic_file.h"
 #include "report/gnuplot.h"
 #include "studyfile/study_file.h"
 
 namespace hoof::report {
 namespace {
-
-const std::vector<double>& Numbers(const studyfile::Table& t, const std::string& column) {
-  return std::get<std::vector<double>>(t.Get(column).values);
-}
 
 void Render(const Plot& plot, const std::filesystem::path& dir, const std::string& name,
             std::vector<std::filesystem::path>& written) {
@@ -32,16 +29,9 @@ void Render(const Plot& plot, const std::filesystem::path& dir, const std::strin
 std::vector<std::filesystem::path> WriteComparisonFigures(const std::filesystem::path& study_h5,
                                                           const std::filesystem::path& dir) {
   const studyfile::StudyResults study = studyfile::ReadStudyResults(study_h5);
-  const studyfile::Table cmp = studyfile::ReadTable(study_h5, "/comparison/trials");
-  const auto& ids = std::get<std::vector<std::string>>(cmp.Get("id").values);
-  const auto& vxm = Numbers(cmp, "v_SC_after_meas_x_m_s");
-  const auto& vym = Numbers(cmp, "v_SC_after_meas_y_m_s");
-  const auto& vxs = Numbers(cmp, "v_SC_after_sim_x_m_s");
-  const auto& vys = Numbers(cmp, "v_SC_after_sim_y_m_s");
-  const auto& ke0 = Numbers(cmp, "kinetic_energy_before_J");
-  const auto& ke1 = Numbers(cmp, "kinetic_energy_after_meas_J");
-  std::map<std::string, std::size_t> row;
-  for (std::size_t i = 0; i < ids.size(); ++i) row[ids[i]] = i;
+  std::map<std::string, compare::TrialComparison> row;  // by trial id
+  for (compare::ComparedTrial& t : compare::ReadComparedTrials(study_h5))
+    row[t.id] = std::move(t.comparison);
 
   std::vector<std::filesystem::path> written;
   std::vector<std::string> surfaces;
@@ -76,20 +66,21 @@ std::vector<std::filesystem::path> WriteComparisonFigures(const std::filesystem:
     for (const auto& t : study.trials) {
       const auto it = row.find(t.id);
       if (t.surface != surfaces[s] || !t.success || it == row.end() ||
-          !std::isfinite(vys[it->second]))
+          !std::isfinite(it->second.v_SC_after_sim.y()))
         continue;
-      const std::size_t i = it->second;
+      const Eigen::Vector2d& meas = it->second.v_SC_after_meas;
+      const Eigen::Vector2d& sim = it->second.v_SC_after_sim;
       if (std::abs(t.surface_angle_deg) < 1e-9) {
         nm.x.push_back(std::abs(t.v_SC_before_m_s.y()));
-        nm.y.push_back(vym[i]);
+        nm.y.push_back(meas.y());
         ns.x.push_back(std::abs(t.v_SC_before_m_s.y()));
-        ns.y.push_back(vys[i]);
+        ns.y.push_back(sim.y());
       } else {
-        ox.x.push_back(vxs[i]);
-        ox.y.push_back(vxm[i]);
-        oy.x.push_back(vys[i]);
-        oy.y.push_back(vym[i]);
-        for (double v : {vxs[i], vxm[i], vys[i], vym[i]}) {
+        ox.x.push_back(sim.x());
+        ox.y.push_back(meas.x());
+        oy.x.push_back(sim.y());
+        oy.y.push_back(meas.y());
+        for (double v : {sim.x(), meas.x(), sim.y(), meas.y()}) {
           lo = std::min(lo, v);
           hi = std::max(hi, v);
         }
@@ -121,11 +112,11 @@ std::vector<std::filesystem::path> WriteComparisonFigures(const std::filesystem:
     if (!t.success || it == row.end() || std::abs(t.surface_angle_deg) < 1e-9 ||
         done.count(t.surface))
       continue;
-    const std::size_t i = it->second;
-    if (!std::isfinite(ke0[i])) continue;
-    studyfile::Table energy;
+    compare::TrialComparison c = it->second;
+    const double ke0 = c.kinetic_energy_before_J, ke1 = c.kinetic_energy_after_meas_J;
+    if (!std::isfinite(ke0)) continue;
     try {
-      energy = studyfile::ReadTable(study_h5, "/comparison/energy/" + t.id);
+      compare::ReadContactEnergy(study_h5, t.id, c);
     } catch (const std::runtime_error&) {
       continue;
     }
@@ -137,14 +128,14 @@ std::vector<std::filesystem::path> WriteComparisonFigures(const std::filesystem:
     p.key = "outside right top";
     Series sim{"simulated", {}, {}, {}, "lines", ""};
     sim.options = "lw 2 lc rgb '#1f77b4'";
-    for (std::size_t k = 0; k < energy.Get("t_since_touch_s").size(); ++k) {
-      sim.x.push_back(1e6 * Numbers(energy, "t_since_touch_s")[k]);
-      sim.y.push_back(1e3 * Numbers(energy, "kinetic_energy_J")[k]);
+    for (std::size_t k = 0; k < c.contact_t_s.size(); ++k) {
+      sim.x.push_back(1e6 * c.contact_t_s[k]);
+      sim.y.push_back(1e3 * c.contact_kinetic_energy_J[k]);
     }
     const double t0 = sim.x.front(), t1 = sim.x.back();
-    Series before{"measured before", {t0, 0.0}, {1e3 * ke0[i], 1e3 * ke0[i]}, {}, "lines", ""};
+    Series before{"measured before", {t0, 0.0}, {1e3 * ke0, 1e3 * ke0}, {}, "lines", ""};
     before.options = "lw 2 dt 2 lc rgb '#d62728'";
-    Series after{"measured after", {0.5 * t1, t1}, {1e3 * ke1[i], 1e3 * ke1[i]}, {}, "lines", ""};
+    Series after{"measured after", {0.5 * t1, t1}, {1e3 * ke1, 1e3 * ke1}, {}, "lines", ""};
     after.options = "lw 2 dt 2 lc rgb '#2ca02c'";
     p.series = {sim, before, after};
     Render(p, dir, "energy_" + t.id, written);

@@ -21,6 +21,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "compare/comparison_tables.h"
 #include "core/frames.h"
 #include "discovery/discovery_tables.h"
 #include "io/atomic_file.h"
@@ -187,7 +188,7 @@ std::string SummarySection(const studyfile::StudyResults& study, const fs::path&
   return h.str();
 }
 
-std::string ModelSection(const Table& surfaces) {
+std::string ModelSection(const std::vector<compare::SurfaceModel>& surfaces) {
   std::ostringstream h;
   h << "<section id=\"model\"><h2>Contact model per surface</h2>"
     << "<p class=\"note\">Fitted from the measured trials (<code>/comparison/surfaces</code>): "
@@ -196,28 +197,24 @@ std::string ModelSection(const Table& surfaces) {
     << "<table class=\"data\"><thead><tr><th>surface</th><th>normal trials</th><th>oblique "
        "trials</th><th>zeta</th><th>zeta 95 % interval</th><th>mu</th><th>k</th><th>note</th>"
        "</tr></thead><tbody>";
-  for (std::size_t r = 0; r < Rows(surfaces); ++r) {
-    const bool ok = Num(surfaces, "success", r) == 1.0;
-    h << "<tr><td>" << HtmlEscape(Text(surfaces, "surface", r)) << "</td><td class=\"num\">"
-      << Fmt(Num(surfaces, "normal_trials", r)) << "</td><td class=\"num\">"
-      << Fmt(Num(surfaces, "oblique_trials", r)) << "</td>";
-    if (!ok) {
-      h << "<td colspan=\"4\" class=\"bad\">no model</td><td>"
-        << HtmlEscape(Text(surfaces, "message", r)) << "</td></tr>";
+  for (const compare::SurfaceModel& m : surfaces) {
+    h << "<tr><td>" << HtmlEscape(m.surface) << "</td><td class=\"num\">" << Fmt(m.normal_trials)
+      << "</td><td class=\"num\">" << Fmt(m.oblique_trials) << "</td>";
+    if (!m.success) {
+      h << "<td colspan=\"4\" class=\"bad\">no model</td><td>" << HtmlEscape(m.message)
+        << "</td></tr>";
       continue;
     }
-    const double lo = Num(surfaces, "zeta_ci_low", r), hi = Num(surfaces, "zeta_ci_high", r);
-    h << "<td class=\"num\">" << Fmt(Num(surfaces, "zeta", r)) << "</td><td class=\"num\">"
+    const double lo = m.zeta_fit.zeta_ci_low, hi = m.zeta_fit.zeta_ci_high;
+    h << "<td class=\"num\">" << Fmt(m.zeta_fit.zeta) << "</td><td class=\"num\">"
       << (std::isfinite(lo) && std::isfinite(hi) ? Fmt(lo) + " .. " + Fmt(hi)
                                                  : std::string("not available"))
       << "</td><td class=\"num\">";
-    const double mu = Num(surfaces, "mu", r), mu_se = Num(surfaces, "mu_se", r);
-    if (Num(surfaces, "mu_only_lower_bound", r) == 1.0)
-      h << "&ge; " << Fmt(mu) << " (contacts stick)";
+    if (m.mu_only_lower_bound)
+      h << "&ge; " << Fmt(m.mu) << " (contacts stick)";
     else
-      h << Fmt(mu) << (std::isfinite(mu_se) ? " &plusmn; " + Fmt(mu_se, 2) : "");
-    h << "</td><td>k not identified</td><td>" << HtmlEscape(Text(surfaces, "message", r))
-      << "</td></tr>";
+      h << Fmt(m.mu) << (std::isfinite(m.mu_se) ? " &plusmn; " + Fmt(m.mu_se, 2) : "");
+    h << "</td><td>k not identified</td><td>" << HtmlEscape(m.message) << "</td></tr>";
   }
   h << "</tbody></table></section>";
   return h.str();
@@ -309,9 +306,10 @@ std::string FiguresSection(const studyfile::StudyResults& study, const fs::path&
   return h.str();
 }
 
-std::string TrialsSection(const studyfile::StudyResults& study, const Table& cmp) {
-  std::map<std::string, std::size_t> row_of;
-  for (std::size_t r = 0; r < Rows(cmp); ++r) row_of[Text(cmp, "id", r)] = r;
+std::string TrialsSection(const studyfile::StudyResults& study,
+                          const std::vector<compare::ComparedTrial>& compared) {
+  std::map<std::string, const compare::TrialComparison*> row_of;
+  for (const compare::ComparedTrial& t : compared) row_of[t.id] = &t.comparison;
   std::ostringstream h;
   h << "<section id=\"trials\"><h2>Trials</h2><p class=\"note\">z = (measured &minus; "
        "simulated) / combined standard error of the velocity after impact (along the surface, "
@@ -339,12 +337,11 @@ std::string TrialsSection(const studyfile::StudyResults& study, const Table& cmp
     h << "</td>";
     const auto it = row_of.find(t.id);
     std::string note;
-    for (const char* z : {"z_v_x", "z_v_y", "z_w"}) {
-      const double v = it == row_of.end() ? core::kNaN : Num(cmp, z, it->second);
+    const compare::TrialComparison* c = it == row_of.end() ? nullptr : it->second;
+    for (const double v : {c ? c->v_SC_after_z.x() : core::kNaN,
+                           c ? c->v_SC_after_z.y() : core::kNaN, c ? c->w_after_z : core::kNaN})
       h << "<td class=\"num" << (std::abs(v) > 3.0 ? " bad" : "") << "\">" << Fmt(v, 3) << "</td>";
-    }
-    if (it != row_of.end() && Num(cmp, "success", it->second) != 1.0)
-      note = Text(cmp, "message", it->second);
+    if (c && !c->success) note = c->message;
     h << "<td>" << HtmlEscape(note) << "</td></tr>";
   }
   h << "</tbody></table></section>";
@@ -418,47 +415,37 @@ std::vector<std::string> EncodeFrames(const studyfile::TrialResult& t, const std
   return uris;
 }
 
-/// Marker names of a /comparison/frames table: the columns "<M>_sim_x_px".
-std::vector<std::string> MarkerNames(const Table& t) {
-  const std::string suffix = "_sim_x_px";
-  std::vector<std::string> names;
-  for (const auto& c : t.columns)
-    if (c.name.size() > suffix.size() && c.name.ends_with(suffix))
-      names.push_back(c.name.substr(0, c.name.size() - suffix.size()));
-  return names;
-}
-
 /// One replay as a JSON object, with its frames as hidden <img> elements appended to `imgs`
 /// (in the document, so the page's load event waits for them).
 std::string ReplayJson(const studyfile::TrialResult& t, const std::string& study_dir,
-                       const Table& frames_table, const HtmlReportOptions& o, int index,
-                       std::string& imgs) {
-  const int n_frames = static_cast<int>(Rows(frames_table));
+                       const compare::ComparedFrames& compared, const HtmlReportOptions& o,
+                       int index, std::string& imgs) {
+  const int n_frames = static_cast<int>(compared.frames.size());
   const int impact = static_cast<int>(std::lround(t.impact_time_s * t.fps));
   const int first = std::clamp(impact - o.frames_per_replay / 2, 0, std::max(0, n_frames - 1));
   const int last = std::min(n_frames, first + o.frames_per_replay);
   double scale = 1.0;
   const auto uris = EncodeFrames(t, study_dir, first, last, o, scale);
   if (uris.empty()) throw std::runtime_error("no frames could be read");
-  const std::vector<std::string> markers = MarkerNames(frames_table);
+  const std::vector<std::string>& markers = compared.markers;
   std::ostringstream j;
   j << "{\"id\":" << JsonString(t.id) << ",\"surface\":" << JsonString(t.surface)
     << ",\"scale\":" << JsonNumber(scale) << ",\"impact\":" << impact << ",\"markers\":[";
   for (std::size_t m = 0; m < markers.size(); ++m) j << (m ? "," : "") << JsonString(markers[m]);
   j << "],\"frames\":[";
   for (int k = 0; k < static_cast<int>(uris.size()); ++k) {
-    const auto r = static_cast<std::size_t>(first + k);
+    const compare::FrameComparison& f = compared.frames[static_cast<std::size_t>(first + k)];
     imgs += "<img class=\"frame\" id=\"f" + std::to_string(index) + "_" + std::to_string(k) +
             "\" alt=\"\" src=\"" + uris[static_cast<std::size_t>(k)] + "\">";
-    j << (k ? "," : "") << "{\"frame\":" << first + k
-      << ",\"t_ms\":" << JsonNumber(Num(frames_table, "t_s", r) * 1e3) << ",\"sim\":[";
+    j << (k ? "," : "") << "{\"frame\":" << first + k << ",\"t_ms\":" << JsonNumber(f.t_s * 1e3)
+      << ",\"sim\":[";
     for (std::size_t m = 0; m < markers.size(); ++m)
-      j << (m ? "," : "") << "[" << JsonNumber(Num(frames_table, markers[m] + "_sim_x_px", r))
-        << "," << JsonNumber(Num(frames_table, markers[m] + "_sim_y_px", r)) << "]";
+      j << (m ? "," : "") << "[" << JsonNumber(f.markers_px_sim[m].x()) << ","
+        << JsonNumber(f.markers_px_sim[m].y()) << "]";
     j << "],\"meas\":[";
     for (std::size_t m = 0; m < markers.size(); ++m)
-      j << (m ? "," : "") << "[" << JsonNumber(Num(frames_table, markers[m] + "_meas_x_px", r))
-        << "," << JsonNumber(Num(frames_table, markers[m] + "_meas_y_px", r)) << "]";
+      j << (m ? "," : "") << "[" << JsonNumber(f.markers_px_meas[m].x()) << ","
+        << JsonNumber(f.markers_px_meas[m].y()) << "]";
     j << "]}";
   }
   j << "]}";
@@ -470,7 +457,7 @@ std::string ReplaySection(const studyfile::StudyResults& study, const fs::path& 
   std::string json = "[", imgs;
   for (const auto* t : PickReplays(study, o.replay_trials)) {
     try {
-      const Table frames = studyfile::ReadTable(h5, "/comparison/frames/" + t->id);
+      const compare::ComparedFrames frames = compare::ReadComparedFrames(h5, t->id);
       std::string trial_imgs;
       const std::string one =
           ReplayJson(*t, study.study_dir, frames, o, summary.replays, trial_imgs);
@@ -582,11 +569,11 @@ HtmlReportSummary WriteHtmlReport(const fs::path& study_h5, const fs::path& outp
     throw std::runtime_error(study_h5.string() + ": no such study file");
   RemoveStaleReportFolders();
   const studyfile::StudyResults study = studyfile::ReadStudyResults(study_h5);
-  const auto surfaces = TryReadTable(study_h5, "/comparison/surfaces");
-  const auto cmp = TryReadTable(study_h5, "/comparison/trials");
-  if (!surfaces || !cmp)
+  if (!compare::HasComparison(study_h5))
     throw std::runtime_error(study_h5.string() +
                              ": no /comparison in the study file; run `hoofimpact run` first");
+  const std::vector<compare::SurfaceModel> surfaces = compare::ReadSurfaceModels(study_h5);
+  const std::vector<compare::ComparedTrial> compared = compare::ReadComparedTrials(study_h5);
   HtmlReportSummary summary;
   summary.output = output;
   summary.trials = static_cast<int>(study.trials.size());
@@ -605,10 +592,10 @@ HtmlReportSummary WriteHtmlReport(const fs::path& study_h5, const fs::path& outp
     << "<a href=\"#replay\">Replay</a><a href=\"#figures\">Figures</a>"
     << (has_discovery ? "<a href=\"#discovery\">Discovery</a>" : "")
     << "<a href=\"#trials\">Trials</a><a href=\"#statistics\">Statistics</a></nav><main>"
-    << SummarySection(study, study_h5) << ModelSection(*surfaces)
+    << SummarySection(study, study_h5) << ModelSection(surfaces)
     << ReplaySection(study, study_h5, options, summary)
     << FiguresSection(study, study_h5, summary.figures) << discovery_section
-    << TrialsSection(study, *cmp) << StatsSection(study_h5) << "</main><script>"
+    << TrialsSection(study, compared) << StatsSection(study_h5) << "</main><script>"
     << assets::kReplayJs << "</script></body></html>\n";
   summary.figures += discovery_figures;
   const std::string page = h.str();

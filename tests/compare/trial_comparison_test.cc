@@ -1,6 +1,7 @@
 // Simulation against measurement on rendered studies without hidden effects: the model that
 // made the frames, fitted back from the measurements, must reproduce every trial.
 #include "compare/trial_comparison.h"
+
 #include "compare/comparison_tables.h"
 #include "compare/study_comparison.h"
 
@@ -12,7 +13,9 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+
 #include <unistd.h>
+#include "support/test_util.h"
 
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -167,6 +170,48 @@ TEST(StudyComparisonTest, TablesGoIntoTheStudyFileAndReadBack) {
       EXPECT_DOUBLE_EQ(res[f], expected);
     }
   }
+  // The typed readers give back what was written: the models, each trial's values and frames
+  // (the markers named from the columns), and the contact's energy.
+  ASSERT_TRUE(HasComparison(file));
+  const std::vector<SurfaceModel> models = ReadSurfaceModels(file);
+  ASSERT_EQ(models.size(), cmp.surfaces.size());
+  for (const SurfaceModel& m : models) {
+    const SurfaceModel& w = cmp.surfaces.at(m.surface);
+    EXPECT_EQ(m.success, w.success);
+    EXPECT_EQ(m.zeta_fit.zeta, w.zeta_fit.zeta);
+    EXPECT_EQ(m.mu, w.mu);
+    EXPECT_EQ(m.mu_only_lower_bound, w.mu_only_lower_bound);
+    EXPECT_EQ(m.oblique_trials, w.oblique_trials);
+  }
+  const std::vector<ComparedTrial> compared = ReadComparedTrials(file);
+  ASSERT_EQ(compared.size(), trials.size());
+  for (std::size_t i = 0; i < trials.size(); ++i) {
+    EXPECT_EQ(compared[i].id, trials[i].spec.id);
+    EXPECT_EQ(compared[i].comparison.v_SC_after_sim, cmp.trials[i].v_SC_after_sim);
+    EXPECT_EQ(compared[i].comparison.w_after_z, cmp.trials[i].w_after_z);
+    EXPECT_EQ(compared[i].comparison.t_touch_s, cmp.trials[i].t_touch_s);
+  }
+  const ComparedFrames read = ReadComparedFrames(file, trials[0].spec.id);
+  ASSERT_EQ(read.markers.size(), trials[0].spec.specimen.markers_B_m.size());
+  for (std::size_t m = 0; m < read.markers.size(); ++m)
+    EXPECT_EQ(read.markers[m], trials[0].spec.specimen.markers_B_m[m].first);
+  ASSERT_EQ(read.frames.size(), cmp.trials[0].frames.size());
+  for (std::size_t f = 0; f < read.frames.size(); ++f) {
+    const FrameComparison &a = read.frames[f], &b = cmp.trials[0].frames[f];
+    EXPECT_EQ(a.p_WC_sim, b.p_WC_sim);
+    EXPECT_EQ(a.measured, b.measured);
+    EXPECT_EQ(a.markers_px_sim, b.markers_px_sim);
+    if (b.measured) {
+      EXPECT_EQ(a.theta_W_meas_rad, b.theta_W_meas_rad);
+    } else {
+      EXPECT_TRUE(std::isnan(a.theta_W_meas_rad));  // NaN in the file, whatever was in memory
+    }
+  }
+  TrialComparison energy;
+  ReadContactEnergy(file, trials[0].spec.id, energy);
+  EXPECT_EQ(energy.contact_kinetic_energy_J, cmp.trials[0].contact_kinetic_energy_J);
+  hoof::testing::ExpectErrorContaining([&] { ReadContactEnergy(file, "no_such_trial", energy); },
+                                       file.string());
   fs::remove(file);
 }
 
