@@ -13,6 +13,7 @@
 #include "pipeline/study_format.h"
 #include "pipeline/trial_analysis.h"
 #include "studyfile/archive.h"
+#include "studyfile/file_util.h"
 #include "tracking/marker_tracker.h"
 
 namespace hoof::studyfile::internal {
@@ -176,6 +177,69 @@ void SerializeOutcome(Archive&& a, T& r) {
   a.Text("error", r.error, "why the trial failed (empty on success)");
   a.TextList("flags", r.flags, "short tags: out_of_plane, surface_angle, ...");
   a.TextList("warnings", r.warnings, "warnings in words");
+}
+
+/// The columns of `/results`, one row per trial (also what WriteResultsCsv writes). The
+/// reader takes a trial's flags from its group, where each is one element: here they are
+/// joined with ';'.
+template <class Archive, class R>
+requires std::is_same_v<std::remove_const_t<R>, TrialResult>
+void SerializeResult(Archive& a, R& r) {
+  const std::string S = " (S: x along the surface, down-slope; y the outward normal)";
+  a.Text("id", r.id, "trial id");
+  a.Text("group", r.group, "the trial's group in this file");
+  a.Text("dir", r.dir, "trial folder");
+  a.Text("specimen", r.specimen, "specimen id");
+  a.Text("surface", r.surface, "surface name");
+  a.Number("surface_angle_deg", r.surface_angle_deg, "deg", "surface angle (trial.json)");
+  a.Number("fps", r.fps, "1/s", "frame rate");
+  a.Number("nominal_speed_m_s", r.nominal_speed_m_s, "m/s",
+           "nominal impact speed (NaN when not given)");
+  a.Flag("success", r.success, "1 when the impact was measured");
+  a.Text("error", r.error, "why the trial failed (empty on success)");
+  a.Number("impact_time_s", r.impact_time_s, "s", "impact time since frame 0");
+  a.Number("e", r.e, "1", "normal coefficient of restitution");
+  a.Number("e_se", r.e_se, "1", "standard error of e");
+  a.Number("e_ci_low", r.e_ci_low, "1", "lower end of the confidence interval of e");
+  a.Number("e_ci_high", r.e_ci_high, "1", "upper end of the confidence interval of e");
+  a.Number("mu_eff", r.mu_eff, "1", "effective friction coefficient");
+  a.Number("mu_eff_se", r.mu_eff_se, "1", "standard error of mu_eff");
+  a.Number("mu_eff_ci_low", r.mu_eff_ci_low, "1", "lower end of the confidence interval of mu_eff");
+  a.Number("mu_eff_ci_high", r.mu_eff_ci_high, "1",
+           "upper end of the confidence interval of mu_eff");
+  a.Number("v_SC_before_x_m_s", r.v_SC_before_m_s[0], "m/s",
+           "velocity of C before, along the surface" + S);
+  a.Number("v_SC_before_y_m_s", r.v_SC_before_m_s[1], "m/s", "velocity of C before, normal" + S);
+  a.Number("v_SC_after_x_m_s", r.v_SC_after_m_s[0], "m/s",
+           "velocity of C after, along the surface" + S);
+  a.Number("v_SC_after_y_m_s", r.v_SC_after_m_s[1], "m/s", "velocity of C after, normal" + S);
+  a.Number("v_SC_before_se_x_m_s", r.v_SC_before_se_m_s[0], "m/s",
+           "standard error of v_SC_before_x_m_s");
+  a.Number("v_SC_before_se_y_m_s", r.v_SC_before_se_m_s[1], "m/s",
+           "standard error of v_SC_before_y_m_s");
+  a.Number("v_SC_after_se_x_m_s", r.v_SC_after_se_m_s[0], "m/s",
+           "standard error of v_SC_after_x_m_s");
+  a.Number("v_SC_after_se_y_m_s", r.v_SC_after_se_m_s[1], "m/s",
+           "standard error of v_SC_after_y_m_s");
+  a.Number("w_before_rad_s", r.w_before_rad_s, "rad/s", "angular velocity before");
+  a.Number("w_after_rad_s", r.w_after_rad_s, "rad/s", "angular velocity after");
+  a.Number("w_before_se_rad_s", r.w_before_se_rad_s, "rad/s", "standard error of w_before_rad_s");
+  a.Number("w_after_se_rad_s", r.w_after_se_rad_s, "rad/s", "standard error of w_after_rad_s");
+  a.Number("kinetic_energy_before_J", r.kinetic_energy_before_J, "J", "kinetic energy before");
+  a.Number("kinetic_energy_after_J", r.kinetic_energy_after_J, "J", "kinetic energy after");
+  a.Number("m_per_px_used", r.m_per_px_used, "m/px", "scale the analysis used");
+  a.Number("m_per_px_from_markers", r.m_per_px_from_markers, "m/px",
+           "scale from the marker spacing (NaN when not measured)");
+  a.Number("surface_angle_measured_deg", r.surface_angle_measured_deg, "deg",
+           "surface angle measured (NaN when not measured)");
+  a.Number("out_of_plane_change", r.out_of_plane_change, "1",
+           "range of the projected marker distance ratio");
+  if constexpr (std::remove_cvref_t<Archive>::kWriting) {
+    a.Text("flags", Join(r.flags, ";"), "flags joined with ';'");
+  } else {
+    std::string joined;  // read from the trial's group instead (ReadStudyResults)
+    a.Text("flags", joined, "flags joined with ';'");
+  }
 }
 
 }  // namespace hoof::studyfile::internal

@@ -18,8 +18,10 @@
 #include "io/atomic_file.h"
 #include "io/csv.h"
 #include "io/interrupt.h"
+#include "studyfile/file_util.h"
 #include "studyfile/hdf5_util.h"
 #include "studyfile/schema.h"
+#include "studyfile/table_archive.h"
 
 #ifndef HOOF_VERSION
 #define HOOF_VERSION "unknown"
@@ -29,66 +31,14 @@ namespace hoof::studyfile {
 namespace {
 
 using core::kNaN;
+using internal::AtomicHdf5;
+using internal::CheckedStrings;
+using internal::CheckFormat;
 using internal::GroupReader;
+using internal::Join;
+using internal::RethrowHdf5;
 using internal::ShapeText;
-
-std::string Join(const std::vector<std::string>& parts, const std::string& separator) {
-  std::string out;
-  for (std::size_t i = 0; i < parts.size(); ++i) out += (i ? separator : "") + parts[i];
-  return out;
-}
-
-/// Throws std::runtime_error naming `path` for an HDF5 exception (which is no std::exception).
-[[noreturn]] void RethrowHdf5(const H5::Exception& e, const std::filesystem::path& path) {
-  // The commonest cause first: a file that is not HDF5 at all (HDF5 only says "H5Fopen failed").
-  if (std::filesystem::is_regular_file(path) && H5Fis_hdf5(path.string().c_str()) == 0)
-    throw std::runtime_error(path.string() +
-                             " is not an HDF5 file (study files are written by hoofimpact "
-                             "analyze and hoofimpact run)");
-  // A file with HDF5's signature that does not open: most often one cut short by a copy or a
-  // killed writer (hoofimpact itself only ever renames complete files into place).
-  std::error_code ec;
-  const auto bytes = std::filesystem::file_size(path, ec);
-  if (e.getFuncName().find("H5File") != std::string::npos)
-    throw std::runtime_error(path.string() +
-                             ": cannot be opened: the HDF5 file is damaged or cut short (" +
-                             (ec ? std::string("size unknown") : std::to_string(bytes) + " bytes") +
-                             "); write it again with hoofimpact analyze or run");
-  throw std::runtime_error(path.string() + ": cannot be read, the HDF5 file is damaged (in " +
-                           e.getFuncName() + ": " + e.getDetailMsg() + ")");
-}
-
-/// Runs `write` on a temporary file beside `path` and renames it over `path`; removes the
-/// temporary file on any failure. `prepare(tmp)` makes the temporary file (copy or nothing).
-void AtomicHdf5(const std::filesystem::path& path,
-                const std::function<void(const std::filesystem::path&)>& prepare,
-                const std::function<void(const std::filesystem::path&)>& write) {
-  H5::Exception::dontPrint();
-  // Held while the temporary is made and written (HDF5 creates it inside `write`): an interrupt
-  // waits for it rather than leave one made after its removal.
-  const io::CreatingTemporary creating;
-  if (path.has_parent_path()) {
-    std::error_code ec;
-    std::filesystem::create_directories(path.parent_path(), ec);
-    if (ec)
-      throw std::runtime_error("cannot create directory " + path.parent_path().string() + ": " +
-                               ec.message());
-  }
-  const std::filesystem::path tmp = io::TemporaryPathFor(path);
-  try {
-    try {
-      prepare(tmp);
-      write(tmp);  // every H5 object is closed when this returns or throws
-    } catch (const H5::Exception& e) {
-      RethrowHdf5(e, path);
-    }
-  } catch (...) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw;
-  }
-  io::CommitTemporary(tmp, path);
-}
+using internal::WriteTable;
 
 // ------------------------------------------------------------------------------------------
 // Study info
@@ -217,144 +167,47 @@ void WriteTrial(const H5::Group& trials, const std::string& group_name,
   internal::Serialize(results, r.impact);
 }
 
-// ------------------------------------------------------------------------------------------
-// Tables
-// ------------------------------------------------------------------------------------------
-
-void WriteTable(const H5::Group& parent, const Table& table) {
-  const H5::Group g = h5::MakeGroup(parent, table.name, table.description);
-  std::vector<std::string> names;
-  for (const Column& c : table.columns) {
-    names.push_back(c.name);
-    const hsize_t n = c.size();
-    if (const auto* d = std::get_if<std::vector<double>>(&c.values))
-      h5::Doubles(g, c.name, *d, {n}, c.units, c.description);
-    else if (const auto* i = std::get_if<std::vector<std::int64_t>>(&c.values))
-      h5::Integers(g, c.name, *i, {n}, c.units, c.description);
-    else
-      h5::Texts(g, c.name, std::get<std::vector<std::string>>(c.values), {n}, c.description);
-  }
-  h5::SetAttr(g, "columns", names);
-  h5::SetAttr(g, "rows",
-              static_cast<std::int64_t>(table.columns.empty() ? 0 : table.columns[0].size()));
-}
-
-Column ReadColumn(const H5::Group& g, const std::string& name, const std::string& where) {
-  if (!g.nameExists(name)) throw std::runtime_error(where + " has no column \"" + name + "\"");
-  const H5::DataSet d = g.openDataSet(name);
-  const std::string here = where + "/" + name;
-  Column c;
-  c.name = name;
-  c.units = d.attrExists("units") ? h5::GetAttrText(d, "units", here) : "";
-  c.description = d.attrExists("description") ? h5::GetAttrText(d, "description", here) : "";
-  if (h5::Shape(d).size() != 1) throw std::runtime_error(here + " is not one-dimensional");
-  switch (d.getTypeClass()) {
-    case H5T_STRING:
-      c.values = h5::ReadTexts(d, here);
-      break;
-    case H5T_INTEGER:
-      c.values = h5::ReadIntegers(d, here);
-      break;
-    default:
-      c.values = h5::ReadDoubles(d, here);
-      break;
-  }
-  return c;
-}
-
-std::vector<std::string> CheckedStrings(const Table& t, const std::string& name) {
-  const Column& c = t.Get(name);
-  if (const auto* v = std::get_if<std::vector<std::string>>(&c.values)) return *v;
-  throw std::runtime_error(t.name + "/" + name + " is not text");
-}
-
-std::vector<double> CheckedNumbers(const Table& t, const std::string& name) {
-  const Column& c = t.Get(name);
-  if (const auto* v = std::get_if<std::vector<double>>(&c.values)) return *v;
-  if (const auto* i = std::get_if<std::vector<std::int64_t>>(&c.values))
-    return std::vector<double>(i->begin(), i->end());
-  throw std::runtime_error(t.name + "/" + name + " is not numeric");
-}
-
-// ------------------------------------------------------------------------------------------
-// Reading trials back
-// ------------------------------------------------------------------------------------------
-
-/// Throws std::runtime_error naming the file when its root attribute `format` is not ours.
-void CheckFormat(const H5::Group& root, const std::filesystem::path& path) {
-  const std::string format = h5::GetAttrText(root, "format", path.string());
-  if (format != kStudyFileFormat)
-    throw std::runtime_error(path.string() + ": format \"" + format + "\", expected \"" +
-                             kStudyFileFormat + "\"");
-}
-
-tracking::MarkerTracks ReadTracks(const GroupReader& g) {
-  tracking::MarkerTracks t;
-  t.names = g.TextList("marker_names");
-  const hsize_t F = g.Length("t_s"), M = t.names.size();
-  const std::vector<double> p = g.Doubles("p_I_px", {F, M, 2});
-  const std::vector<std::int64_t> found = g.Integers("found", {F, M});
-  const std::vector<std::string> status = g.Texts("status", {F, M});
-  const std::vector<double> quality = g.Doubles("quality", {F, M});
-  const std::vector<double> radius = g.Doubles("radius_px", {F, M});
-  t.frames.assign(F, std::vector<tracking::MarkerObservation>(M));
-  for (std::size_t f = 0; f < F; ++f) {
-    for (std::size_t m = 0; m < M; ++m) {
-      const std::size_t i = f * M + m;
-      tracking::MarkerObservation& o = t.frames[f][m];
-      o.found = found[i] != 0;
-      o.status = status[i];
-      o.quality = quality[i];
-      if (o.found) {  // the file holds no centre or radius for a marker not found
-        o.p_I = {p[2 * i], p[2 * i + 1]};
-        o.radius_px = radius[i];
-      }
-    }
-  }
-  t.warnings = g.TextList("warnings");
-  return t;
-}
-
-void ReadPoses(const GroupReader& g, pipeline::TrialAnalysis& r) {
-  const hsize_t F = g.Length("t_s");
-  const std::vector<std::int64_t> valid = g.Integers("valid", {F});
-  const std::vector<double> p = g.Doubles("p_WE_m", {F, 2});
-  const std::vector<double> theta = g.Doubles("theta_W_rad", {F});
-  const std::vector<double> rms = g.Doubles("rms_residual_m", {F});
-  const std::vector<std::int64_t> used = g.Integers("markers_used", {F});
-  const std::vector<double> distance = g.Doubles("marker_distance_m", {F});
-  r.marker_distance_ratio = g.Doubles("marker_distance_ratio", {F});
-  r.poses.assign(F, tracking::BodyPose{});
-  for (std::size_t f = 0; f < F; ++f) {
-    tracking::BodyPose& q = r.poses[f];
-    q.valid = valid[f] != 0;
-    q.markers_used = static_cast<int>(used[f]);
-    if (q.valid) {  // an invalid pose's numbers are NaN in the file
-      q.p_WE = {p[2 * f], p[2 * f + 1]};
-      q.theta_W_rad = theta[f];
-      q.rms_residual_m = rms[f];
-      q.marker_distance_m = std::isnan(distance[f]) ? 0.0 : distance[f];
-    }
-  }
-  r.out_of_plane_change = g.Scalar("out_of_plane_change");
-  r.out_of_plane_noise = g.Scalar("out_of_plane_noise");
-}
-
-/// One `/trials/<id>` group; the specimen is filled in by the caller.
-pipeline::TrialAnalysis ReadTrialGroup(const GroupReader& g) {
-  pipeline::TrialAnalysis r;
-  internal::SerializeOutcome(internal::H5Reader(g), r);
-  internal::SerializeMetadata(internal::H5Reader(g.Group("metadata")), r);
-  r.tracks = ReadTracks(g.Group("tracks"));
-  ReadPoses(g.Group("poses"), r);
-  r.impact.message = g.Text("impact_message");
-  if (g.Has("results")) {  // written only when the impact was measured, with the fits
-    r.impact.success = true;
-    const GroupReader fits = g.Group("fits");
-    internal::Serialize(internal::H5Reader(fits.Group("before")), r.impact.before);
-    internal::Serialize(internal::H5Reader(fits.Group("after")), r.impact.after);
-    internal::Serialize(internal::H5Reader(g.Group("results")), r.impact);
-  }
+/// The `/results` row of `trial`, written into its group `group`: NaN for what was not
+/// measured.
+TrialResult ResultOf(const pipeline::TrialAnalysis& trial, const std::string& group) {
+  const auto& k = trial.impact;
+  const bool m = trial.success && k.success;
+  const auto measured = [&](double v) { return m ? v : kNaN; };
+  TrialResult r;
+  r.id = trial.spec.id;
+  r.group = group;
+  r.dir = trial.spec.dir.string();
+  r.specimen = trial.spec.specimen_id;
+  r.surface = trial.spec.surface;
+  r.surface_angle_deg = trial.spec.surface_angle_deg;
+  r.fps = trial.spec.fps;
+  r.nominal_speed_m_s = trial.spec.nominal_speed_m_s.value_or(kNaN);
+  r.success = trial.success;
+  r.error = trial.error;
+  r.impact_time_s = measured(k.impact_time_s);
+  r.e = measured(k.e);
+  r.e_se = measured(k.e_se);
+  r.e_ci_low = measured(k.e_ci_low);
+  r.e_ci_high = measured(k.e_ci_high);
+  r.mu_eff = measured(k.mu_eff);
+  r.mu_eff_se = measured(k.mu_eff_se);
+  r.mu_eff_ci_low = measured(k.mu_eff_ci_low);
+  r.mu_eff_ci_high = measured(k.mu_eff_ci_high);
+  r.v_SC_before_m_s = k.v_SC_before.unaryExpr(measured);
+  r.v_SC_after_m_s = k.v_SC_after.unaryExpr(measured);
+  r.v_SC_before_se_m_s = k.v_SC_before_se.unaryExpr(measured);
+  r.v_SC_after_se_m_s = k.v_SC_after_se.unaryExpr(measured);
+  r.w_before_rad_s = measured(k.w_before_rad_s);
+  r.w_after_rad_s = measured(k.w_after_rad_s);
+  r.w_before_se_rad_s = measured(k.w_before_se_rad_s);
+  r.w_after_se_rad_s = measured(k.w_after_se_rad_s);
+  r.kinetic_energy_before_J = measured(k.kinetic_energy_before_J);
+  r.kinetic_energy_after_J = measured(k.kinetic_energy_after_J);
+  r.m_per_px_used = trial.m_per_px_used;
+  r.m_per_px_from_markers = trial.m_per_px_from_markers != 0.0 ? trial.m_per_px_from_markers : kNaN;
+  r.surface_angle_measured_deg = trial.surface_angle_measured_deg.value_or(kNaN);
+  r.out_of_plane_change = trial.poses.empty() ? kNaN : trial.out_of_plane_change;
+  r.flags = trial.flags;
   return r;
 }
 
@@ -370,59 +223,6 @@ StudyInfo StudyInfo::Of(const pipeline::StudySpec& study,
   info.warnings = study.warnings;
   info.command_line = std::move(command_line);
   return info;
-}
-
-// ------------------------------------------------------------------------------------------
-// Column and Table
-// ------------------------------------------------------------------------------------------
-
-std::size_t Column::size() const {
-  return std::visit([](const auto& v) { return v.size(); }, values);
-}
-
-std::string Column::CsvCell(std::size_t row) const {
-  if (const auto* d = std::get_if<std::vector<double>>(&values)) return io::CsvNumber((*d)[row]);
-  if (const auto* n = std::get_if<std::vector<std::int64_t>>(&values))
-    return std::to_string((*n)[row]);
-  return io::CsvEscape(std::get<std::vector<std::string>>(values)[row]);
-}
-
-Column Column::Numbers(std::string name, std::string units, std::string description,
-                       std::vector<double> values) {
-  return Column{std::move(name), std::move(units), std::move(description), std::move(values)};
-}
-
-Column Column::Integers(std::string name, std::string units, std::string description,
-                        std::vector<std::int64_t> values) {
-  return Column{std::move(name), std::move(units), std::move(description), std::move(values)};
-}
-
-Column Column::Texts(std::string name, std::string description, std::vector<std::string> values) {
-  return Column{std::move(name), "", std::move(description), std::move(values)};
-}
-
-void Table::Validate() const {
-  if (name.empty() || name.front() == '/')
-    throw std::invalid_argument("table name \"" + name + "\" must be non-empty and relative");
-  std::set<std::string> seen;
-  for (const Column& c : columns) {
-    if (c.name.empty() || c.name.find('/') != std::string::npos)
-      throw std::invalid_argument("table \"" + name + "\": column name \"" + c.name +
-                                  "\" must be non-empty without '/'");
-    if (!seen.insert(c.name).second)
-      throw std::invalid_argument("table \"" + name + "\": column \"" + c.name + "\" repeats");
-    if (c.size() != columns.front().size())
-      throw std::invalid_argument("table \"" + name + "\": column \"" + c.name + "\" has " +
-                                  std::to_string(c.size()) + " rows, column \"" +
-                                  columns.front().name + "\" has " +
-                                  std::to_string(columns.front().size()));
-  }
-}
-
-const Column& Table::Get(const std::string& column) const {
-  for (const Column& c : columns)
-    if (c.name == column) return c;
-  throw std::out_of_range("table \"" + name + "\" has no column \"" + column + "\"");
 }
 
 // ------------------------------------------------------------------------------------------
@@ -446,101 +246,12 @@ std::vector<std::string> TrialGroupNames(const std::vector<pipeline::TrialAnalys
 
 Table ResultsTable(const std::vector<pipeline::TrialAnalysis>& trials) {
   const std::vector<std::string> groups = TrialGroupNames(trials);
-  std::vector<std::string> id, group, dir, specimen, surface, error, flags;
-  std::vector<std::int64_t> success;
-  std::map<std::string, std::vector<double>> num;
-  const auto put = [&](const char* key, double ok_value, bool measured) {
-    num[key].push_back(measured ? ok_value : kNaN);
-  };
-  for (std::size_t i = 0; i < trials.size(); ++i) {
-    const auto& r = trials[i];
-    const auto& k = r.impact;
-    const bool m = r.success && k.success;
-    id.push_back(r.spec.id);
-    group.push_back("/trials/" + groups[i]);
-    dir.push_back(r.spec.dir.string());
-    specimen.push_back(r.spec.specimen_id);
-    surface.push_back(r.spec.surface);
-    error.push_back(r.error);
-    flags.push_back(Join(r.flags, ";"));
-    success.push_back(r.success ? 1 : 0);
-    put("surface_angle_deg", r.spec.surface_angle_deg, true);
-    put("fps", r.spec.fps, true);
-    put("nominal_speed_m_s", r.spec.nominal_speed_m_s.value_or(kNaN), true);
-    put("impact_time_s", k.impact_time_s, m);
-    put("e", k.e, m);
-    put("e_se", k.e_se, m);
-    put("e_ci_low", k.e_ci_low, m);
-    put("e_ci_high", k.e_ci_high, m);
-    put("mu_eff", k.mu_eff, m);
-    put("mu_eff_se", k.mu_eff_se, m);
-    put("mu_eff_ci_low", k.mu_eff_ci_low, m);
-    put("mu_eff_ci_high", k.mu_eff_ci_high, m);
-    put("v_SC_before_x_m_s", k.v_SC_before.x(), m);
-    put("v_SC_before_y_m_s", k.v_SC_before.y(), m);
-    put("v_SC_after_x_m_s", k.v_SC_after.x(), m);
-    put("v_SC_after_y_m_s", k.v_SC_after.y(), m);
-    put("v_SC_before_se_x_m_s", k.v_SC_before_se.x(), m);
-    put("v_SC_before_se_y_m_s", k.v_SC_before_se.y(), m);
-    put("v_SC_after_se_x_m_s", k.v_SC_after_se.x(), m);
-    put("v_SC_after_se_y_m_s", k.v_SC_after_se.y(), m);
-    put("w_before_rad_s", k.w_before_rad_s, m);
-    put("w_after_rad_s", k.w_after_rad_s, m);
-    put("w_before_se_rad_s", k.w_before_se_rad_s, m);
-    put("w_after_se_rad_s", k.w_after_se_rad_s, m);
-    put("kinetic_energy_before_J", k.kinetic_energy_before_J, m);
-    put("kinetic_energy_after_J", k.kinetic_energy_after_J, m);
-    put("m_per_px_used", r.m_per_px_used, true);
-    put("m_per_px_from_markers", r.m_per_px_from_markers, r.m_per_px_from_markers != 0.0);
-    put("surface_angle_measured_deg", r.surface_angle_measured_deg.value_or(kNaN), true);
-    put("out_of_plane_change", r.out_of_plane_change, !r.poses.empty());
-  }
-  const std::string S = " (S: x along the surface, down-slope; y the outward normal)";
-  const auto N = [&](const char* key, const char* units, const std::string& description) {
-    return Column::Numbers(key, units, description, num[key]);
-  };
-  Table t{"results", "one row per trial, in study order; NaN where not measured", {}};
-  t.columns = {
-      Column::Texts("id", "trial id", id),
-      Column::Texts("group", "the trial's group in this file", group),
-      Column::Texts("dir", "trial folder", dir),
-      Column::Texts("specimen", "specimen id", specimen),
-      Column::Texts("surface", "surface name", surface),
-      N("surface_angle_deg", "deg", "surface angle (trial.json)"),
-      N("fps", "1/s", "frame rate"),
-      N("nominal_speed_m_s", "m/s", "nominal impact speed (NaN when not given)"),
-      Column::Integers("success", "", "1 when the impact was measured", success),
-      Column::Texts("error", "why the trial failed (empty on success)", error),
-      N("impact_time_s", "s", "impact time since frame 0"),
-      N("e", "1", "normal coefficient of restitution"),
-      N("e_se", "1", "standard error of e"),
-      N("e_ci_low", "1", "lower end of the confidence interval of e"),
-      N("e_ci_high", "1", "upper end of the confidence interval of e"),
-      N("mu_eff", "1", "effective friction coefficient"),
-      N("mu_eff_se", "1", "standard error of mu_eff"),
-      N("mu_eff_ci_low", "1", "lower end of the confidence interval of mu_eff"),
-      N("mu_eff_ci_high", "1", "upper end of the confidence interval of mu_eff"),
-      N("v_SC_before_x_m_s", "m/s", "velocity of C before, along the surface" + S),
-      N("v_SC_before_y_m_s", "m/s", "velocity of C before, normal" + S),
-      N("v_SC_after_x_m_s", "m/s", "velocity of C after, along the surface" + S),
-      N("v_SC_after_y_m_s", "m/s", "velocity of C after, normal" + S),
-      N("v_SC_before_se_x_m_s", "m/s", "standard error of v_SC_before_x_m_s"),
-      N("v_SC_before_se_y_m_s", "m/s", "standard error of v_SC_before_y_m_s"),
-      N("v_SC_after_se_x_m_s", "m/s", "standard error of v_SC_after_x_m_s"),
-      N("v_SC_after_se_y_m_s", "m/s", "standard error of v_SC_after_y_m_s"),
-      N("w_before_rad_s", "rad/s", "angular velocity before"),
-      N("w_after_rad_s", "rad/s", "angular velocity after"),
-      N("w_before_se_rad_s", "rad/s", "standard error of w_before_rad_s"),
-      N("w_after_se_rad_s", "rad/s", "standard error of w_after_rad_s"),
-      N("kinetic_energy_before_J", "J", "kinetic energy before"),
-      N("kinetic_energy_after_J", "J", "kinetic energy after"),
-      N("m_per_px_used", "m/px", "scale the analysis used"),
-      N("m_per_px_from_markers", "m/px", "scale from the marker spacing (NaN when not measured)"),
-      N("surface_angle_measured_deg", "deg", "surface angle measured (NaN when not measured)"),
-      N("out_of_plane_change", "1", "range of the projected marker distance ratio"),
-      Column::Texts("flags", "flags joined with ';'", flags),
-  };
-  return t;
+  std::vector<TrialResult> rows;
+  for (std::size_t i = 0; i < trials.size(); ++i)
+    rows.push_back(ResultOf(trials[i], "/trials/" + groups[i]));
+  return TableWriter::Of("results", "one row per trial, in study order; NaN where not measured",
+                         rows,
+                         [](auto& a, const TrialResult& r) { internal::SerializeResult(a, r); });
 }
 
 void WriteStudyFile(const std::filesystem::path& path, const StudyInfo& info,
@@ -563,264 +274,6 @@ void WriteStudyFile(const std::filesystem::path& path, const StudyInfo& info,
         WriteTable(root, results);
         file.flush(H5F_SCOPE_GLOBAL);
       });
-}
-
-void WriteTables(const std::filesystem::path& path, const std::string& group,
-                 const std::string& description, const std::vector<Table>& tables,
-                 const std::function<void(std::size_t)>& after_table,
-                 const std::vector<std::pair<std::string, std::string>>& soft_links) {
-  if (group.size() < 2 || group.front() != '/')
-    throw std::invalid_argument("group \"" + group + "\" must be an absolute path below /");
-  for (const Table& t : tables) t.Validate();
-  if (!std::filesystem::is_regular_file(path))
-    throw std::runtime_error(path.string() + ": no such study file");
-  AtomicHdf5(
-      path,
-      [&](const std::filesystem::path& tmp) {
-        std::error_code ec;
-        std::filesystem::copy_file(path, tmp, ec);
-        if (ec)
-          throw std::runtime_error("cannot copy " + path.string() + " to " + tmp.string() + ": " +
-                                   ec.message());
-      },
-      [&](const std::filesystem::path& tmp) {
-        H5::H5File file(tmp.string(), H5F_ACC_RDWR);
-        const H5::Group root = file.openGroup("/");
-        if (h5::GetAttrText(root, "format", path.string()) != kStudyFileFormat)
-          throw std::runtime_error(path.string() + " is not a hoofimpact study file");
-        if (h5::PathExists(root, group)) root.unlink(group);
-        const H5::Group g = h5::MakeGroup(root, group, description);
-        for (std::size_t i = 0; i < tables.size(); ++i) {
-          WriteTable(g, tables[i]);
-          if (after_table) after_table(i);
-        }
-        for (const auto& [link, target] : soft_links) {
-          if (h5::PathExists(root, link)) root.unlink(link);
-          if (H5Lcreate_soft(target.c_str(), root.getId(), link.c_str(), H5P_DEFAULT, H5P_DEFAULT) <
-              0)
-            throw std::runtime_error(path.string() + ": cannot link " + link + " to " + target);
-        }
-        file.flush(H5F_SCOPE_GLOBAL);
-      });
-}
-
-// ------------------------------------------------------------------------------------------
-// Reading
-// ------------------------------------------------------------------------------------------
-
-Table ReadTable(const std::filesystem::path& path, const std::string& table_path) {
-  H5::Exception::dontPrint();
-  if (!std::filesystem::is_regular_file(path))
-    throw std::runtime_error(path.string() + ": no such file");
-  const std::string where = path.string() + ":" + table_path;
-  try {
-    const H5::H5File file(path.string(), H5F_ACC_RDONLY);
-    if (!h5::PathExists(file.openGroup("/"), table_path))
-      throw std::runtime_error(where + " does not exist");
-    const H5::Group g = file.openGroup(table_path);
-    Table t;
-    t.name = table_path.substr(table_path.find_first_not_of('/'));
-    t.description = g.attrExists("description") ? h5::GetAttrText(g, "description", where) : "";
-    for (const std::string& c : h5::GetAttrTexts(g, "columns", where))
-      t.columns.push_back(ReadColumn(g, c, where));
-    t.Validate();
-    return t;
-  } catch (const H5::Exception& e) {
-    RethrowHdf5(e, path);
-  } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(where + ": " + e.what());
-  }
-}
-
-StudyResults ReadStudyResults(const std::filesystem::path& path) {
-  H5::Exception::dontPrint();
-  if (!std::filesystem::is_regular_file(path))
-    throw std::runtime_error(path.string() + ": no such file");
-  StudyResults out;
-  std::vector<std::string> group;
-  try {
-    const H5::H5File file(path.string(), H5F_ACC_RDONLY);
-    const H5::Group root = file.openGroup("/");
-    CheckFormat(root, path);
-    out.name = h5::GetAttrText(root, "name", path.string());
-    out.study_dir = h5::GetAttrText(root, "study_dir", path.string());
-    out.hoofimpact_version = h5::GetAttrText(root, "hoofimpact_version", path.string());
-    out.created_utc = h5::GetAttrText(root, "created_utc", path.string());
-  } catch (const H5::Exception& e) {
-    RethrowHdf5(e, path);
-  }
-  const Table t = ReadTable(path, "/results");
-  const std::size_t n = t.columns.empty() ? 0 : t.columns[0].size();
-  const auto texts = [&](const char* c) { return CheckedStrings(t, c); };
-  const auto nums = [&](const char* c) { return CheckedNumbers(t, c); };
-  try {
-    const auto id = texts("id"), grp = texts("group"), dir = texts("dir"), sp = texts("specimen"),
-               surface = texts("surface"), error = texts("error");
-    const auto success = nums("success");
-    std::map<std::string, std::vector<double>> v;
-    for (const char* c : {"surface_angle_deg",
-                          "fps",
-                          "nominal_speed_m_s",
-                          "impact_time_s",
-                          "e",
-                          "e_se",
-                          "e_ci_low",
-                          "e_ci_high",
-                          "mu_eff",
-                          "mu_eff_se",
-                          "mu_eff_ci_low",
-                          "mu_eff_ci_high",
-                          "v_SC_before_x_m_s",
-                          "v_SC_before_y_m_s",
-                          "v_SC_after_x_m_s",
-                          "v_SC_after_y_m_s",
-                          "v_SC_before_se_x_m_s",
-                          "v_SC_before_se_y_m_s",
-                          "v_SC_after_se_x_m_s",
-                          "v_SC_after_se_y_m_s",
-                          "w_before_rad_s",
-                          "w_after_rad_s",
-                          "w_before_se_rad_s",
-                          "w_after_se_rad_s",
-                          "kinetic_energy_before_J",
-                          "kinetic_energy_after_J",
-                          "m_per_px_used",
-                          "m_per_px_from_markers",
-                          "surface_angle_measured_deg",
-                          "out_of_plane_change"})
-      v[c] = nums(c);
-    for (std::size_t i = 0; i < n; ++i) {
-      TrialResult r;
-      r.id = id[i];
-      r.group = grp[i];
-      r.dir = dir[i];
-      r.specimen = sp[i];
-      r.surface = surface[i];
-      r.success = success[i] != 0;
-      r.error = error[i];
-      r.surface_angle_deg = v["surface_angle_deg"][i];
-      r.fps = v["fps"][i];
-      r.nominal_speed_m_s = v["nominal_speed_m_s"][i];
-      r.impact_time_s = v["impact_time_s"][i];
-      r.e = v["e"][i];
-      r.e_se = v["e_se"][i];
-      r.e_ci_low = v["e_ci_low"][i];
-      r.e_ci_high = v["e_ci_high"][i];
-      r.mu_eff = v["mu_eff"][i];
-      r.mu_eff_se = v["mu_eff_se"][i];
-      r.mu_eff_ci_low = v["mu_eff_ci_low"][i];
-      r.mu_eff_ci_high = v["mu_eff_ci_high"][i];
-      r.v_SC_before_m_s = {v["v_SC_before_x_m_s"][i], v["v_SC_before_y_m_s"][i]};
-      r.v_SC_after_m_s = {v["v_SC_after_x_m_s"][i], v["v_SC_after_y_m_s"][i]};
-      r.v_SC_before_se_m_s = {v["v_SC_before_se_x_m_s"][i], v["v_SC_before_se_y_m_s"][i]};
-      r.v_SC_after_se_m_s = {v["v_SC_after_se_x_m_s"][i], v["v_SC_after_se_y_m_s"][i]};
-      r.w_before_rad_s = v["w_before_rad_s"][i];
-      r.w_after_rad_s = v["w_after_rad_s"][i];
-      r.w_before_se_rad_s = v["w_before_se_rad_s"][i];
-      r.w_after_se_rad_s = v["w_after_se_rad_s"][i];
-      r.kinetic_energy_before_J = v["kinetic_energy_before_J"][i];
-      r.kinetic_energy_after_J = v["kinetic_energy_after_J"][i];
-      r.m_per_px_used = v["m_per_px_used"][i];
-      r.m_per_px_from_markers = v["m_per_px_from_markers"][i];
-      r.surface_angle_measured_deg = v["surface_angle_measured_deg"][i];
-      r.out_of_plane_change = v["out_of_plane_change"][i];
-      out.trials.push_back(std::move(r));
-    }
-  } catch (const std::out_of_range& e) {
-    throw std::runtime_error(path.string() + ": " + e.what());
-  }
-  try {
-    const H5::H5File file(path.string(), H5F_ACC_RDONLY);
-    for (TrialResult& r : out.trials) {
-      const std::string where = path.string() + ":" + r.group;
-      if (!h5::PathExists(file.openGroup("/"), r.group))
-        throw std::runtime_error(where + " does not exist");
-      const H5::Group g = file.openGroup(r.group);
-      r.flags = h5::ReadTexts(g.openDataSet("flags"), where + "/flags");
-      r.warnings = h5::ReadTexts(g.openDataSet("warnings"), where + "/warnings");
-    }
-  } catch (const H5::Exception& e) {
-    RethrowHdf5(e, path);
-  }
-  return out;
-}
-
-kinematics::KinematicsOptions ReadKinematicsOptions(const std::filesystem::path& path) {
-  H5::Exception::dontPrint();
-  if (!std::filesystem::is_regular_file(path))
-    throw std::runtime_error(path.string() + ": no such file");
-  kinematics::KinematicsOptions k;
-  try {
-    const H5::H5File file(path.string(), H5F_ACC_RDONLY);
-    const H5::Group root_group = file.openGroup("/");
-    CheckFormat(root_group, path);
-    const GroupReader g =
-        GroupReader(root_group, path.string() + ":").Group("study").Group("analysis_options");
-    internal::Serialize(internal::H5Reader(g), k);
-  } catch (const H5::Exception& e) {
-    RethrowHdf5(e, path);
-  }
-  try {
-    k.Validate();
-  } catch (const std::exception& e) {
-    throw std::runtime_error(path.string() + ":/study/analysis_options: " + e.what());
-  }
-  return k;
-}
-
-std::vector<pipeline::TrialAnalysis> ReadTrialAnalyses(const std::filesystem::path& path) {
-  H5::Exception::dontPrint();
-  if (!std::filesystem::is_regular_file(path))
-    throw std::runtime_error(path.string() + ": no such file");
-  try {
-    const H5::H5File file(path.string(), H5F_ACC_RDONLY);
-    CheckFormat(file.openGroup("/"), path);
-  } catch (const H5::Exception& e) {
-    RethrowHdf5(e, path);
-  }
-  const Table results = ReadTable(path, "/results");
-  std::vector<std::string> ids, groups;
-  try {
-    ids = CheckedStrings(results, "id");
-    groups = CheckedStrings(results, "group");
-  } catch (const std::exception& e) {
-    throw std::runtime_error(path.string() + ": " + e.what());
-  }
-  std::vector<pipeline::TrialAnalysis> out;
-  try {
-    const H5::H5File file(path.string(), H5F_ACC_RDONLY);
-    const H5::Group root_group = file.openGroup("/");
-    const GroupReader root(root_group, path.string() + ":");
-    std::map<std::string, pipeline::SpecimenSpec> specimens;  // read once each
-    for (std::size_t i = 0; i < groups.size(); ++i) {
-      const std::string where = path.string() + ":" + groups[i];
-      if (groups[i].size() < 2 || groups[i].front() != '/')
-        throw std::runtime_error(path.string() + ":/results/group row " + std::to_string(i) +
-                                 " is \"" + groups[i] + "\", not a group path");
-      if (!h5::PathExists(root_group, groups[i]))
-        throw std::runtime_error(where + " does not exist");
-      if (root_group.childObjType(groups[i]) != H5O_TYPE_GROUP)
-        throw std::runtime_error(where + " is not a group");
-      pipeline::TrialAnalysis r = ReadTrialGroup(GroupReader(file.openGroup(groups[i]), where));
-      if (r.spec.id != ids[i])
-        throw std::runtime_error(where + "/metadata/id is \"" + r.spec.id +
-                                 "\", /results/id says \"" + ids[i] + "\"");
-      if (!r.spec.specimen_id.empty()) {
-        auto it = specimens.find(r.spec.specimen_id);
-        if (it == specimens.end()) {
-          const GroupReader g = root.Group("study").Group("specimens").Group(r.spec.specimen_id);
-          pipeline::SpecimenSpec specimen;
-          internal::Serialize(internal::H5Reader(g), specimen);
-          it = specimens.emplace(r.spec.specimen_id, std::move(specimen)).first;
-        }
-        r.spec.specimen = it->second;
-      }
-      out.push_back(std::move(r));
-    }
-  } catch (const H5::Exception& e) {
-    RethrowHdf5(e, path);
-  }
-  return out;
 }
 
 // ------------------------------------------------------------------------------------------

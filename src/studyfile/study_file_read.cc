@@ -1,0 +1,234 @@
+// Reading a study file back: ReadStudyResults, ReadTrialAnalyses, ReadKinematicsOptions
+// (studyfile/study_file.h).
+#include "studyfile/study_file.h"
+
+#include <H5Cpp.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <ctime>
+#include <limits>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <system_error>
+#include <utility>
+
+#include "core/frames.h"
+#include "io/atomic_file.h"
+#include "io/csv.h"
+#include "io/interrupt.h"
+#include "studyfile/file_util.h"
+#include "studyfile/hdf5_util.h"
+#include "studyfile/schema.h"
+#include "studyfile/table_archive.h"
+
+namespace hoof::studyfile {
+namespace {
+
+using core::kNaN;
+using internal::AtomicHdf5;
+using internal::CheckedStrings;
+using internal::CheckFormat;
+using internal::GroupReader;
+using internal::Join;
+using internal::RethrowHdf5;
+using internal::ShapeText;
+
+// ------------------------------------------------------------------------------------------
+// Reading trials back
+// ------------------------------------------------------------------------------------------
+
+tracking::MarkerTracks ReadTracks(const GroupReader& g) {
+  tracking::MarkerTracks t;
+  t.names = g.TextList("marker_names");
+  const hsize_t F = g.Length("t_s"), M = t.names.size();
+  const std::vector<double> p = g.Doubles("p_I_px", {F, M, 2});
+  const std::vector<std::int64_t> found = g.Integers("found", {F, M});
+  const std::vector<std::string> status = g.Texts("status", {F, M});
+  const std::vector<double> quality = g.Doubles("quality", {F, M});
+  const std::vector<double> radius = g.Doubles("radius_px", {F, M});
+  t.frames.assign(F, std::vector<tracking::MarkerObservation>(M));
+  for (std::size_t f = 0; f < F; ++f) {
+    for (std::size_t m = 0; m < M; ++m) {
+      const std::size_t i = f * M + m;
+      tracking::MarkerObservation& o = t.frames[f][m];
+      o.found = found[i] != 0;
+      o.status = status[i];
+      o.quality = quality[i];
+      if (o.found) {  // the file holds no centre or radius for a marker not found
+        o.p_I = {p[2 * i], p[2 * i + 1]};
+        o.radius_px = radius[i];
+      }
+    }
+  }
+  t.warnings = g.TextList("warnings");
+  return t;
+}
+
+void ReadPoses(const GroupReader& g, pipeline::TrialAnalysis& r) {
+  const hsize_t F = g.Length("t_s");
+  const std::vector<std::int64_t> valid = g.Integers("valid", {F});
+  const std::vector<double> p = g.Doubles("p_WE_m", {F, 2});
+  const std::vector<double> theta = g.Doubles("theta_W_rad", {F});
+  const std::vector<double> rms = g.Doubles("rms_residual_m", {F});
+  const std::vector<std::int64_t> used = g.Integers("markers_used", {F});
+  const std::vector<double> distance = g.Doubles("marker_distance_m", {F});
+  r.marker_distance_ratio = g.Doubles("marker_distance_ratio", {F});
+  r.poses.assign(F, tracking::BodyPose{});
+  for (std::size_t f = 0; f < F; ++f) {
+    tracking::BodyPose& q = r.poses[f];
+    q.valid = valid[f] != 0;
+    q.markers_used = static_cast<int>(used[f]);
+    if (q.valid) {  // an invalid pose's numbers are NaN in the file
+      q.p_WE = {p[2 * f], p[2 * f + 1]};
+      q.theta_W_rad = theta[f];
+      q.rms_residual_m = rms[f];
+      q.marker_distance_m = std::isnan(distance[f]) ? 0.0 : distance[f];
+    }
+  }
+  r.out_of_plane_change = g.Scalar("out_of_plane_change");
+  r.out_of_plane_noise = g.Scalar("out_of_plane_noise");
+}
+
+/// One `/trials/<id>` group; the specimen is filled in by the caller.
+pipeline::TrialAnalysis ReadTrialGroup(const GroupReader& g) {
+  pipeline::TrialAnalysis r;
+  internal::SerializeOutcome(internal::H5Reader(g), r);
+  internal::SerializeMetadata(internal::H5Reader(g.Group("metadata")), r);
+  r.tracks = ReadTracks(g.Group("tracks"));
+  ReadPoses(g.Group("poses"), r);
+  r.impact.message = g.Text("impact_message");
+  if (g.Has("results")) {  // written only when the impact was measured, with the fits
+    r.impact.success = true;
+    const GroupReader fits = g.Group("fits");
+    internal::Serialize(internal::H5Reader(fits.Group("before")), r.impact.before);
+    internal::Serialize(internal::H5Reader(fits.Group("after")), r.impact.after);
+    internal::Serialize(internal::H5Reader(g.Group("results")), r.impact);
+  }
+  return r;
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------------------------------
+// Reading
+// ------------------------------------------------------------------------------------------
+
+StudyResults ReadStudyResults(const std::filesystem::path& path) {
+  H5::Exception::dontPrint();
+  if (!std::filesystem::is_regular_file(path))
+    throw std::runtime_error(path.string() + ": no such file");
+  StudyResults out;
+  std::vector<std::string> group;
+  try {
+    const H5::H5File file(path.string(), H5F_ACC_RDONLY);
+    const H5::Group root = file.openGroup("/");
+    CheckFormat(root, path);
+    out.name = h5::GetAttrText(root, "name", path.string());
+    out.study_dir = h5::GetAttrText(root, "study_dir", path.string());
+    out.hoofimpact_version = h5::GetAttrText(root, "hoofimpact_version", path.string());
+    out.created_utc = h5::GetAttrText(root, "created_utc", path.string());
+  } catch (const H5::Exception& e) {
+    RethrowHdf5(e, path);
+  }
+  out.trials = TableReader::Read<TrialResult>(
+      ReadTable(path, "/results"), path.string() + ": table /results",
+      [](auto& a, TrialResult& r) { internal::SerializeResult(a, r); });
+  try {
+    const H5::H5File file(path.string(), H5F_ACC_RDONLY);
+    for (TrialResult& r : out.trials) {
+      const std::string where = path.string() + ":" + r.group;
+      if (!h5::PathExists(file.openGroup("/"), r.group))
+        throw std::runtime_error(where + " does not exist");
+      const H5::Group g = file.openGroup(r.group);
+      r.flags = h5::ReadTexts(g.openDataSet("flags"), where + "/flags");
+      r.warnings = h5::ReadTexts(g.openDataSet("warnings"), where + "/warnings");
+    }
+  } catch (const H5::Exception& e) {
+    RethrowHdf5(e, path);
+  }
+  return out;
+}
+
+kinematics::KinematicsOptions ReadKinematicsOptions(const std::filesystem::path& path) {
+  H5::Exception::dontPrint();
+  if (!std::filesystem::is_regular_file(path))
+    throw std::runtime_error(path.string() + ": no such file");
+  kinematics::KinematicsOptions k;
+  try {
+    const H5::H5File file(path.string(), H5F_ACC_RDONLY);
+    const H5::Group root_group = file.openGroup("/");
+    CheckFormat(root_group, path);
+    const GroupReader g =
+        GroupReader(root_group, path.string() + ":").Group("study").Group("analysis_options");
+    internal::Serialize(internal::H5Reader(g), k);
+  } catch (const H5::Exception& e) {
+    RethrowHdf5(e, path);
+  }
+  try {
+    k.Validate();
+  } catch (const std::exception& e) {
+    throw std::runtime_error(path.string() + ":/study/analysis_options: " + e.what());
+  }
+  return k;
+}
+
+std::vector<pipeline::TrialAnalysis> ReadTrialAnalyses(const std::filesystem::path& path) {
+  H5::Exception::dontPrint();
+  if (!std::filesystem::is_regular_file(path))
+    throw std::runtime_error(path.string() + ": no such file");
+  try {
+    const H5::H5File file(path.string(), H5F_ACC_RDONLY);
+    CheckFormat(file.openGroup("/"), path);
+  } catch (const H5::Exception& e) {
+    RethrowHdf5(e, path);
+  }
+  const Table results = ReadTable(path, "/results");
+  std::vector<std::string> ids, groups;
+  try {
+    ids = CheckedStrings(results, "id");
+    groups = CheckedStrings(results, "group");
+  } catch (const std::exception& e) {
+    throw std::runtime_error(path.string() + ": " + e.what());
+  }
+  std::vector<pipeline::TrialAnalysis> out;
+  try {
+    const H5::H5File file(path.string(), H5F_ACC_RDONLY);
+    const H5::Group root_group = file.openGroup("/");
+    const GroupReader root(root_group, path.string() + ":");
+    std::map<std::string, pipeline::SpecimenSpec> specimens;  // read once each
+    for (std::size_t i = 0; i < groups.size(); ++i) {
+      const std::string where = path.string() + ":" + groups[i];
+      if (groups[i].size() < 2 || groups[i].front() != '/')
+        throw std::runtime_error(path.string() + ":/results/group row " + std::to_string(i) +
+                                 " is \"" + groups[i] + "\", not a group path");
+      if (!h5::PathExists(root_group, groups[i]))
+        throw std::runtime_error(where + " does not exist");
+      if (root_group.childObjType(groups[i]) != H5O_TYPE_GROUP)
+        throw std::runtime_error(where + " is not a group");
+      pipeline::TrialAnalysis r = ReadTrialGroup(GroupReader(file.openGroup(groups[i]), where));
+      if (r.spec.id != ids[i])
+        throw std::runtime_error(where + "/metadata/id is \"" + r.spec.id +
+                                 "\", /results/id says \"" + ids[i] + "\"");
+      if (!r.spec.specimen_id.empty()) {
+        auto it = specimens.find(r.spec.specimen_id);
+        if (it == specimens.end()) {
+          const GroupReader g = root.Group("study").Group("specimens").Group(r.spec.specimen_id);
+          pipeline::SpecimenSpec specimen;
+          internal::Serialize(internal::H5Reader(g), specimen);
+          it = specimens.emplace(r.spec.specimen_id, std::move(specimen)).first;
+        }
+        r.spec.specimen = it->second;
+      }
+      out.push_back(std::move(r));
+    }
+  } catch (const H5::Exception& e) {
+    RethrowHdf5(e, path);
+  }
+  return out;
+}
+
+}  // namespace hoof::studyfile
