@@ -1,8 +1,9 @@
 #pragma once
 /// @file
-/// Small helpers over the HDF5 C++ API used by study_file.cc (internal to hoof::study_file):
-/// datasets that always carry `units` and `description` attributes, variable-length UTF-8
-/// text, and readers that name the dataset when it is missing or has the wrong shape.
+/// Small helpers over the HDF5 C++ API used by the study file's translation units (internal to
+/// hoof::study_file): datasets that always carry `units` and `description` attributes,
+/// variable-length UTF-8 text, and readers that name the dataset when it is missing or has the
+/// wrong shape.
 
 #include <H5Cpp.h>
 

@@ -6,7 +6,8 @@
 /// `T` is the struct, const when writing.
 ///
 /// The tracks and poses of a trial are per-frame arrays, transposed into one dataset per field
-/// with NaN for what a frame did not measure; study_file.cc writes and reads those.
+/// with NaN for what a frame did not measure; study_file.cc writes those and study_file_read.cc
+/// reads them.
 #include <type_traits>
 
 #include "kinematics/impact_kinematics.h"
