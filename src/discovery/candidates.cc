@@ -1,7 +1,7 @@
-// One round of the discovery workflow (docs/discovery.md, "Candidates and the decision"): every
-// candidate of the library fitted against the current model, shared or per surface, tested by
-// its likelihood ratio under the noise model, cross-validated, probed for identifiability, and
-// judged; the strongest significant one is added.
+// One candidate of a round of the discovery workflow (docs/discovery.md, "Candidates and the
+// decision"): fitted against the current model, shared or per surface, tested by its likelihood
+// ratio under the noise model, cross-validated, probed for identifiability, and judged. The
+// round's choice among them is in round.cc.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -12,30 +12,12 @@
 
 #include <boost/math/distributions/normal.hpp>
 
+#include "discovery/evaluation.h"
 #include "discovery/internal.h"
 #include "stats/distributions.h"
 
 namespace hoof::discovery::internal {
 namespace {
-
-/// One candidate's evaluation: its result row and what adding it would take.
-struct Evaluation {
-  CandidateResult c;
-  Fit fit;
-  TiltFit tilt;
-  CrossValidation cv;
-  std::vector<std::string> free;
-  // A rotation rate: the motion with it, the trials re-measured with it, and the contact
-  // model's held-out velocities on them.
-  pipeline::OutOfPlaneMotion motion;
-  std::shared_ptr<const std::vector<pipeline::TrialAnalysis>> remeasured;
-  std::shared_ptr<Workspace> remeasured_ws;
-  CrossValidation velocity_cv;
-  // Another optimum of the candidate's fit that fits nearly as well, in words (empty if none).
-  std::string other_optimum;
-  // The starts of its profile of sizes, where this round profiled it.
-  std::vector<double> profile_starts;
-};
 
 std::string Moved(const Workspace& ws, const Fit& probe, const Fit& current) {
   bool zeta = false, mu = false;
@@ -48,14 +30,6 @@ std::string Moved(const Workspace& ws, const Fit& probe, const Fit& current) {
   if (mu) return "a changed mu";
   return "the baseline";
 }
-
-int UsedResiduals(const Workspace& ws) {
-  int n = 0;
-  for (const Obs& o : ws.obs) n += o.Dim();
-  return n;
-}
-
-double Aic(const CandidateResult& c) { return -c.lr_statistic + 2 * c.df; }
 
 /// p of a Wald test that the values (each with its s.e.) are equal: the chi-square of their
 /// departures from the weighted mean, with one dof fewer than values with an s.e.
@@ -91,26 +65,10 @@ std::vector<EffectValue> EffectValues(const Workspace& ws, const Fit& f, const s
 
 namespace {
 
-/// What every candidate of a round is judged against.
-struct RoundContext {
-  const Workspace& ws;
-  const RoundState& state;
-  const std::vector<Eigen::Vector3d>& residual_current;
-  const std::vector<Sensitivity>& sens;
-  const std::vector<TrialCovariance>& ref;
-  const DiscoveryOptions& options;
-  std::vector<int> all;
-  std::vector<std::string> free_current;  // the contact effects in the current model
-  CandidateProbes probes;
-  double level = 0.0;  // the naming level
-  CrossValidation cv_current, cv_tilt_current;
-  int n_ratio = 0;     // trials with a marker distance
-  double n_res = 0.0;  // residual components used
-  double chi95 = 0.0;  // 95 % point of chi-square with 1 dof
-};
-
 /// An effect (of any kind) was added in an earlier round.
 bool LaterRound(const RoundContext& x) { return !x.state.accepted.empty(); }
+
+}  // namespace
 
 /// A rotation rate (out_of_plane.cc), with the held-out gap of the velocities it would bring.
 Evaluation EvaluateRate(const RoundContext& x, const std::string& key) {
@@ -169,6 +127,8 @@ Evaluation EvaluateTilt(const RoundContext& x, const std::string& key) {
   }
   return ev;
 }
+
+namespace {
 
 /// mu at the second start of a friction-limited effect, over the surface's largest measured
 /// mu_eff: above every trial's need to stick, and low enough that the effect's slip reaches it.
@@ -382,6 +342,8 @@ void ChooseForm(const RoundContext& x, const std::string& key, const std::vector
   }
 }
 
+}  // namespace
+
 /// A contact effect: probed for identifiability, fitted (shared, then per surface), tested by
 /// its likelihood ratio, cross-validated, and checked to stand clear of 0.
 Evaluation EvaluateContact(const RoundContext& x, const std::string& key) {
@@ -531,254 +493,10 @@ void ExplainNotSignificant(const RoundContext& x, CandidateResult& c) {
   c.reason = why.str();
 }
 
-/// The winner: a significant rotation rate first (it changes the velocities that every
-/// contact effect is judged on), of lowest AIC; else the significant contact effect of lowest
-/// AIC; the constant tilt only when neither is significant (it is judged on other data, and
-/// tried again next round). Null when nothing is significant.
-Evaluation* ChooseWinner(std::vector<Evaluation>& evals) {
-  Evaluation* best = nullptr;
-  for (auto& ev : evals)
-    if (ev.c.significant && IsRotationRate(ev.c.key) && (!best || Aic(ev.c) < Aic(best->c)))
-      best = &ev;
-  if (!best)
-    for (auto& ev : evals)
-      if (ev.c.significant && !ev.c.measurement_effect && (!best || Aic(ev.c) < Aic(best->c)))
-        best = &ev;
-  if (!best)
-    for (auto& ev : evals)
-      if (ev.c.significant) best = &ev;
-  return best;
-}
-
-/// The added candidate's reason, and why every other significant one was not added; the keys of
-/// those indistinguishable from it.
-std::vector<std::string> ExplainAgainstWinner(const RoundContext& x, Evaluation& best,
-                                              std::vector<Evaluation>& evals) {
-  std::vector<std::string> alike;
-  best.c.outcome = CandidateOutcome::kAdded;
-  std::ostringstream why;
-  why << "likelihood-ratio p = " << FmtP(best.c.p_value) << " below the naming level "
-      << FmtP(x.level) << ", " << HeldOutText(best.c);
-  best.c.reason = why.str();
-  for (auto& ev : evals) {
-    if (&ev == &best || !ev.c.significant) continue;
-    const double d_aic = Aic(ev.c) - Aic(best.c);
-    std::ostringstream w;
-    if (ev.c.measurement_effect == best.c.measurement_effect &&
-        IsRotationRate(ev.c.key) == IsRotationRate(best.c.key) && d_aic < x.chi95) {
-      ev.c.outcome = CandidateOutcome::kIndistinguishable;
-      w << "significant (p = " << FmtP(ev.c.p_value) << "), and fits as well as " << best.c.name
-        << " (AIC within " << Fmt(d_aic) << "): the two cannot be told apart with these data";
-      alike.push_back(ev.c.key);
-    } else {
-      ev.c.outcome = CandidateOutcome::kWeakerThanAdded;
-      w << "significant (p = " << FmtP(ev.c.p_value) << "), but " << best.c.name;
-      if (IsRotationRate(best.c.key) && !IsRotationRate(ev.c.key))
-        w << " was added first (a rotation rate goes first: it changes the velocities the "
-             "contact effects are "
-             "judged on)";
-      else if (ev.c.measurement_effect != best.c.measurement_effect)
-        w << " was added first (a contact effect goes before the measurement effect)";
-      else
-        w << " explains the data better (AIC lower by " << Fmt(d_aic) << ")";
-      w << "; it is tried again against the model with it";
-    }
-    ev.c.reason = w.str();
-  }
-  return alike;
-}
-
-/// Rank: the added first, then by the strength of the evidence.
-void Rank(std::vector<Evaluation>& evals) {
-  auto klass = [](const CandidateResult& c) {
-    switch (c.outcome) {
-      case CandidateOutcome::kAdded:
-        return 0;
-      case CandidateOutcome::kIndistinguishable:
-        return 1;
-      case CandidateOutcome::kWeakerThanAdded:
-        return 2;
-      default:
-        return 3;
-    }
-  };
-  std::stable_sort(evals.begin(), evals.end(), [&](const Evaluation& a, const Evaluation& b) {
-    if (klass(a.c) != klass(b.c)) return klass(a.c) < klass(b.c);
-    if (a.c.fitted != b.c.fitted) return a.c.fitted;
-    // A candidate not evaluated has no p (NaN): last, and a strict weak order all the same.
-    auto p = [](const CandidateResult& c) { return std::isnan(c.p_value) ? 2.0 : c.p_value; };
-    return p(a.c) < p(b.c);
-  });
-  for (std::size_t i = 0; i < evals.size(); ++i) evals[i].c.rank = static_cast<int>(i) + 1;
-}
-
-/// The round's decision when nothing was added.
-std::string NothingAdded(const std::vector<Evaluation>& evals, double level) {
-  bool worse = false, small = false;
-  for (const auto& ev : evals) {
-    worse |= ev.c.outcome == CandidateOutcome::kWorseHeldOut;
-    small |= ev.c.outcome == CandidateOutcome::kBelowResolution;
-  }
-  std::string d =
-      "Nothing added: no candidate improves the fit significantly under the noise model (naming "
-      "level " +
-      FmtP(level) + ")";
-  if (worse) d += ", or one that does fails to predict held-out trials better";
-  if (small) d += "; a significant out-of-plane tilt is below the measurement's resolution";
-  return d + ".";
-}
-
-/// The gap on held-out trials before and after the added effect (of the velocities, as
-/// measured and as re-measured, for a rotation rate): per trial, and its root mean square.
-void HeldOutGap(const RoundContext& x, const Evaluation& winner, Round& rd) {
-  const CandidateResult& w = winner.c;
-  const bool rate = IsRotationRate(w.key);
-  const CrossValidation& before = w.measurement_effect && !rate ? x.cv_tilt_current : x.cv_current;
-  const CrossValidation& after = rate ? winner.velocity_cv : winner.cv;
-  double sb = 0, sa = 0;
+int UsedResiduals(const Workspace& ws) {
   int n = 0;
-  for (std::size_t i = 0;
-       i < x.ws.obs.size() && i < before.residual.size() && i < after.residual.size(); ++i) {
-    const Obs& o = x.ws.obs[i];
-    if (!std::isfinite(Rms(before.residual[i])) || !std::isfinite(Rms(after.residual[i]))) continue;
-    GapTrial g;
-    g.id = o.trial->spec.id;
-    g.surface = x.ws.surfaces[static_cast<std::size_t>(o.surface)];
-    g.angle_deg = o.angle_deg;
-    g.speed_m_s = o.speed_m_s;
-    g.fold = o.fold;
-    g.residual_before = before.residual[i];
-    g.residual_after = after.residual[i];
-    g.gap_before = Rms(g.residual_before);
-    g.gap_after = Rms(g.residual_after);
-    for (int c = 0; c < kComponents; ++c)
-      if (std::isfinite(g.residual_before[c]) && std::isfinite(g.residual_after[c]))
-        sb += g.residual_before[c] * g.residual_before[c],
-            sa += g.residual_after[c] * g.residual_after[c], ++n;
-    rd.gap.push_back(g);
-  }
-  rd.gap_before = n ? std::sqrt(sb / n) : kNaN;
-  rd.gap_after = n ? std::sqrt(sa / n) : kNaN;
-  rd.gap_shrink = rd.gap_before > 0 ? 1 - rd.gap_after / rd.gap_before : kNaN;
-}
-
-/// The round's decision when `w` was added.
-std::string AddedText(const CandidateResult& w, const Round& rd,
-                      const std::vector<std::string>& alike) {
-  std::ostringstream d;
-  d << "Added " << w.name;
-  if (w.form == EffectForm::kPerSurface) {
-    d << " per surface (";
-    for (std::size_t i = 0; i < w.values.size(); ++i)
-      d << (i ? ", " : "") << w.values[i].surface << " " << w.parameter << " = "
-        << Fmt(w.values[i].value) << " +- " << Fmt(w.values[i].se)
-        << UpperBoundNote(w.key, w.values[i].value);
-    d << UnitSuffix(w.unit) << ")";
-  } else {
-    d << " (" << w.parameter << " = " << Fmt(w.estimate) << " +- " << Fmt(w.se)
-      << UnitSuffix(w.unit) << UpperBoundNote(w.key, w.estimate) << ")";
-  }
-  d << ": likelihood ratio " << Fmt(w.lr_statistic) << ", p = " << FmtP(w.p_value) << "; "
-    << HeldOutText(w) << "; held-out gap " << Fmt(100 * rd.gap_before) << " % -> "
-    << Fmt(100 * rd.gap_after) << " % of the impact speed (" << GapChangeText(rd.gap_shrink)
-    << ").";
-  if (!alike.empty()) {
-    d << " It cannot be told apart from";
-    for (std::size_t i = 0; i < alike.size(); ++i) d << (i ? ", " : " ") << Entry(alike[i]).name;
-    d << " with these data.";
-  }
-  return d.str();
-}
-
-}  // namespace
-
-CandidateResult JudgeCandidate(const Workspace& ws, const Fit& current, const std::string& key,
-                               const DiscoveryOptions& options, double level) {
-  RoundState state;
-  state.current = current;
-  const std::vector<int> all = ws.All();
-  const auto residuals = ws.Residuals(current.model, all);
-  const auto sens = ws.Sensitivities(current.model, all);
-  const std::vector<TrialCovariance> ref = Covariances(ws, sens, current.noise);
-  RoundContext x{ws, state, residuals, sens, ref, options, all, {}, {}, level, {}, {}};
-  for (const auto& [k, p] : current.model.effects) x.free_current.push_back(k);
-  x.chi95 = stats::ChiSquaredQuantile(0.95, 1);
-  x.probes = ProbeCandidates(ws, current.model, {key}, residuals, sens, ref, options);
-  x.cv_current = CrossValidate(ws, current, x.free_current, ref, options.folds);
-  AddDensity(x.cv_current, ref);
-  x.n_res = UsedResiduals(ws);
-  Evaluation ev = EvaluateContact(x, key);
-  if (!ev.c.significant) ExplainNotSignificant(x, ev.c);
-  return ev.c;
-}
-
-RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
-                           const std::vector<Eigen::Vector3d>& residual_current,
-                           const std::vector<Sensitivity>& sens,
-                           const std::vector<std::string>& keys, const DiscoveryOptions& options,
-                           const std::function<void(const std::string&)>& say, Round& rd) {
-  const std::vector<TrialCovariance> ref = Covariances(ws, sens, state.current.noise);
-  RoundContext x{ws, state, residual_current, sens, ref, options, ws.All(), {}, {}, 0.0, {}, {}};
-  std::vector<std::string> to_try;
-  for (const auto& key : keys)
-    if (std::find(state.accepted.begin(), state.accepted.end(), key) == state.accepted.end())
-      to_try.push_back(key);
-  x.chi95 = stats::ChiSquaredQuantile(0.95, 1);
-  for (const auto& a : state.accepted)
-    if (!Entry(a).measurement_effect) x.free_current.push_back(a);
-  for (const Obs& o : ws.obs) x.n_ratio += std::isfinite(o.marker_ratio) ? 1 : 0;
-  x.probes = ProbeCandidates(ws, state.current.model, to_try, residual_current, sens, ref, options);
-  x.level = x.probes.naming.level;
-  rd.naming_level = x.probes.naming.level;
-  rd.bonferroni_level = x.probes.naming.bonferroni;
-  rd.hypotheses = x.probes.naming.hypotheses;
-  x.cv_current = CrossValidate(ws, state.current, x.free_current, ref, options.folds);
-  AddDensity(x.cv_current, ref);
-  x.cv_tilt_current = CrossValidateTilt(ws, state.tilt_on, options.folds);
-  x.n_res = UsedResiduals(ws);
-
-  std::vector<Evaluation> evals;
-  for (const auto& key : to_try) {
-    say("  " + key);
-    if (IsRotationRate(key))
-      evals.push_back(EvaluateRate(x, key));
-    else if (Entry(key).measurement_effect)
-      evals.push_back(EvaluateTilt(x, key));
-    else
-      evals.push_back(EvaluateContact(x, key));
-  }
-  for (auto& ev : evals)
-    if (!ev.c.significant && ev.c.reason.empty()) ExplainNotSignificant(x, ev.c);
-  Evaluation* best = ChooseWinner(evals);
-  RoundOutcome out;
-  for (const auto& ev : evals)
-    if (!ev.profile_starts.empty()) out.profile_starts[ev.c.key] = ev.profile_starts;
-  if (best) out.alike = ExplainAgainstWinner(x, *best, evals);
-  for (auto& ev : evals)
-    if (!ev.other_optimum.empty() && ev.c.significant) ev.c.reason += "; " + ev.other_optimum;
-  Rank(evals);
-  // `best` moved with the sort; find it again by its outcome.
-  const Evaluation* winner = nullptr;
-  for (const auto& ev : evals) {
-    rd.candidates.push_back(ev.c);
-    if (ev.c.outcome == CandidateOutcome::kAdded) winner = &ev;
-  }
-  if (!winner) {
-    rd.decision = NothingAdded(evals, x.level);
-    return out;
-  }
-  const CandidateResult& w = winner->c;
-  out.added = true;
-  out.key = w.key;
-  out.fit = winner->fit;
-  out.tilt = winner->tilt;
-  out.motion = winner->motion;
-  out.remeasured = winner->remeasured;
-  out.ws = winner->remeasured_ws;
-  rd.accepted = w.key;
-  HeldOutGap(x, *winner, rd);
-  rd.decision = AddedText(w, rd, out.alike);
-  return out;
+  for (const Obs& o : ws.obs) n += o.Dim();
+  return n;
 }
 
 }  // namespace hoof::discovery::internal

@@ -10,7 +10,8 @@
 ///  - structure.cc: the residuals' trends against the noise model (descriptive tests);
 ///  - cross_validation.cc: held-out errors;
 ///  - out_of_plane.cc: a rotation out of the plane that grows in time, with re-measured trials;
-///  - candidates.cc: one round: each candidate fitted, tested and judged;
+///  - candidates.cc: one candidate of a round fitted, tested and judged (evaluation.h);
+///  - round.cc: one round: every candidate evaluated, the strongest significant one added;
 ///  - multiplicity.cc: the naming level, calibrated for how the candidates' tests overlap;
 ///  - plan.cc: detection limits and how many trials would detect an effect;
 ///  - verdict.cc: findings and the verdict in words;
@@ -243,7 +244,7 @@ CrossValidation CrossValidateTilt(const Workspace& ws, bool free, int folds);
 double PairedImprovementP(const std::vector<double>& a, const std::vector<double>& b);
 double Rms(const Eigen::Vector3d& r);
 
-// ---- a round (candidates.cc) --------------------------------------------------------------
+// ---- a round (candidates.cc, round.cc) ---------------------------------------------------
 
 /// What one round works from: the current model and what was added.
 struct RoundState {
