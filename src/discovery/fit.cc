@@ -247,91 +247,92 @@ class StudyCost final : public ceres::CostFunction {
 
 }  // namespace
 
-Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& start,
-             const std::vector<std::string>& free_effects, const Noise& noise, bool estimate_noise,
-             int passes) {
-  Fit fit;
-  fit.model = start;
-  fit.noise = noise;
-  const std::size_t S = ws.surfaces.size();
-  std::vector<bool> surface_used(S, false), surface_oblique(S, false);
-  for (int i : which) {
-    const Obs& o = ws.obs[static_cast<std::size_t>(i)];
-    surface_used[static_cast<std::size_t>(o.surface)] = true;
-    if (!o.normal) surface_oblique[static_cast<std::size_t>(o.surface)] = true;
-  }
-  std::vector<double> zeta = start.zeta, mu = start.mu;
-  // The free effects' values, scaled by their probe size so that the solver sees numbers of
-  // order one.
-  std::vector<std::vector<double>> u(free_effects.size());
-  std::vector<double> scale(free_effects.size());
-  std::vector<EffectForm> form(free_effects.size());
-  for (std::size_t j = 0; j < free_effects.size(); ++j) {
-    scale[j] = Entry(free_effects[j]).probe;
-    const auto it = start.effects.find(free_effects[j]);
-    if (it == start.effects.end()) {
-      u[j] = {Entry(free_effects[j]).smallest / scale[j]};
-    } else {
-      form[j] = it->second.form;
-      for (double v : it->second.value)
-        u[j].push_back(std::max(v, Entry(free_effects[j]).smallest) / scale[j]);
-    }
-  }
-  std::map<std::string, EffectParam> fixed;
-  for (const auto& [key, value] : start.effects)
-    if (std::find(free_effects.begin(), free_effects.end(), key) == free_effects.end())
-      fixed[key] = value;
-  auto store = [&] {
-    fit.model.zeta = zeta;
-    fit.model.mu = mu;
-    for (std::size_t j = 0; j < u.size(); ++j) {
-      EffectParam p;
-      p.form = form[j];
-      for (double v : u[j]) p.value.push_back(v * scale[j]);
-      fit.model.effects[free_effects[j]] = p;
-    }
-  };
+namespace {
 
-  std::unique_ptr<ceres::Problem> problem;
-  auto sens = ws.Sensitivities(fit.model, which);
-  auto r = ws.Residuals(fit.model, which);
-  if (estimate_noise) fit.noise = EstimateNoise(ws, which, r, sens, fit.noise);
-  double loglik = LogLikelihood(ws, which, r, sens, fit.noise);
-  for (int pass = 0; pass < passes; ++pass) {
-    // The pass's start, to step back toward should the solve lower the likelihood.
-    const std::vector<double> zeta0 = zeta, mu0 = mu;
-    const std::vector<std::vector<double>> u0 = u;
-    const Noise noise0 = fit.noise;
-    problem = std::make_unique<ceres::Problem>();
+/// One fit of FitModel: the parameters the solver moves (zeta and mu per surface, the free
+/// effects scaled by their probe size, so that the solver sees numbers of order one), the
+/// effects held fixed, and the fit they are stored into.
+class ModelFitter {
+ public:
+  ModelFitter(const Workspace& ws, const std::vector<int>& which, const Model& start,
+              const std::vector<std::string>& free_effects, Fit& fit)
+      : ws_(ws), which_(which), free_(free_effects), fit_(fit) {
+    const std::size_t S = ws.surfaces.size();
+    surface_used_.assign(S, false);
+    surface_oblique_.assign(S, false);
+    for (int i : which) {
+      const Obs& o = ws.obs[static_cast<std::size_t>(i)];
+      surface_used_[static_cast<std::size_t>(o.surface)] = true;
+      if (!o.normal) surface_oblique_[static_cast<std::size_t>(o.surface)] = true;
+    }
+    zeta_ = start.zeta;
+    mu_ = start.mu;
+    u_.resize(free_effects.size());
+    scale_.resize(free_effects.size());
+    form_.resize(free_effects.size());
+    for (std::size_t j = 0; j < free_effects.size(); ++j) {
+      scale_[j] = Entry(free_effects[j]).probe;
+      const auto it = start.effects.find(free_effects[j]);
+      if (it == start.effects.end()) {
+        u_[j] = {Entry(free_effects[j]).smallest / scale_[j]};
+      } else {
+        form_[j] = it->second.form;
+        for (double v : it->second.value)
+          u_[j].push_back(std::max(v, Entry(free_effects[j]).smallest) / scale_[j]);
+      }
+    }
+    for (const auto& [key, value] : start.effects)
+      if (std::find(free_effects.begin(), free_effects.end(), key) == free_effects.end())
+        fixed_[key] = value;
+  }
+
+  /// The parameters into the fit's model.
+  void Store() {
+    fit_.model.zeta = zeta_;
+    fit_.model.mu = mu_;
+    for (std::size_t j = 0; j < u_.size(); ++j) {
+      EffectParam p;
+      p.form = form_[j];
+      for (double v : u_[j]) p.value.push_back(v * scale_[j]);
+      fit_.model.effects[free_[j]] = p;
+    }
+  }
+
+  /// The study's problem: one residual block of every trial, whitened by `noise` linearised
+  /// with `sens`, and the parameters' bounds. `*any` says whether a trial is fitted (an empty
+  /// problem otherwise).
+  std::unique_ptr<ceres::Problem> Problem(const std::vector<Sensitivity>& sens, const Noise& noise,
+                                          bool* any) {
+    auto problem = std::make_unique<ceres::Problem>();
     std::vector<StudyCost::Trial> trials;
     std::vector<double*> blocks;  // the study's parameter blocks, in order of first use
     int rows = 0;
-    for (std::size_t i = 0; i < which.size(); ++i) {
-      const Obs& o = ws.obs[static_cast<std::size_t>(which[i])];
+    for (std::size_t i = 0; i < which_.size(); ++i) {
+      const Obs& o = ws_.obs[static_cast<std::size_t>(which_[i])];
       const auto s = static_cast<std::size_t>(o.surface);
-      const TrialCovariance cov = Covariance(ws, o, sens[i], fit.noise);
-      auto f = std::make_unique<TrialCost>(TrialCost{&ws,
+      const TrialCovariance cov = Covariance(ws_, o, sens[i], noise);
+      auto f = std::make_unique<TrialCost>(TrialCost{&ws_,
                                                      &o,
                                                      cov.whiten,
                                                      cov.components,
-                                                     !o.normal && surface_oblique[s],
-                                                     mu[s],
-                                                     free_effects,
-                                                     scale,
+                                                     !o.normal && surface_oblique_[s],
+                                                     mu_[s],
+                                                     free_,
+                                                     scale_,
                                                      {}});
-      for (const auto& [key, p] : fixed) Apply(key, p.At(o.surface), f->fixed);
-      std::vector<double*> params{&zeta[s]};
+      for (const auto& [key, p] : fixed_) Apply(key, p.At(o.surface), f->fixed);
+      std::vector<double*> params{&zeta_[s]};
       std::vector<BlockBounds> bounds{{kZetaLower, kZetaUpper}};
       if (f->mu_free) {
-        params.push_back(&mu[s]);
+        params.push_back(&mu_[s]);
         bounds.push_back({kMuLower, kMuUpper});
       }
-      for (std::size_t j = 0; j < u.size(); ++j) {
-        params.push_back(&u[j][form[j] == EffectForm::kShared ? 0 : s]);
+      for (std::size_t j = 0; j < u_.size(); ++j) {
+        params.push_back(&u_[j][form_[j] == EffectForm::kShared ? 0 : s]);
         // The effects are scaled to their probe size, so a step of 1e-4 is 1e-4 of the probe,
         // also at 0 (where a relative step would be below the simulator's own tolerance).
-        bounds.push_back({Entry(free_effects[j]).smallest / scale[j],
-                          Entry(free_effects[j]).upper / scale[j], kRelativeEffectStep});
+        bounds.push_back({Entry(free_[j]).smallest / scale_[j], Entry(free_[j]).upper / scale_[j],
+                          kRelativeEffectStep});
       }
       const int residuals = static_cast<int>(f->components.size());
       StudyCost::Trial t;
@@ -345,38 +346,147 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
       }
       trials.push_back(std::move(t));
     }
-    if (trials.empty()) break;
-    problem->AddResidualBlock(new StudyCost(std::move(trials), blocks.size(), ws.threads), nullptr,
+    *any = !trials.empty();
+    if (!*any) return problem;
+    problem->AddResidualBlock(new StudyCost(std::move(trials), blocks.size(), ws_.threads), nullptr,
                               blocks);
-    for (std::size_t s = 0; s < S; ++s) {
-      if (!surface_used[s]) continue;
-      problem->SetParameterLowerBound(&zeta[s], 0, kZetaLower);
-      problem->SetParameterUpperBound(&zeta[s], 0, kZetaUpper);
-      if (surface_oblique[s] && problem->HasParameterBlock(&mu[s])) {
-        problem->SetParameterLowerBound(&mu[s], 0, kMuLower);
-        problem->SetParameterUpperBound(&mu[s], 0, kMuUpper);
+    for (std::size_t s = 0; s < ws_.surfaces.size(); ++s) {
+      if (!surface_used_[s]) continue;
+      problem->SetParameterLowerBound(&zeta_[s], 0, kZetaLower);
+      problem->SetParameterUpperBound(&zeta_[s], 0, kZetaUpper);
+      if (surface_oblique_[s] && problem->HasParameterBlock(&mu_[s])) {
+        problem->SetParameterLowerBound(&mu_[s], 0, kMuLower);
+        problem->SetParameterUpperBound(&mu_[s], 0, kMuUpper);
       }
     }
-    for (std::size_t j = 0; j < u.size(); ++j)
-      for (double& v : u[j])
+    for (std::size_t j = 0; j < u_.size(); ++j)
+      for (double& v : u_[j])
         if (problem->HasParameterBlock(&v)) {
-          problem->SetParameterLowerBound(&v, 0, Entry(free_effects[j]).smallest / scale[j]);
-          problem->SetParameterUpperBound(&v, 0, Entry(free_effects[j]).upper / scale[j]);
+          problem->SetParameterLowerBound(&v, 0, Entry(free_[j]).smallest / scale_[j]);
+          problem->SetParameterUpperBound(&v, 0, Entry(free_[j]).upper / scale_[j]);
         }
-    ceres::Solver::Options so;
-    so.linear_solver_type = ceres::DENSE_QR;
-    so.max_num_iterations = 40;
-    so.function_tolerance = kFunctionTolerance;
-    so.parameter_tolerance = 1e-8;
-    so.num_threads = 1;  // one block: the trials run in parallel inside StudyCost
-    so.logging_type = ceres::SILENT;
-    ceres::Solver::Summary summary;
-    ceres::Solve(so, problem.get(), &summary);
-    if (!summary.IsSolutionUsable()) {
-      fit.ok = false;
-      fit.message = summary.message;
+    return problem;
+  }
+
+  /// The parameters, to step back toward.
+  struct Point {
+    std::vector<double> zeta, mu;
+    std::vector<std::vector<double>> u;
+  };
+  Point Here() const { return {zeta_, mu_, u_}; }
+  /// Moves the parameters to `from` + t (`to` - `from`) and stores them.
+  void MoveTo(const Point& from, const Point& to, double t) {
+    Toward(zeta_, from.zeta, to.zeta, t);
+    Toward(mu_, from.mu, to.mu, t);
+    for (std::size_t j = 0; j < u_.size(); ++j) Toward(u_[j], from.u[j], to.u[j], t);
+    Store();
+  }
+  /// Sets the parameters to `p` and stores them.
+  void Set(const Point& p) {
+    zeta_ = p.zeta, mu_ = p.mu, u_ = p.u;
+    Store();
+  }
+
+  /// Standard errors from the Gauss-Newton normal matrix of `problem`, the last solve (a
+  /// pseudo-inverse, so that flat directions such as mu on surfaces whose contacts stick do not
+  /// break it).
+  void StandardErrors(ceres::Problem& problem) {
+    std::vector<double*> order;
+    for (std::size_t s = 0; s < ws_.surfaces.size(); ++s) {
+      if (problem.HasParameterBlock(&zeta_[s])) order.push_back(&zeta_[s]);
+      if (problem.HasParameterBlock(&mu_[s])) order.push_back(&mu_[s]);
     }
-    store();
+    for (auto& uj : u_)
+      for (double& v : uj)
+        if (problem.HasParameterBlock(&v)) order.push_back(&v);
+    fit_.parameters = static_cast<int>(order.size());
+    ceres::Problem::EvaluateOptions eo;
+    eo.parameter_blocks = order;
+    eo.num_threads = 1;
+    ceres::CRSMatrix crs;
+    problem.Evaluate(eo, nullptr, nullptr, nullptr, &crs);
+    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+    for (int row = 0; row < crs.num_rows; ++row)
+      for (int q = crs.rows[static_cast<std::size_t>(row)];
+           q < crs.rows[static_cast<std::size_t>(row) + 1]; ++q)
+        J(row, crs.cols[static_cast<std::size_t>(q)]) = crs.values[static_cast<std::size_t>(q)];
+    // Columns scaled to unit length first: the whitened derivatives by zeta and by an effect can
+    // differ by many orders, and the pseudo-inverse's rank threshold is relative to the largest.
+    Eigen::VectorXd norm = J.colwise().norm().transpose();
+    for (Eigen::Index k = 0; k < norm.size(); ++k)
+      if (!(norm[k] > 0)) norm[k] = 1.0;
+    const Eigen::MatrixXd Js = J * norm.cwiseInverse().asDiagonal();
+    const Eigen::MatrixXd cov =
+        norm.cwiseInverse().asDiagonal() *
+        (Js.transpose() * Js).completeOrthogonalDecomposition().pseudoInverse() *
+        norm.cwiseInverse().asDiagonal();
+    auto se_of = [&](Eigen::Index col) { return std::sqrt(std::max(0.0, cov(col, col))); };
+    Eigen::Index col = 0;
+    for (std::size_t s = 0; s < ws_.surfaces.size(); ++s) {
+      if (problem.HasParameterBlock(&zeta_[s])) fit_.zeta_se[s] = se_of(col++);
+      if (problem.HasParameterBlock(&mu_[s])) fit_.mu_se[s] = se_of(col++);
+    }
+    for (std::size_t j = 0; j < u_.size(); ++j) {
+      auto& se = fit_.effect_se[free_[j]];
+      se.assign(u_[j].size(), kNaN);
+      for (std::size_t k = 0; k < u_[j].size(); ++k)
+        if (problem.HasParameterBlock(&u_[j][k])) se[k] = scale_[j] * se_of(col++);
+    }
+  }
+
+ private:
+  const Workspace& ws_;
+  const std::vector<int>& which_;
+  const std::vector<std::string>& free_;
+  Fit& fit_;
+  std::vector<bool> surface_used_, surface_oblique_;
+  std::vector<double> zeta_, mu_;
+  std::vector<std::vector<double>> u_;
+  std::vector<double> scale_;
+  std::vector<EffectForm> form_;
+  std::map<std::string, EffectParam> fixed_;
+};
+
+/// Runs Ceres on `problem`; marks `fit` unusable with Ceres's message when the solution is not.
+void Solve(ceres::Problem& problem, Fit& fit) {
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = 40;
+  so.function_tolerance = kFunctionTolerance;
+  so.parameter_tolerance = 1e-8;
+  so.num_threads = 1;  // one block: the trials run in parallel inside StudyCost
+  so.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  if (!summary.IsSolutionUsable()) {
+    fit.ok = false;
+    fit.message = summary.message;
+  }
+}
+
+}  // namespace
+
+Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& start,
+             const std::vector<std::string>& free_effects, const Noise& noise, bool estimate_noise,
+             int passes) {
+  Fit fit;
+  fit.model = start;
+  fit.noise = noise;
+  ModelFitter fitter(ws, which, start, free_effects, fit);
+  std::unique_ptr<ceres::Problem> problem;
+  auto sens = ws.Sensitivities(fit.model, which);
+  auto r = ws.Residuals(fit.model, which);
+  if (estimate_noise) fit.noise = EstimateNoise(ws, which, r, sens, fit.noise);
+  double loglik = LogLikelihood(ws, which, r, sens, fit.noise);
+  for (int pass = 0; pass < passes; ++pass) {
+    // The pass's start, to step back toward should the solve lower the likelihood.
+    const ModelFitter::Point start_of_pass = fitter.Here();
+    const Noise noise0 = fit.noise;
+    bool any = false;
+    problem = fitter.Problem(sens, fit.noise, &any);
+    if (!any) break;
+    Solve(*problem, fit);
+    fitter.Store();
     // Model and noise alternate until the likelihood stops rising: a fit stopped early would
     // hand the next model compared with it a gain that is only further convergence.
     r = ws.Residuals(fit.model, which);
@@ -391,15 +501,10 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
     // judged at 0. Such a step is halved, up to kBacktracks times; where no part of it gains,
     // the pass's start is kept and the alternation ends. A fit never ends below its start.
     if (estimate_noise && next < loglik) {
-      const std::vector<double> zeta1 = zeta, mu1 = mu;
-      const std::vector<std::vector<double>> u1 = u;
+      const ModelFitter::Point solved = fitter.Here();
       bool gained = false;
       for (int k = 1; k <= kBacktracks && !gained && loglik - next > kConverged; ++k) {
-        const double t = std::ldexp(1.0, -k);
-        Toward(zeta, zeta0, zeta1, t);
-        Toward(mu, mu0, mu1, t);
-        for (std::size_t j = 0; j < u.size(); ++j) Toward(u[j], u0[j], u1[j], t);
-        store();
+        fitter.MoveTo(start_of_pass, solved, std::ldexp(1.0, -k));
         r = ws.Residuals(fit.model, which);
         sens = ws.Sensitivities(fit.model, which);
         fit.noise = EstimateNoise(ws, which, r, sens, noise0);
@@ -407,65 +512,20 @@ Fit FitModel(const Workspace& ws, const std::vector<int>& which, const Model& st
         gained = next > loglik;
       }
       if (!gained) {
-        zeta = zeta0, mu = mu0, u = u0;
+        fitter.Set(start_of_pass);
         fit.noise = noise0;
         next = loglik;
-        store();
       }
     }
     const double gain = next - loglik;
     loglik = next;
     if (!estimate_noise || gain < kConverged) break;
   }
-  store();
+  fitter.Store();
   fit.loglik = loglik;
-
-  // Standard errors from the Gauss-Newton normal matrix of the last solve (a pseudo-inverse, so
-  // that flat directions such as mu on surfaces whose contacts stick do not break it).
-  fit.zeta_se.assign(S, kNaN);
-  fit.mu_se.assign(S, kNaN);
-  if (!problem) return fit;
-  std::vector<double*> order;
-  for (std::size_t s = 0; s < S; ++s) {
-    if (problem->HasParameterBlock(&zeta[s])) order.push_back(&zeta[s]);
-    if (problem->HasParameterBlock(&mu[s])) order.push_back(&mu[s]);
-  }
-  for (auto& uj : u)
-    for (double& v : uj)
-      if (problem->HasParameterBlock(&v)) order.push_back(&v);
-  fit.parameters = static_cast<int>(order.size());
-  ceres::Problem::EvaluateOptions eo;
-  eo.parameter_blocks = order;
-  eo.num_threads = 1;
-  ceres::CRSMatrix crs;
-  problem->Evaluate(eo, nullptr, nullptr, nullptr, &crs);
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
-  for (int row = 0; row < crs.num_rows; ++row)
-    for (int q = crs.rows[static_cast<std::size_t>(row)];
-         q < crs.rows[static_cast<std::size_t>(row) + 1]; ++q)
-      J(row, crs.cols[static_cast<std::size_t>(q)]) = crs.values[static_cast<std::size_t>(q)];
-  // Columns scaled to unit length first: the whitened derivatives by zeta and by an effect can
-  // differ by many orders, and the pseudo-inverse's rank threshold is relative to the largest.
-  Eigen::VectorXd norm = J.colwise().norm().transpose();
-  for (Eigen::Index k = 0; k < norm.size(); ++k)
-    if (!(norm[k] > 0)) norm[k] = 1.0;
-  const Eigen::MatrixXd Js = J * norm.cwiseInverse().asDiagonal();
-  const Eigen::MatrixXd cov =
-      norm.cwiseInverse().asDiagonal() *
-      (Js.transpose() * Js).completeOrthogonalDecomposition().pseudoInverse() *
-      norm.cwiseInverse().asDiagonal();
-  auto se_of = [&](Eigen::Index col) { return std::sqrt(std::max(0.0, cov(col, col))); };
-  Eigen::Index col = 0;
-  for (std::size_t s = 0; s < S; ++s) {
-    if (problem->HasParameterBlock(&zeta[s])) fit.zeta_se[s] = se_of(col++);
-    if (problem->HasParameterBlock(&mu[s])) fit.mu_se[s] = se_of(col++);
-  }
-  for (std::size_t j = 0; j < u.size(); ++j) {
-    auto& se = fit.effect_se[free_effects[j]];
-    se.assign(u[j].size(), kNaN);
-    for (std::size_t k = 0; k < u[j].size(); ++k)
-      if (problem->HasParameterBlock(&u[j][k])) se[k] = scale[j] * se_of(col++);
-  }
+  fit.zeta_se.assign(ws.surfaces.size(), kNaN);
+  fit.mu_se.assign(ws.surfaces.size(), kNaN);
+  if (problem) fitter.StandardErrors(*problem);
   return fit;
 }
 
