@@ -204,55 +204,41 @@ double DetectionLimit(const Workspace& ws, const std::vector<pipeline::TrialAnal
   return hi / kDeg;
 }
 
-}  // namespace
-
-bool IsRotationRate(const std::string& key) { return Entry(key).rotation_rate; }
-
-RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st,
-                                    const std::string& key,
-                                    const std::vector<std::string>& free_current, double level,
-                                    const DiscoveryOptions& options) {
-  const LibraryEntry& e = Entry(key);
+/// One rotation rate's search (EvaluateRotationRate), with what each of its steps needs.
+struct RateSearch {
+  const Workspace& ws;
+  const RoundState& st;
+  const std::string& key;
+  const std::vector<std::string>& free_current;
+  const DiscoveryOptions& options;
   const std::vector<pipeline::TrialAnalysis>& measured = *st.measured;
   const std::vector<int> all = ws.All();
-  RateEvaluation out;
-  out.c = CandidateOf(key);
-  CandidateResult& c = out.c;
-  c.form = EffectForm::kShared;
-  c.df = 1;
   const std::vector<RatioSeries> series = Series(ws, measured);
-  const double upper = e.upper * kDeg, probe = e.probe * kDeg;
-  // A rotation that does not change the distance of the layout's first two markers (a roll when
-  // they lie along x_B) leaves nothing to hold out: the velocities alone decide.
-  bool ratio_blind = true;
-  {
+  const double upper = Entry(key).upper * kDeg, probe = Entry(key).probe * kDeg;
+
+  /// Whether the rate leaves the distance of the layout's first two markers as it is (a roll
+  /// when they lie along x_B): then nothing is held out, and the velocities alone decide.
+  bool RatioBlind() const {
+    bool blind = true;
     const pipeline::OutOfPlaneMotion with = WithRate(st.motion, key, probe);
     for (const Obs& o : ws.obs) {
       const auto& specimen = measured[o.trial_index].spec.specimen;
-      ratio_blind &=
+      blind &=
           std::abs(pipeline::MarkerDistanceRatio(specimen, with.TiltAt(2e-3), with.RollAt(2e-3)) -
                    pipeline::MarkerDistanceRatio(specimen, st.motion.TiltAt(2e-3),
                                                  st.motion.RollAt(2e-3))) < 1e-9;
     }
-  }
-  // Such a rotation is never named (below), so it is measured in the first round only: in a
-  // later round every refit carries the added effects, and its search was a third of the time of
-  // a study that named the tangential spring (docs/performance.md).
-  if (ratio_blind && !st.accepted.empty()) {
-    c.fitted = false;
-    c.message = "not measured again after round 1 (the image cannot see it)";
-    c.estimate = c.se = c.p_value = c.lr_statistic = c.delta_aic = c.delta_bic = kNaN;
-    c.detection_limit = kNaN;
-    c.identifiability = Identifiability::kNotTested;
-    c.outcome = CandidateOutcome::kNotTested;
-    c.reason =
-        "the distance of the layout's first two markers does not change with this rotation, and "
-        "its bias of the velocities alone cannot be told from a contact effect on v_x and spin; "
-        "measured in round 1 only, since it cannot be named in any round";
-    return out;
+    return blind;
   }
 
-  auto evaluate = [&](double rate, int passes) {
+  /// The marker distance's log-likelihood at `rate`.
+  double RatioLoglik(double rate) const {
+    return Ratio(ws, measured, series, WithRate(st.motion, key, rate)).Loglik(all);
+  }
+
+  /// The trials re-measured with `rate` and the current model refitted to them (`passes` of
+  /// fit and noise model): the joint log-likelihood, -inf where the point is not feasible.
+  Point Evaluate(double rate, int passes) const {
     Point p;
     p.rate = rate;
     const pipeline::OutOfPlaneMotion m = WithRate(st.motion, key, rate);
@@ -269,149 +255,93 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st,
     p.velocity_loglik = p.fit.loglik;
     p.loglik = p.ratio_loglik + p.velocity_loglik;
     return p;
-  };
-  // The image's own evidence first: the marker distance alone, at its best rate (its sign is
-  // not seen), against none. It needs no fit of the velocities.
-  const double from_ratio = std::abs(RatioOnlyRate(ws, measured, series, st, key, all, upper));
-  const double ratio_loglik_0 =
-      Ratio(ws, measured, series, WithRate(st.motion, key, 0.0)).Loglik(all);
-  const double ratio_lr = std::max(
-      0.0, 2 * (Ratio(ws, measured, series, WithRate(st.motion, key, from_ratio)).Loglik(all) -
-                ratio_loglik_0));
-  const double ratio_p = stats::ChiSquaredUpperTail(ratio_lr, 1);
-  constexpr int kSearchPasses = 2;
-  Point zero = evaluate(0.0, kSearchPasses);
-  if (!std::isfinite(zero.loglik)) {
-    c.fitted = false;
-    c.message = "the current model could not be refitted to the trials as measured";
-    c.identifiability = Identifiability::kNotTested;
-    return out;
   }
-  // Named only with the image's own evidence (below), so where the marker distance does not show
-  // the rate, a later round does not search the velocities for it again: there every refit
-  // carries the added effects, and the search took a fifth of the time of a study that named the
-  // tangential spring (docs/performance.md). The probes on either side of 0 still give the
-  // velocities' information for the detection limit.
-  const double z_level =
-      boost::math::quantile(boost::math::complement(boost::math::normal(), level / 2));
-  const RatioTerms none = Ratio(ws, measured, series, st.motion);
-  if (!st.accepted.empty() && !(ratio_p < level)) {
-    const double curvature_at_0 =
-        (evaluate(probe, kSearchPasses).velocity_loglik - 2 * zero.velocity_loglik +
-         evaluate(-probe, kSearchPasses).velocity_loglik) /
-        (probe * probe);
-    c.fitted = false;
-    c.message = "not searched again after round 1: the marker distance alone does not show it";
-    c.estimate = c.se = c.p_value = c.lr_statistic = c.delta_aic = c.delta_bic = kNaN;
-    c.cv_error = c.cv_error_current = c.cv_p = kNaN;
-    c.identifiability = Identifiability::kIdentified;
-    c.outcome = CandidateOutcome::kNotSignificant;
-    c.reason = "the marker distance alone does not show it (p = " + FmtP(ratio_p) +
-               "), and it is named only with the image's evidence; the velocities were searched "
-               "for it in round 1 and are not searched again";
-    c.detection_limit =
-        DetectionLimit(ws, measured, series, st, key, none, z_level, upper,
-                       std::isfinite(curvature_at_0) ? std::max(0.0, -curvature_at_0) : 0.0);
-    out.fit = zero.fit;
-    out.motion = st.motion;
-    out.remeasured = zero.remeasured.trials;
-    out.ws = std::move(zero.remeasured.ws);
-    return out;
-  }
-  std::vector<double> starts;
-  if (from_ratio > 1e-3 * probe) starts = {from_ratio, -from_ratio};
-  starts.push_back(probe);
-  starts.push_back(-probe);
-  Point best;
-  best.rate = 0.0;
-  best.loglik = zero.loglik;
-  std::map<double, double> velocity{{0.0, zero.velocity_loglik}};
-  for (double s : starts) {
-    Point p = evaluate(s, kSearchPasses);
-    velocity[s] = p.velocity_loglik;
-    if (p.loglik > best.loglik) best = std::move(p);
-  }
-  // The velocities' information about the rate at 0 (for the detection limit), from the probes.
-  const double curvature_at_0 =
-      (velocity[probe] - 2 * velocity[0.0] + velocity[-probe]) / (probe * probe);
-  const double info_velocity = std::isfinite(curvature_at_0) ? std::max(0.0, -curvature_at_0) : 0.0;
-  if (best.rate != 0.0) {
-    // Refine on the best point's side, between a quarter and four times it.
-    const double sign = best.rate > 0 ? 1.0 : -1.0;
-    const double a = std::abs(best.rate) / 4, b = std::min(upper, 4 * std::abs(best.rate));
-    std::uintmax_t iterations = 12;
-    auto minus = [&](double r) {
-      Point p = evaluate(sign * r, kSearchPasses);
-      const double value = std::isfinite(p.loglik) ? -p.loglik : HUGE_VAL;
-      if (p.loglik > best.loglik) best = std::move(p);  // kept: not evaluated again
-      return value;
-    };
-    boost::math::tools::brent_find_minima(minus, a, b, 10, iterations);
-  }
-  // The final fit at the best rate (the noise model to convergence), and at 0 the same way.
-  Point zero_final = evaluate(0.0, 8);
-  Point with_rate;
-  if (best.rate != 0.0) with_rate = evaluate(best.rate, 8);
-  Point& fin = std::isfinite(with_rate.loglik) && with_rate.loglik > zero_final.loglik ? with_rate
-                                                                                       : zero_final;
-  c.fitted = true;
-  c.estimate = fin.rate / kDeg;
-  // The s.e. from the curvature of the joint log-likelihood.
-  c.se = kNaN;
-  if (fin.rate != 0.0) {
-    const double h = 0.1 * std::abs(fin.rate);
-    // At the same passes as the search, whose best point is the middle one.
-    const Point lo = evaluate(fin.rate - h, kSearchPasses),
-                hi = evaluate(fin.rate + h, kSearchPasses);
-    const double curvature = (hi.loglik - 2 * best.loglik + lo.loglik) / (h * h);
-    if (curvature < 0) c.se = 1 / std::sqrt(-curvature) / kDeg;
-  }
-  c.values = {EffectValue{key, "", c.estimate, c.se}};
-  c.lr_statistic = std::max(0.0, 2 * (fin.loglik - zero_final.loglik));
-  c.p_value = stats::ChiSquaredUpperTail(c.lr_statistic, 1);
-  c.delta_aic = -c.lr_statistic + 2;
-  int frames = 0, residuals = 0;
-  for (const auto& s : series) frames += static_cast<int>(s.t_s.size());
-  for (const Obs& o : ws.obs) residuals += o.Dim();
-  c.delta_bic = -c.lr_statistic + std::log(static_cast<double>(frames + residuals));
-  c.identifiability = frames == 0 && !(info_velocity > 0) ? Identifiability::kNotTested
-                                                          : Identifiability::kIdentified;
-  c.wald_clear = c.se > 0 && std::abs(c.estimate) / c.se > z_level;
 
-  // Held out: the marker distance of each fold's trials under the rate fitted without them,
-  // against no rate, both in units of the no-rate variance of the other folds.
-  CrossValidation cv, cv_none;
-  cv.error.assign(ws.obs.size(), kNaN);
-  cv_none.error.assign(ws.obs.size(), kNaN);
-  for (int f = 0; f < options.folds && !ratio_blind; ++f) {
-    std::vector<int> train, test;
-    for (int i : all) (ws.obs[static_cast<std::size_t>(i)].fold == f ? test : train).push_back(i);
-    const double rate = RatioOnlyRate(ws, measured, series, st, key, train, upper);
-    const RatioTerms with = Ratio(ws, measured, series, WithRate(st.motion, key, rate));
-    const double var = none.Variance(train);
-    if (!(var > 0)) continue;
-    for (int i : test) {
-      const auto k = static_cast<std::size_t>(i);
-      if (!std::isfinite(none.rss[k])) continue;
-      cv_none.error[k] = none.rss[k] / none.frames[k] / var;
-      cv.error[k] = with.rss[k] / with.frames[k] / var;
+  /// The best point of the joint likelihood from `zero` and the starts (the ratio's own rate,
+  /// either sign, and the probe's), refined by Brent on its side; `velocity` gets the
+  /// velocities' log-likelihood at each start.
+  Point Search(const Point& zero, double from_ratio, std::map<double, double>& velocity) const {
+    std::vector<double> starts;
+    if (from_ratio > 1e-3 * probe) starts = {from_ratio, -from_ratio};
+    starts.push_back(probe);
+    starts.push_back(-probe);
+    Point best;
+    best.rate = 0.0;
+    best.loglik = zero.loglik;
+    velocity = {{0.0, zero.velocity_loglik}};
+    for (double s : starts) {
+      Point p = Evaluate(s, kSearchPasses);
+      velocity[s] = p.velocity_loglik;
+      if (p.loglik > best.loglik) best = std::move(p);
     }
+    if (best.rate != 0.0) {
+      // Refine on the best point's side, between a quarter and four times it.
+      const double sign = best.rate > 0 ? 1.0 : -1.0;
+      const double a = std::abs(best.rate) / 4, b = std::min(upper, 4 * std::abs(best.rate));
+      std::uintmax_t iterations = 12;
+      auto minus = [&](double r) {
+        Point p = Evaluate(sign * r, kSearchPasses);
+        const double value = std::isfinite(p.loglik) ? -p.loglik : HUGE_VAL;
+        if (p.loglik > best.loglik) best = std::move(p);  // kept: not evaluated again
+        return value;
+      };
+      boost::math::tools::brent_find_minima(minus, a, b, 10, iterations);
+    }
+    return best;
   }
-  auto mean = [](const std::vector<double>& v) {
-    double s = 0;
-    int n = 0;
-    for (double x : v)
-      if (std::isfinite(x)) s += x, ++n;
-    return n ? s / n : kNaN;
-  };
-  c.cv_error = mean(cv.error);
-  c.cv_error_current = mean(cv_none.error);
-  c.cv_p = PairedImprovementP(cv_none.error, cv.error);
-  if (ratio_blind || !std::isfinite(c.cv_error)) c.cv_error = c.cv_error_current = c.cv_p = kNaN;
-  // Named only with the image's own evidence: a bias of the velocities alone is also what a
-  // contact effect on v_x and spin does (the scorecard named a roll rate in studies with rolling
-  // resistance or tangential compliance hidden before this rule).
-  c.significant = c.p_value < level && c.wald_clear && ratio_p < level && HeldOutFell(c);
+
+  /// Held out: the marker distance of each fold's trials under the rate fitted without them,
+  /// against no rate, both in units of the no-rate variance of the other folds.
+  void HeldOut(const RatioTerms& none, bool ratio_blind, CandidateResult& c) const {
+    CrossValidation cv, cv_none;
+    cv.error.assign(ws.obs.size(), kNaN);
+    cv_none.error.assign(ws.obs.size(), kNaN);
+    for (int f = 0; f < options.folds && !ratio_blind; ++f) {
+      std::vector<int> train, test;
+      for (int i : all) (ws.obs[static_cast<std::size_t>(i)].fold == f ? test : train).push_back(i);
+      const double rate = RatioOnlyRate(ws, measured, series, st, key, train, upper);
+      const RatioTerms with = Ratio(ws, measured, series, WithRate(st.motion, key, rate));
+      const double var = none.Variance(train);
+      if (!(var > 0)) continue;
+      for (int i : test) {
+        const auto k = static_cast<std::size_t>(i);
+        if (!std::isfinite(none.rss[k])) continue;
+        cv_none.error[k] = none.rss[k] / none.frames[k] / var;
+        cv.error[k] = with.rss[k] / with.frames[k] / var;
+      }
+    }
+    auto mean = [](const std::vector<double>& v) {
+      double s = 0;
+      int n = 0;
+      for (double x : v)
+        if (std::isfinite(x)) s += x, ++n;
+      return n ? s / n : kNaN;
+    };
+    c.cv_error = mean(cv.error);
+    c.cv_error_current = mean(cv_none.error);
+    c.cv_p = PairedImprovementP(cv_none.error, cv.error);
+    if (ratio_blind || !std::isfinite(c.cv_error)) c.cv_error = c.cv_error_current = c.cv_p = kNaN;
+  }
+
+  static constexpr int kSearchPasses = 2;
+};
+
+/// A rate the image cannot see, in a round after the first: not measured again.
+void NotMeasuredAgain(CandidateResult& c) {
+  c.fitted = false;
+  c.message = "not measured again after round 1 (the image cannot see it)";
+  c.estimate = c.se = c.p_value = c.lr_statistic = c.delta_aic = c.delta_bic = kNaN;
+  c.detection_limit = kNaN;
+  c.identifiability = Identifiability::kNotTested;
+  c.outcome = CandidateOutcome::kNotTested;
+  c.reason =
+      "the distance of the layout's first two markers does not change with this rotation, and "
+      "its bias of the velocities alone cannot be told from a contact effect on v_x and spin; "
+      "measured in round 1 only, since it cannot be named in any round";
+}
+
+/// Why a rate that the image cannot see, or that only the velocities show, is not named.
+void ExplainRate(bool ratio_blind, double ratio_p, double level, CandidateResult& c) {
   if (ratio_blind) {
     c.identifiability = Identifiability::kNotTested;
     c.outcome = CandidateOutcome::kNotTested;
@@ -427,14 +357,123 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st,
         ", but the marker distance alone does not show it (p = " + FmtP(ratio_p) +
         "): a bias of the velocities alone is also what a contact effect on v_x and spin does";
   }
+}
 
+}  // namespace
+
+bool IsRotationRate(const std::string& key) { return Entry(key).rotation_rate; }
+
+RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st,
+                                    const std::string& key,
+                                    const std::vector<std::string>& free_current, double level,
+                                    const DiscoveryOptions& options) {
+  const RateSearch x{ws, st, key, free_current, options};
+  constexpr int kSearchPasses = RateSearch::kSearchPasses;
+  RateEvaluation out;
+  out.c = CandidateOf(key);
+  CandidateResult& c = out.c;
+  c.form = EffectForm::kShared;
+  c.df = 1;
+  const bool ratio_blind = x.RatioBlind();
+  // Such a rotation is never named (below), so it is measured in the first round only: in a
+  // later round every refit carries the added effects, and its search was a third of the time of
+  // a study that named the tangential spring (docs/performance.md).
+  if (ratio_blind && !st.accepted.empty()) {
+    NotMeasuredAgain(c);
+    return out;
+  }
+  // The image's own evidence first: the marker distance alone, at its best rate (its sign is
+  // not seen), against none. It needs no fit of the velocities.
+  const double from_ratio =
+      std::abs(RatioOnlyRate(ws, x.measured, x.series, st, key, x.all, x.upper));
+  const double ratio_lr = std::max(0.0, 2 * (x.RatioLoglik(from_ratio) - x.RatioLoglik(0.0)));
+  const double ratio_p = stats::ChiSquaredUpperTail(ratio_lr, 1);
+  Point zero = x.Evaluate(0.0, kSearchPasses);
+  if (!std::isfinite(zero.loglik)) {
+    c.fitted = false;
+    c.message = "the current model could not be refitted to the trials as measured";
+    c.identifiability = Identifiability::kNotTested;
+    return out;
+  }
+  // Named only with the image's own evidence (below), so where the marker distance does not show
+  // the rate, a later round does not search the velocities for it again: there every refit
+  // carries the added effects, and the search took a fifth of the time of a study that named the
+  // tangential spring (docs/performance.md). The probes on either side of 0 still give the
+  // velocities' information for the detection limit.
+  const double z_level =
+      boost::math::quantile(boost::math::complement(boost::math::normal(), level / 2));
+  const RatioTerms none = Ratio(ws, x.measured, x.series, st.motion);
+  const auto information = [](double curvature) {
+    return std::isfinite(curvature) ? std::max(0.0, -curvature) : 0.0;
+  };
+  if (!st.accepted.empty() && !(ratio_p < level)) {
+    const double curvature_at_0 =
+        (x.Evaluate(x.probe, kSearchPasses).velocity_loglik - 2 * zero.velocity_loglik +
+         x.Evaluate(-x.probe, kSearchPasses).velocity_loglik) /
+        (x.probe * x.probe);
+    c.fitted = false;
+    c.message = "not searched again after round 1: the marker distance alone does not show it";
+    c.estimate = c.se = c.p_value = c.lr_statistic = c.delta_aic = c.delta_bic = kNaN;
+    c.cv_error = c.cv_error_current = c.cv_p = kNaN;
+    c.identifiability = Identifiability::kIdentified;
+    c.outcome = CandidateOutcome::kNotSignificant;
+    c.reason = "the marker distance alone does not show it (p = " + FmtP(ratio_p) +
+               "), and it is named only with the image's evidence; the velocities were searched "
+               "for it in round 1 and are not searched again";
+    c.detection_limit = DetectionLimit(ws, x.measured, x.series, st, key, none, z_level, x.upper,
+                                       information(curvature_at_0));
+    out.fit = zero.fit;
+    out.motion = st.motion;
+    out.remeasured = zero.remeasured.trials;
+    out.ws = std::move(zero.remeasured.ws);
+    return out;
+  }
+  std::map<double, double> velocity;
+  const Point best = x.Search(zero, from_ratio, velocity);
+  // The velocities' information about the rate at 0 (for the detection limit), from the probes.
+  const double info_velocity = information(
+      (velocity[x.probe] - 2 * velocity[0.0] + velocity[-x.probe]) / (x.probe * x.probe));
+  // The final fit at the best rate (the noise model to convergence), and at 0 the same way.
+  Point zero_final = x.Evaluate(0.0, 8);
+  Point with_rate;
+  if (best.rate != 0.0) with_rate = x.Evaluate(best.rate, 8);
+  Point& fin = std::isfinite(with_rate.loglik) && with_rate.loglik > zero_final.loglik ? with_rate
+                                                                                       : zero_final;
+  c.fitted = true;
+  c.estimate = fin.rate / kDeg;
+  // The s.e. from the curvature of the joint log-likelihood.
+  c.se = kNaN;
+  if (fin.rate != 0.0) {
+    const double h = 0.1 * std::abs(fin.rate);
+    // At the same passes as the search, whose best point is the middle one.
+    const Point lo = x.Evaluate(fin.rate - h, kSearchPasses),
+                hi = x.Evaluate(fin.rate + h, kSearchPasses);
+    const double curvature = (hi.loglik - 2 * best.loglik + lo.loglik) / (h * h);
+    if (curvature < 0) c.se = 1 / std::sqrt(-curvature) / kDeg;
+  }
+  c.values = {EffectValue{key, "", c.estimate, c.se}};
+  c.lr_statistic = std::max(0.0, 2 * (fin.loglik - zero_final.loglik));
+  c.p_value = stats::ChiSquaredUpperTail(c.lr_statistic, 1);
+  c.delta_aic = -c.lr_statistic + 2;
+  int frames = 0, residuals = 0;
+  for (const auto& s : x.series) frames += static_cast<int>(s.t_s.size());
+  for (const Obs& o : ws.obs) residuals += o.Dim();
+  c.delta_bic = -c.lr_statistic + std::log(static_cast<double>(frames + residuals));
+  c.identifiability = frames == 0 && !(info_velocity > 0) ? Identifiability::kNotTested
+                                                          : Identifiability::kIdentified;
+  c.wald_clear = c.se > 0 && std::abs(c.estimate) / c.se > z_level;
+  x.HeldOut(none, ratio_blind, c);
+  // Named only with the image's own evidence: a bias of the velocities alone is also what a
+  // contact effect on v_x and spin does (the scorecard named a roll rate in studies with rolling
+  // resistance or tangential compliance hidden before this rule).
+  c.significant = c.p_value < level && c.wald_clear && ratio_p < level && HeldOutFell(c);
+  ExplainRate(ratio_blind, ratio_p, level, c);
   // The velocities' information from the probes; where the noise model's refits bend the
   // log-likelihood there (it takes up a bias at 0), the observed information at the estimate.
-  c.detection_limit = DetectionLimit(ws, measured, series, st, key, none, z_level, upper,
+  c.detection_limit = DetectionLimit(ws, x.measured, x.series, st, key, none, z_level, x.upper,
                                      info_velocity > 0 ? info_velocity
                                      : c.se > 0        ? 1 / std::pow(c.se * kDeg, 2)
                                                        : 0.0);
-
   out.fit = fin.fit;
   out.motion = WithRate(st.motion, key, fin.rate);
   out.remeasured = fin.remeasured.trials;
