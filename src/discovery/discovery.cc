@@ -81,6 +81,134 @@ void KeepEarlierEvidence(const std::vector<Round>& earlier, const std::vector<st
 
 }  // namespace internal
 
+namespace {
+
+/// The trials the rounds work on: as measured, until a rotation rate is added; from then on
+/// re-measured with it (kept alive here).
+struct CurrentTrials {
+  const Workspace* ws = nullptr;
+  std::shared_ptr<Workspace> remeasured_ws;
+  std::shared_ptr<const std::vector<pipeline::TrialAnalysis>> remeasured;
+};
+
+/// The findings of the effect `o` added in round `rd`: named, or indistinguishable from the
+/// candidates alike it, each of which is a finding too.
+void AddFindings(const Round& rd, const RoundOutcome& o, double alpha,
+                 std::vector<Finding>& findings) {
+  const CandidateResult* best = nullptr;
+  for (const auto& c : rd.candidates)
+    if (c.key == o.key) best = &c;
+  for (const auto& a : o.alike)
+    for (const auto& c : rd.candidates)
+      if (c.key == a) {
+        Finding f = FindingOf(c, FindingStatus::kIndistinguishable, alpha);
+        f.partner = best->name;
+        f.separating_measurement =
+            Entry(a).separating_measurement + "; " + Entry(best->key).separating_measurement;
+        findings.push_back(f);
+      }
+  Finding f = FindingOf(
+      *best, o.alike.empty() ? FindingStatus::kNamed : FindingStatus::kIndistinguishable, alpha);
+  for (const auto& a : o.alike) f.partner += (f.partner.empty() ? "" : ", ") + Entry(a).name;
+  if (!o.alike.empty()) f.separating_measurement = Entry(best->key).separating_measurement;
+  f.gap_shrink = rd.gap_shrink;
+  findings.push_back(f);
+}
+
+/// The state after the effect `o` is added: a rotation rate re-measures the trials, the
+/// constant tilt is switched on, a contact effect becomes part of the current model.
+void Adopt(const RoundOutcome& o, const DiscoveryOptions& options, const std::vector<int>& all,
+           RoundState& st, CurrentTrials& trials) {
+  st.accepted.push_back(o.key);
+  if (IsRotationRate(o.key)) {
+    // From now on the trials are the ones re-measured with the motion.
+    st.motion = o.motion;
+    trials.remeasured = o.remeasured;
+    trials.remeasured_ws = o.ws;  // built from them when the rate was evaluated
+    if (!trials.remeasured_ws) {
+      trials.remeasured_ws = std::make_shared<Workspace>();
+      int skipped_again = 0;
+      Build(*trials.remeasured, options, &skipped_again, *trials.remeasured_ws);
+    }
+    trials.ws = trials.remeasured_ws.get();
+    st.current = o.fit;
+    st.tilt = FitTilt(*trials.ws, all, st.tilt_on);
+  } else if (Entry(o.key).measurement_effect) {
+    st.tilt_on = true;
+    st.tilt = o.tilt;
+  } else {
+    st.current = o.fit;
+  }
+}
+
+/// What the final model leaves: its significant structure (named effects become tentative
+/// when some remains), and the candidates its own parameters absorb (the probes of the last
+/// round, which added nothing, were made against it).
+void FinalStructure(const Workspace& current, const RoundState& st, const std::vector<int>& all,
+                    const std::vector<Eigen::Vector3d>& final_residuals,
+                    const DiscoveryOptions& options, DiscoveryResult& out) {
+  const auto final_sens = current.Sensitivities(st.current.model, all);
+  for (const auto& t : StructureTests(current, final_residuals, final_sens, st.current.noise,
+                                      st.tilt.tilt_rad, options))
+    if (t.significant) out.remaining.push_back(t);
+  out.unexplained = !out.remaining.empty();
+  if (out.unexplained)
+    for (auto& f : out.findings)
+      if (f.status == FindingStatus::kNamed) f.status = FindingStatus::kTentative;
+  if (!out.rounds.empty() && out.rounds.back().accepted.empty())
+    for (const auto& c : out.rounds.back().candidates)
+      if (c.outcome == CandidateOutcome::kConfounded) {
+        Finding f = FindingOf(c, FindingStatus::kIndistinguishable, options.alpha);
+        f.partner = c.confounded_with;
+        f.separating_measurement = Entry(c.key).separating_measurement;
+        out.findings.push_back(f);
+      }
+}
+
+/// The final model's values: per surface, the largest systematic error per component, and the
+/// value of every added effect.
+void FinalValues(const Workspace& current, const RoundState& st, DiscoveryResult& out) {
+  out.final_model = SurfaceFits(current, st.current);
+  // The largest of the surfaces' systematic errors per component (each surface's is in
+  // `final_model`).
+  for (const auto& sd : st.current.noise.systematic_sd)
+    out.measurement_sd = out.measurement_sd.cwiseMax(sd);
+  for (const auto& key : st.accepted) {
+    if (IsRotationRate(key)) {
+      for (const auto& rd : out.rounds)
+        for (const auto& c : rd.candidates)
+          if (rd.accepted == key && c.key == key)
+            out.effects.push_back({key, "", c.estimate, c.se});
+    } else if (Entry(key).measurement_effect) {
+      out.effects.push_back({key, "", st.tilt.tilt_rad * 180 / std::numbers::pi,
+                             st.tilt.tilt_se_rad * 180 / std::numbers::pi});
+    } else {
+      for (const auto& v : EffectValues(current, st.current, key)) out.effects.push_back(v);
+    }
+  }
+}
+
+/// Each trial's residuals under the baseline and the final model (NaN for an unused component).
+void TrialResidualsOf(const Workspace& ws, const std::vector<Eigen::Vector3d>& base_residuals,
+                      const std::vector<Eigen::Vector3d>& final_residuals, DiscoveryResult& out) {
+  for (std::size_t i = 0; i < ws.obs.size(); ++i) {
+    const Obs& o = ws.obs[i];
+    TrialResiduals r;
+    r.id = o.trial->spec.id;
+    r.surface = ws.surfaces[static_cast<std::size_t>(o.surface)];
+    r.angle_deg = o.angle_deg;
+    r.speed_m_s = o.speed_m_s;
+    r.baseline = base_residuals[i];
+    r.final_model = final_residuals[i];
+    for (int c = 0; c < kComponents; ++c)
+      if (!o.used[static_cast<std::size_t>(c)]) r.baseline[c] = r.final_model[c] = kNaN;
+    r.marker_ratio = o.marker_ratio;  // as measured
+    out.residuals.push_back(r);
+  }
+}
+
+}  // namespace
+
 DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials,
                          const DiscoveryOptions& options,
                          const std::function<void(const std::string&)>& progress) {
@@ -91,13 +219,9 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials,
   };
   DiscoveryResult out;
   int skipped = 0;
-  // The workspace of the trials as measured; after a rotation rate is added, the rounds work on
-  // `current`, built from the trials re-measured with it (kept alive in `remeasured`).
-  Workspace ws;
+  Workspace ws;  // the trials as measured
   Build(trials, options, &skipped, ws);
-  const Workspace* current = &ws;
-  std::shared_ptr<Workspace> remeasured_ws;
-  std::shared_ptr<const std::vector<pipeline::TrialAnalysis>> remeasured;
+  CurrentTrials current{&ws, nullptr, nullptr};
   out.trials_skipped = skipped;
   out.trials_used = static_cast<int>(ws.obs.size());
   if (ws.obs.size() < 6) {
@@ -122,7 +246,7 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials,
   for (int round = 1; round <= options.max_rounds; ++round) {
     Round rd;
     rd.index = round;
-    const Workspace& cw = *current;
+    const Workspace& cw = *current.ws;
     const auto residuals = cw.Residuals(st.current.model, all);
     const auto sens = cw.Sensitivities(st.current.model, all);
     rd.tests = StructureTests(cw, residuals, sens, st.current.noise, st.tilt.tilt_rad, options);
@@ -138,103 +262,18 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials,
       break;
     }
     say("  added " + o.key);
-    const CandidateResult* best = nullptr;
-    for (const auto& c : rd.candidates)
-      if (c.key == o.key) best = &c;
-    for (const auto& a : o.alike)
-      for (const auto& c : rd.candidates)
-        if (c.key == a) {
-          Finding f = FindingOf(c, FindingStatus::kIndistinguishable, options.alpha);
-          f.partner = best->name;
-          f.separating_measurement =
-              Entry(a).separating_measurement + "; " + Entry(best->key).separating_measurement;
-          out.findings.push_back(f);
-        }
-    Finding f = FindingOf(
-        *best, o.alike.empty() ? FindingStatus::kNamed : FindingStatus::kIndistinguishable,
-        options.alpha);
-    for (const auto& a : o.alike) f.partner += (f.partner.empty() ? "" : ", ") + Entry(a).name;
-    if (!o.alike.empty()) f.separating_measurement = Entry(best->key).separating_measurement;
-    f.gap_shrink = rd.gap_shrink;
-    out.findings.push_back(f);
-    st.accepted.push_back(o.key);
-    if (IsRotationRate(o.key)) {
-      // From now on the trials are the ones re-measured with the motion.
-      st.motion = o.motion;
-      remeasured = o.remeasured;
-      remeasured_ws = o.ws;  // built from them when the rate was evaluated
-      if (!remeasured_ws) {
-        remeasured_ws = std::make_shared<Workspace>();
-        int skipped_again = 0;
-        Build(*remeasured, options, &skipped_again, *remeasured_ws);
-      }
-      current = remeasured_ws.get();
-      st.current = o.fit;
-      st.tilt = FitTilt(*current, all, st.tilt_on);
-    } else if (Entry(o.key).measurement_effect) {
-      st.tilt_on = true;
-      st.tilt = o.tilt;
-    } else {
-      st.current = o.fit;
-    }
+    AddFindings(rd, o, options.alpha, out.findings);
+    Adopt(o, options, all, st, current);
     out.rounds.push_back(rd);
   }
 
-  // The final model's remaining structure: named effects become tentative when some remains.
-  const auto final_residuals = current->Residuals(st.current.model, all);
-  const auto final_sens = current->Sensitivities(st.current.model, all);
-  for (const auto& t : StructureTests(*current, final_residuals, final_sens, st.current.noise,
-                                      st.tilt.tilt_rad, options))
-    if (t.significant) out.remaining.push_back(t);
-  out.unexplained = !out.remaining.empty();
-  if (out.unexplained)
-    for (auto& f : out.findings)
-      if (f.status == FindingStatus::kNamed) f.status = FindingStatus::kTentative;
-  // Candidates the final model's own parameters absorb: the probes of the last round, which
-  // added nothing, were made against the final model.
-  if (!out.rounds.empty() && out.rounds.back().accepted.empty())
-    for (const auto& c : out.rounds.back().candidates)
-      if (c.outcome == CandidateOutcome::kConfounded) {
-        Finding f = FindingOf(c, FindingStatus::kIndistinguishable, options.alpha);
-        f.partner = c.confounded_with;
-        f.separating_measurement = Entry(c.key).separating_measurement;
-        out.findings.push_back(f);
-      }
-  out.final_model = SurfaceFits(*current, st.current);
-  // The largest of the surfaces' systematic errors per component (each surface's is in
-  // `final_model`).
-  for (const auto& sd : st.current.noise.systematic_sd)
-    out.measurement_sd = out.measurement_sd.cwiseMax(sd);
-  for (const auto& key : st.accepted) {
-    if (IsRotationRate(key)) {
-      for (const auto& rd : out.rounds)
-        for (const auto& c : rd.candidates)
-          if (rd.accepted == key && c.key == key)
-            out.effects.push_back({key, "", c.estimate, c.se});
-    } else if (Entry(key).measurement_effect) {
-      out.effects.push_back({key, "", st.tilt.tilt_rad * 180 / std::numbers::pi,
-                             st.tilt.tilt_se_rad * 180 / std::numbers::pi});
-    } else {
-      for (const auto& v : EffectValues(*current, st.current, key)) out.effects.push_back(v);
-    }
-  }
-  const auto base_residuals = ws.Residuals(baseline_model, all);
-  for (std::size_t i = 0; i < ws.obs.size(); ++i) {
-    const Obs& o = ws.obs[i];
-    TrialResiduals r;
-    r.id = o.trial->spec.id;
-    r.surface = ws.surfaces[static_cast<std::size_t>(o.surface)];
-    r.angle_deg = o.angle_deg;
-    r.speed_m_s = o.speed_m_s;
-    r.baseline = base_residuals[i];
-    r.final_model = final_residuals[i];
-    for (int c = 0; c < kComponents; ++c)
-      if (!o.used[static_cast<std::size_t>(c)]) r.baseline[c] = r.final_model[c] = kNaN;
-    r.marker_ratio = o.marker_ratio;  // as measured
-    out.residuals.push_back(r);
-  }
+  const auto final_residuals = current.ws->Residuals(st.current.model, all);
+  FinalStructure(*current.ws, st, all, final_residuals, options, out);
+  FinalValues(*current.ws, st, out);
+  TrialResidualsOf(ws, ws.Residuals(baseline_model, all), final_residuals, out);
   out.verdict = VerdictText(out, options, skipped);
-  out.simulations = ws.simulations.load() + (remeasured_ws ? remeasured_ws->simulations.load() : 0);
+  out.simulations = ws.simulations.load() +
+                    (current.remeasured_ws ? current.remeasured_ws->simulations.load() : 0);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.success = true;
   return out;
