@@ -115,90 +115,37 @@ Eigen::Vector2d Measures(const Eigen::Matrix<double, 8, 1>& q, const core::Surfa
   return {e, std::abs(dv.x() / dv.y())};
 }
 
-}  // namespace
-
-void KinematicsOptions::Validate() const {
-  if (fit_frames < 3) throw std::invalid_argument("kinematics fit_frames must be >= 3");
-  if (min_fit_frames < 3) throw std::invalid_argument("kinematics min_fit_frames must be >= 3");
-  if (fit_frames > 100000) throw std::invalid_argument("kinematics fit_frames must be <= 100000");
-  if (!(max_contact_s >= 0 && max_contact_s <= 1))
-    throw std::invalid_argument("kinematics max_contact_s must be in [0, 1] s");
-  if (!(std::isfinite(exposure_s) && exposure_s <= 1))
-    throw std::invalid_argument("kinematics exposure_s must be <= 1 s (< 0: one frame period)");
-  if (!(gravity_m_s2 >= 0)) throw std::invalid_argument("kinematics gravity_m_s2 must be >= 0");
-  if (!(confidence > 0 && confidence < 1))
-    throw std::invalid_argument("kinematics confidence must be in (0, 1)");
+/// Height of E along the surface normal in frame `i`.
+double Height(const std::vector<PoseSample>& poses, const core::SurfaceRotation& S, int i) {
+  return S.y_S().dot(poses[static_cast<std::size_t>(i)].p_WE);
 }
 
-ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
-                               double surface_angle_deg, const core::SpecimenParameters& body,
-                               const KinematicsOptions& options) {
-  options.Validate();
-  if (!(fps > 0)) throw std::invalid_argument("fps must be > 0");
-  ImpactKinematics k;
-  const auto S = core::SurfaceRotation::FromDegrees(surface_angle_deg);
-  const double g = options.gravity_m_s2;
-  const double dt = 1.0 / fps;
-  const double exposure = options.exposure_s < 0 ? dt : options.exposure_s;
+/// Normal velocity of E between frames `a` and `b` (finite difference).
+double NormalVelocity(const std::vector<PoseSample>& poses, const core::SurfaceRotation& S, int a,
+                      int b) {
+  return (Height(poses, S, b) - Height(poses, S, a)) /
+         (poses[static_cast<std::size_t>(b)].t_s - poses[static_cast<std::size_t>(a)].t_s);
+}
 
-  // Height of E along the surface normal, per valid frame.
-  std::vector<int> valid;
-  for (std::size_t i = 0; i < poses.size(); ++i)
-    if (poses[i].valid) valid.push_back(static_cast<int>(i));
-  if (static_cast<int>(valid.size()) < 2 * options.min_fit_frames + 1) {
-    k.message = "too few frames with a body pose (" + std::to_string(valid.size()) + ")";
-    return k;
-  }
-  auto height = [&](int i) { return S.y_S().dot(poses[static_cast<std::size_t>(i)].p_WE); };
-  std::size_t lowest = 0;
-  for (std::size_t j = 1; j < valid.size(); ++j)
-    if (height(valid[j]) < height(valid[lowest])) lowest = j;
-  const int i_min = valid[lowest];
-  const int frames_before = static_cast<int>(lowest);
-  const int frames_after = static_cast<int>(valid.size() - 1 - lowest);
-  // A real impact: the end comes down before the lowest frame and goes back up after it.
-  const double v_down = frames_before >= 2
-                            ? (height(valid[lowest]) - height(valid[lowest - 2])) /
-                                  (poses[static_cast<std::size_t>(valid[lowest])].t_s -
-                                   poses[static_cast<std::size_t>(valid[lowest - 2])].t_s)
-                            : 0.0;
-  const double v_up = frames_after >= 2
-                          ? (height(valid[lowest + 2]) - height(valid[lowest])) /
-                                (poses[static_cast<std::size_t>(valid[lowest + 2])].t_s -
-                                 poses[static_cast<std::size_t>(valid[lowest])].t_s)
-                          : 0.0;
-  if (frames_before < options.min_fit_frames || frames_after < options.min_fit_frames ||
-      !(v_down < -0.05) || !(v_up > 0.05)) {
-    std::ostringstream os;
-    os << "no impact found: the round end's lowest point is at frame " << i_min << " of "
-       << poses.size() << ", and it does not come down before it and rebound after it with "
-       << options.min_fit_frames << " or more frames on each side";
-    k.message = os.str();
-    return k;
-  }
-
-  // A second bounce: another sudden reversal of the normal velocity after the first.
-  const double jump = v_up - v_down;
-  int bounce_frame = -1;
+/// The first frame, after the impact at valid[lowest], where the normal velocity reverses
+/// suddenly again (by more than 0.3 of the impact's `jump`): a second bounce; -1 when none.
+int SecondBounce(const std::vector<PoseSample>& poses, const std::vector<int>& valid,
+                 std::size_t lowest, const core::SurfaceRotation& S, double jump) {
   for (std::size_t j = lowest + 3; j + 1 < valid.size(); ++j) {
     const int a = valid[j - 1], b = valid[j], c = valid[j + 1];
-    const double v1 = (height(b) - height(a)) / (poses[static_cast<std::size_t>(b)].t_s -
-                                                 poses[static_cast<std::size_t>(a)].t_s);
-    const double v2 = (height(c) - height(b)) / (poses[static_cast<std::size_t>(c)].t_s -
-                                                 poses[static_cast<std::size_t>(b)].t_s);
-    if (v2 - v1 > 0.3 * jump) {
-      bounce_frame = b;
-      break;
-    }
+    if (NormalVelocity(poses, S, b, c) - NormalVelocity(poses, S, a, b) > 0.3 * jump) return b;
   }
-  if (bounce_frame >= 0) {
-    k.flags.push_back("second_bounce");
-    k.warnings.push_back("a second bounce near frame " + std::to_string(bounce_frame) +
-                         "; frames from there on are left out of the fit after the impact");
-  }
+  return -1;
+}
 
-  // Fit, find where the fits meet, and refit with the windows placed about that time.
-  double t_imp = poses[static_cast<std::size_t>(i_min)].t_s;
+/// The flight fits before and after the impact near frame `i_min` (starting at time `t_imp`),
+/// their windows placed about the time where the fits meet, three times. Fills k.before,
+/// k.after and the impact time; false with k.message when the frames or the fits do not allow.
+bool FitAroundImpact(const std::vector<PoseSample>& poses, const std::vector<int>& valid, int i_min,
+                     int bounce_frame, double t_imp, double exposure,
+                     const core::SurfaceRotation& S, const core::SpecimenParameters& body,
+                     const KinematicsOptions& options, ImpactKinematics& k) {
+  const double g = options.gravity_m_s2;
   for (int iteration = 0; iteration < 3; ++iteration) {
     const double excl_lo = t_imp - options.max_contact_s - 0.5 * exposure;
     const double excl_hi = t_imp + options.max_contact_s + 0.5 * exposure;
@@ -219,7 +166,7 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
          << before.size() << " before and " << after.size() << " after (need "
          << options.min_fit_frames << ")";
       k.message = os.str();
-      return k;
+      return false;
     }
     k.before = FitFlight(poses, before, t_imp, body, g);
     k.after = FitFlight(poses, after, t_imp, body, g);
@@ -232,7 +179,7 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
     if (!(f(lo) > 0 && f(hi) < 0)) {
       k.message = "the fits before and after the impact near frame " + std::to_string(i_min) +
                   " do not cross: the motion is not a single bounce";
-      return k;
+      return false;
     }
     for (int it = 0; it < 200 && hi - lo > 1e-12; ++it) {
       const double mid = 0.5 * (lo + hi);
@@ -244,9 +191,13 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
     t_imp += shift;
   }
   k.impact_time_s = t_imp;
-  k.impact_frame = static_cast<int>(std::floor(t_imp * fps));
+  return true;
+}
 
-  // Results in S.
+/// The velocities and spins of k.before and k.after in S, with their standard errors, and
+/// the contact point's velocities.
+void VelocitiesInS(const core::SurfaceRotation& S, const core::SpecimenParameters& body,
+                   ImpactKinematics& k) {
   const Eigen::Matrix2d R_SW = S.R_SW();
   k.v_SC_before = S.ToS(k.before.v_WC);
   k.v_SC_after = S.ToS(k.after.v_WC);
@@ -262,8 +213,12 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
       S.ToS(ContactPointVelocity(k.before.v_WC, k.before.w_rad_s, k.before.theta_W_rad, S, body));
   k.v_ST_after =
       S.ToS(ContactPointVelocity(k.after.v_WC, k.after.w_rad_s, k.after.theta_W_rad, S, body));
+}
 
-  // e and mu_eff, with the delta method over the eight fitted quantities.
+/// e and mu_eff, with the delta method over the eight fitted quantities, their intervals at
+/// `confidence` (Student's t), and the kinetic energies.
+void RestitutionAndFriction(const core::SurfaceRotation& S, const core::SpecimenParameters& body,
+                            double confidence, ImpactKinematics& k) {
   Eigen::Matrix<double, 8, 1> q;
   q << k.before.v_WC, k.before.w_rad_s, k.before.theta_W_rad, k.after.v_WC, k.after.w_rad_s,
       k.after.theta_W_rad;
@@ -290,7 +245,7 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
   k.mu_eff_se = std::sqrt(cov_m(1, 1));
   const int dof = std::max(1, k.before.n + k.after.n - 4);
   const double t_q = boost::math::quantile(
-      boost::math::complement(boost::math::students_t(dof), 0.5 * (1 - options.confidence)));
+      boost::math::complement(boost::math::students_t(dof), 0.5 * (1 - confidence)));
   k.e_ci_low = k.e - t_q * k.e_se;
   k.e_ci_high = k.e + t_q * k.e_se;
   k.mu_eff_ci_low = std::max(0.0, k.mu_eff - t_q * k.mu_eff_se);
@@ -299,6 +254,73 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
                               0.5 * body.inertia_kg_m2 * std::pow(k.before.w_rad_s, 2);
   k.kinetic_energy_after_J = 0.5 * body.mass_kg * k.after.v_WC.squaredNorm() +
                              0.5 * body.inertia_kg_m2 * std::pow(k.after.w_rad_s, 2);
+}
+
+}  // namespace
+
+void KinematicsOptions::Validate() const {
+  if (fit_frames < 3) throw std::invalid_argument("kinematics fit_frames must be >= 3");
+  if (min_fit_frames < 3) throw std::invalid_argument("kinematics min_fit_frames must be >= 3");
+  if (fit_frames > 100000) throw std::invalid_argument("kinematics fit_frames must be <= 100000");
+  if (!(max_contact_s >= 0 && max_contact_s <= 1))
+    throw std::invalid_argument("kinematics max_contact_s must be in [0, 1] s");
+  if (!(std::isfinite(exposure_s) && exposure_s <= 1))
+    throw std::invalid_argument("kinematics exposure_s must be <= 1 s (< 0: one frame period)");
+  if (!(gravity_m_s2 >= 0)) throw std::invalid_argument("kinematics gravity_m_s2 must be >= 0");
+  if (!(confidence > 0 && confidence < 1))
+    throw std::invalid_argument("kinematics confidence must be in (0, 1)");
+}
+
+ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
+                               double surface_angle_deg, const core::SpecimenParameters& body,
+                               const KinematicsOptions& options) {
+  options.Validate();
+  if (!(fps > 0)) throw std::invalid_argument("fps must be > 0");
+  ImpactKinematics k;
+  const auto S = core::SurfaceRotation::FromDegrees(surface_angle_deg);
+  const double dt = 1.0 / fps;
+  const double exposure = options.exposure_s < 0 ? dt : options.exposure_s;
+
+  // The frames with a pose, and the lowest of them along the surface normal.
+  std::vector<int> valid;
+  for (std::size_t i = 0; i < poses.size(); ++i)
+    if (poses[i].valid) valid.push_back(static_cast<int>(i));
+  if (static_cast<int>(valid.size()) < 2 * options.min_fit_frames + 1) {
+    k.message = "too few frames with a body pose (" + std::to_string(valid.size()) + ")";
+    return k;
+  }
+  std::size_t lowest = 0;
+  for (std::size_t j = 1; j < valid.size(); ++j)
+    if (Height(poses, S, valid[j]) < Height(poses, S, valid[lowest])) lowest = j;
+  const int i_min = valid[lowest];
+  const int frames_before = static_cast<int>(lowest);
+  const int frames_after = static_cast<int>(valid.size() - 1 - lowest);
+  // A real impact: the end comes down before the lowest frame and goes back up after it.
+  const double v_down =
+      frames_before >= 2 ? NormalVelocity(poses, S, valid[lowest - 2], valid[lowest]) : 0.0;
+  const double v_up =
+      frames_after >= 2 ? NormalVelocity(poses, S, valid[lowest], valid[lowest + 2]) : 0.0;
+  if (frames_before < options.min_fit_frames || frames_after < options.min_fit_frames ||
+      !(v_down < -0.05) || !(v_up > 0.05)) {
+    std::ostringstream os;
+    os << "no impact found: the round end's lowest point is at frame " << i_min << " of "
+       << poses.size() << ", and it does not come down before it and rebound after it with "
+       << options.min_fit_frames << " or more frames on each side";
+    k.message = os.str();
+    return k;
+  }
+  const int bounce_frame = SecondBounce(poses, valid, lowest, S, v_up - v_down);
+  if (bounce_frame >= 0) {
+    k.flags.push_back("second_bounce");
+    k.warnings.push_back("a second bounce near frame " + std::to_string(bounce_frame) +
+                         "; frames from there on are left out of the fit after the impact");
+  }
+  if (!FitAroundImpact(poses, valid, i_min, bounce_frame,
+                       poses[static_cast<std::size_t>(i_min)].t_s, exposure, S, body, options, k))
+    return k;
+  k.impact_frame = static_cast<int>(std::floor(k.impact_time_s * fps));
+  VelocitiesInS(S, body, k);
+  RestitutionAndFriction(S, body, options.confidence, k);
   k.success = true;
   return k;
 }
