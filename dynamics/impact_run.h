@@ -293,6 +293,129 @@ M MakeModel(const SpecimenParameters& specimen, const ContactParameters& contact
   return model;
 }
 
+/// The samples a caller asked for, emitted in time order into their places in `result`.
+template <class M>
+class SampleEmitter {
+ public:
+  SampleEmitter(const M& model, const SpecimenParameters& specimen,
+                std::span<const double> sample_times_s, ImpactResult& result)
+      : model_(model),
+        specimen_(specimen),
+        times_(sample_times_s),
+        result_(result),
+        order_(sample_times_s.size()) {
+    std::iota(order_.begin(), order_.end(), std::size_t{0});
+    std::sort(order_.begin(), order_.end(),
+              [&](std::size_t a, std::size_t b) { return times_[a] < times_[b]; });
+    result_.samples.resize(times_.size());
+  }
+  /// Every sample up to `t_limit`, its state from `state_at(t)`, in `phase`.
+  template <class StateAt>
+  void Until(double t_limit, StateAt&& state_at, ContactPhase phase) {
+    while (next_ < order_.size() && times_[order_[next_]] <= t_limit) {
+      const double t = times_[order_[next_]];
+      result_.samples[order_[next_]] = MakeSample(model_, specimen_, t, state_at(t), phase);
+      ++next_;
+    }
+  }
+
+ private:
+  const M& model_;
+  const SpecimenParameters& specimen_;
+  std::span<const double> times_;
+  ImpactResult& result_;
+  std::vector<std::size_t> order_;  // requested samples in time order
+  std::size_t next_ = 0;
+};
+
+/// The friction mode at first touch: the tangential spring starts unstretched (stick); a rigid
+/// contact slides the way the contact point moves, or, at rest, sticks or slips as the forces
+/// allow.
+template <class M>
+void SetInitialFriction(M& model, typename M::State& x) {
+  if (!(model.mu > 0.0)) return;
+  if constexpr (M::kCompliant) {
+    model.SetFriction(FrictionMode::kStick);
+  } else {
+    const double v_slide = model.SlidingVelocity(x);
+    const double scale = 1e-12 * std::max(1.0, std::abs(x[4]));
+    if (v_slide > scale) {
+      model.SetFriction(FrictionMode::kSlipPositive);
+    } else if (v_slide < -scale) {
+      model.SetFriction(FrictionMode::kSlipNegative);
+    } else {
+      x[3] = -model.R * x[5];
+      model.SetFriction(ModeAtRest(model, x));
+    }
+  }
+}
+
+/// The event at `t_event` with state `xe`: maximum compression or separation (`phase_event`),
+/// or a change of friction mode. Records it in `result`; true at separation.
+template <class M>
+bool HandleEvent(M& model, typename M::State& xe, double t_event, bool phase_event,
+                 ImpactResult& result) {
+  if (phase_event && model.compression) {
+    xe[4] = 0.0;  // Exactly at maximum compression.
+    model.StartRestitution(xe[1]);
+    result.t_max_compression_s = t_event;
+    result.at_max_compression = ToBody(model, xe);
+    result.max_penetration_m = -xe[1];
+    result.events.push_back({t_event, "max_compression"});
+    return false;
+  }
+  if (phase_event) {
+    xe[1] = model.delta_p;  // Exactly where the contact force returns to zero.
+    result.t_separation_s = t_event;
+    result.events.push_back({t_event, "separation"});
+    return true;
+  }
+  if (model.friction == FrictionMode::kStick) {
+    double push;  // sign of the force the contact can no longer hold, along x_S
+    if constexpr (M::kCompliant) {
+      push = xe[6];
+    } else {
+      const double P = model.NormalForce(xe);
+      push = -StickFrictionAt(model, xe, P);
+    }
+    model.SetFriction(push > 0.0 ? FrictionMode::kSlipPositive : FrictionMode::kSlipNegative);
+  } else {
+    if constexpr (M::kCompliant) {
+      xe[6] = model.SpringStretch(xe);  // the slider stops with the spring at the limit
+      model.SetFriction(FrictionMode::kStick);
+    } else {
+      xe[3] = -model.R * xe[5];  // T has stopped sliding.
+      model.SetFriction(ModeAtRest(model, xe));
+    }
+  }
+  result.events.push_back({t_event, ToString(model.friction)});
+  return false;
+}
+
+/// After separation at state `x`: the flight after, and the impact's measures (e, mu_eff,
+/// energies) from the states at touch and at separation.
+template <class M>
+void FinishImpact(M& model, const SpecimenParameters& specimen, const typename M::State& x,
+                  const BodyState& touch, SampleEmitter<M>& emit, ImpactResult& result) {
+  const BodyState after = ToBody(model, x);
+  result.at_separation = after;
+  result.v_ST_after = {model.SlidingVelocity(x), x[4]};
+  model.SetFriction(FrictionMode::kNone);
+  emit.Until(
+      std::numeric_limits<double>::infinity(),
+      [&](double t) {
+        return FromBody(model, PropagateFlight(after, model.g_S, t - result.t_separation_s));
+      },
+      ContactPhase::kFlightAfter);
+  result.e = std::abs(result.v_ST_after.y() / result.v_ST_before.y());
+  const Eigen::Vector2d dv = after.v_SC - touch.v_SC;
+  result.mu_eff = dv.y() != 0.0 ? std::abs(dv.x() / dv.y()) : core::kNaN;
+  result.kinetic_energy_before_J = KineticEnergy(specimen, touch);
+  result.kinetic_energy_after_J = KineticEnergy(specimen, after);
+  result.energy_loss_J = result.kinetic_energy_before_J - result.kinetic_energy_after_J;
+  result.success = true;
+}
+
 /// One impact from first touch to separation, on N states (7 with a tangential spring).
 template <class M>
 ImpactResult Run(const SpecimenParameters& specimen, const ContactParameters& contact,
@@ -315,43 +438,13 @@ ImpactResult Run(const SpecimenParameters& specimen, const ContactParameters& co
   result.at_touch = touch;
   result.v_ST_before = {model.SlidingVelocity(x), x[4]};
 
-  // Requested samples, visited in time order; results go back in the caller's order.
-  std::vector<std::size_t> order(sample_times_s.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t a, std::size_t b) { return sample_times_s[a] < sample_times_s[b]; });
-  result.samples.resize(sample_times_s.size());
-  std::size_t next = 0;
-  auto emit_until = [&](double t_limit, auto&& state_at, ContactPhase phase) {
-    while (next < order.size() && sample_times_s[order[next]] <= t_limit) {
-      const double t = sample_times_s[order[next]];
-      result.samples[order[next]] = MakeSample(model, specimen, t, state_at(t), phase);
-      ++next;
-    }
-  };
+  SampleEmitter<M> emit(model, specimen, sample_times_s, result);
   // Flight before: t < 0. A sample at t = 0 belongs to the contact (P jumps to b |v| there).
-  emit_until(
+  emit.Until(
       std::nextafter(0.0, -1.0),
       [&](double t) { return FromBody(model, PropagateFlight(touch, model.g_S, t)); },
       ContactPhase::kFlightBefore);
-
-  // Initial friction mode.
-  if (model.mu > 0.0) {
-    if constexpr (M::kCompliant) {
-      model.SetFriction(FrictionMode::kStick);  // the tangential spring starts unstretched
-    } else {
-      const double v_slide = model.SlidingVelocity(x);
-      const double scale = 1e-12 * std::max(1.0, std::abs(x[4]));
-      if (v_slide > scale) {
-        model.SetFriction(FrictionMode::kSlipPositive);
-      } else if (v_slide < -scale) {
-        model.SetFriction(FrictionMode::kSlipNegative);
-      } else {
-        x[3] = -model.R * x[5];
-        model.SetFriction(ModeAtRest(model, x));
-      }
-    }
-  }
+  SetInitialFriction(model, x);
 
   const double omega_n = std::sqrt(model.k * model.inv_m);
   typename Integrator<N>::ErrorChecker error_checker;
@@ -406,69 +499,20 @@ ImpactResult Run(const SpecimenParameters& specimen, const ContactParameters& co
     };
     if (!std::isfinite(t_event)) {
       result.peak_normal_force_N = std::max(result.peak_normal_force_N, model.NormalForce(x1));
-      emit_until(t1, dense, phase);
+      emit.Until(t1, dense, phase);
       continue;
     }
-    emit_until(t_event, dense, phase);
+    emit.Until(t_event, dense, phase);
     State xe;
     stepper.calc_state(t_event, xe);
     result.peak_normal_force_N = std::max(result.peak_normal_force_N, model.NormalForce(xe));
-    if (phase_event && model.compression) {
-      xe[4] = 0.0;  // Exactly at maximum compression.
-      model.StartRestitution(xe[1]);
-      result.t_max_compression_s = t_event;
-      result.at_max_compression = ToBody(model, xe);
-      result.max_penetration_m = -xe[1];
-      result.events.push_back({t_event, "max_compression"});
-    } else if (phase_event) {
-      xe[1] = model.delta_p;  // Exactly where the contact force returns to zero.
-      result.t_separation_s = t_event;
-      result.events.push_back({t_event, "separation"});
+    separated = HandleEvent(model, xe, t_event, phase_event, result);
+    if (separated)
       x = xe;
-      separated = true;
-      continue;
-    } else if (model.friction == FrictionMode::kStick) {
-      double push;  // sign of the force the contact can no longer hold, along x_S
-      if constexpr (M::kCompliant) {
-        push = xe[6];
-      } else {
-        const double P = model.NormalForce(xe);
-        push = -StickFrictionAt(model, xe, P);
-      }
-      model.SetFriction(push > 0.0 ? FrictionMode::kSlipPositive : FrictionMode::kSlipNegative);
-      result.events.push_back({t_event, ToString(model.friction)});
-    } else {
-      if constexpr (M::kCompliant) {
-        xe[6] = model.SpringStretch(xe);  // the slider stops with the spring at the limit
-        model.SetFriction(FrictionMode::kStick);
-      } else {
-        xe[3] = -model.R * xe[5];  // T has stopped sliding.
-        model.SetFriction(ModeAtRest(model, xe));
-      }
-      result.events.push_back({t_event, ToString(model.friction)});
-    }
-    stepper.initialize(xe, t_event, std::max(stepper.current_time_step(), 1e-3 / omega_n));
+    else
+      stepper.initialize(xe, t_event, std::max(stepper.current_time_step(), 1e-3 / omega_n));
   }
-
-  // Separation: free flight from here on.
-  const BodyState after = ToBody(model, x);
-  result.at_separation = after;
-  result.v_ST_after = {model.SlidingVelocity(x), x[4]};
-  model.SetFriction(FrictionMode::kNone);
-  emit_until(
-      std::numeric_limits<double>::infinity(),
-      [&](double t) {
-        return FromBody(model, PropagateFlight(after, model.g_S, t - result.t_separation_s));
-      },
-      ContactPhase::kFlightAfter);
-
-  result.e = std::abs(result.v_ST_after.y() / result.v_ST_before.y());
-  const Eigen::Vector2d dv = after.v_SC - touch.v_SC;
-  result.mu_eff = dv.y() != 0.0 ? std::abs(dv.x() / dv.y()) : core::kNaN;
-  result.kinetic_energy_before_J = KineticEnergy(specimen, touch);
-  result.kinetic_energy_after_J = KineticEnergy(specimen, after);
-  result.energy_loss_J = result.kinetic_energy_before_J - result.kinetic_energy_after_J;
-  result.success = true;
+  FinishImpact(model, specimen, x, touch, emit, result);
   return result;
 }
 
