@@ -5,21 +5,10 @@
 #include <H5Cpp.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <ctime>
-#include <limits>
-#include <optional>
-#include <set>
-#include <sstream>
 #include <stdexcept>
-#include <system_error>
-#include <utility>
 
 #include "core/frames.h"
-#include "io/atomic_file.h"
-#include "io/csv.h"
-#include "io/interrupt.h"
 #include "studyfile/file_util.h"
 #include "studyfile/hdf5_util.h"
 #include "studyfile/schema.h"
@@ -28,14 +17,10 @@
 namespace hoof::studyfile {
 namespace {
 
-using core::kNaN;
-using internal::AtomicHdf5;
 using internal::CheckedStrings;
 using internal::CheckFormat;
 using internal::GroupReader;
-using internal::Join;
 using internal::RethrowHdf5;
-using internal::ShapeText;
 
 // ------------------------------------------------------------------------------------------
 // Reading trials back
