@@ -16,7 +16,7 @@
 #include "cli/common_options.h"
 #include "dynamics/contact_fit.h"
 #include "io/atomic_file.h"
-#include "io/csv.h"
+#include "study/normal_impacts.h"
 
 namespace hoof::cli {
 namespace {
@@ -32,23 +32,8 @@ struct FitArgs {
   dynamics::ContactFitOptions fit;
   bool json = false;
   std::string valley_csv;
-  std::vector<std::string> filters;  // COL=VALUE: keep only the rows where COL equals VALUE
+  std::vector<std::string> filters;  // COL=VALUE: keep only the rows where COL holds VALUE
 };
-
-/// Whether a cell's text matches a --where value: the same text, or two numbers equal as numbers
-/// ("0" and "0.0"). A text counts as a number only when all of it parses as one, so that
-/// "steel" and "concrete" (both read by strtod as 0) are not taken for equal.
-bool SameValue(const std::string& text, const std::string& value) {
-  if (text == value) return true;
-  auto number = [](const std::string& t, double& x) {
-    if (t.empty()) return false;
-    char* end = nullptr;
-    x = std::strtod(t.c_str(), &end);
-    return end == t.c_str() + t.size() && std::isfinite(x);
-  };
-  double x = 0.0, y = 0.0;
-  return number(text, x) && number(value, y) && x == y;
-}
 
 /// Draws the paper's objective over (log k, b) in the terminal: darker is a smaller MPE, and
 /// '*' marks the fitted valley. Rows are b (top = b_max), columns log k.
@@ -174,57 +159,15 @@ void RegisterFit(CLI::App& app, RunState& state) {
 
   cmd->callback([args, &state] {
     const FitArgs& a = *args;
-    const io::CsvTable table = io::CsvTable::Read(a.csv_path);
-    const std::size_t before_col = table.Column(a.before_col);
-    const std::size_t after_col = table.Column(a.after_col);
-    std::vector<double> before(table.rows()), after(table.rows());
     std::map<std::string, std::vector<dynamics::NormalImpact>> groups;
-    const auto group_index = table.FindColumn(a.group_col);
-    std::vector<std::pair<std::size_t, std::string>> where;
-    for (const auto& f : a.filters) {
-      const auto eq = f.find('=');
-      if (eq == std::string::npos)
-        throw CLI::ValidationError("--where", "\"" + f + "\" is invalid: expected COL=VALUE");
-      where.emplace_back(table.Column(f.substr(0, eq)), f.substr(eq + 1));
+    try {
+      groups =
+          study::ReadNormalImpacts(a.csv_path, {a.before_col, a.after_col, a.group_col, a.filters});
+    } catch (const std::invalid_argument& e) {
+      throw CLI::ValidationError("--where", e.what());
     }
-    auto keep = [&](std::size_t r) {
-      for (const auto& [col, value] : where)
-        if (!SameValue(table.Text(r, col), value)) return false;
-      return true;
-    };
-    std::vector<std::size_t> above_one;  // lines with e > 1
-    for (std::size_t r = 0; r < table.rows(); ++r) {
-      if (!keep(r)) continue;
-      // Parsed only for kept rows (a failed trial's "nan" may be filtered out). Speeds: signs
-      // (a downward velocity) are ignored.
-      before[r] = std::abs(table.Number(r, before_col));
-      after[r] = std::abs(table.Number(r, after_col));
-      if (!(before[r] > 0) || !(after[r] > 0)) {
-        std::ostringstream os;
-        os << a.csv_path << ":" << table.LineOf(r) << ": speeds must be > 0 (columns \""
-           << a.before_col << "\", \"" << a.after_col << "\")";
-        throw std::runtime_error(os.str());
-      }
-      if (after[r] > before[r]) above_one.push_back(table.LineOf(r));
-      const std::string g = group_index ? table.Text(r, *group_index) : "";
-      groups[g].push_back({before[r], after[r]});
-    }
-    if (groups.empty()) throw std::runtime_error(a.csv_path + ": no data rows (after --where)");
-    // A rebound faster than the approach (e > 1) is no dissipative contact's: say where.
-    if (!above_one.empty()) {
-      std::ostringstream os;
-      os << a.csv_path << ": e = " << a.after_col << " / " << a.before_col << " > 1 in "
-         << above_one.size() << " row(s), on line(s) ";
-      for (std::size_t i = 0; i < above_one.size() && i < 10; ++i)
-        os << (i ? ", " : "") << above_one[i];
-      if (above_one.size() > 10) os << ", ...";
-      os << ": the contact model dissipates energy and cannot fit them (swapped columns?)";
-      throw std::runtime_error(os.str());
-    }
-
     nlohmann::json out = nlohmann::json::array();
-    std::ostringstream grid;
-    grid << "group,k_N_m,b_N_s_m,zeta,mpe_percent,on_valley\n";
+    std::vector<std::pair<std::string, ContactFitSummary>> fits;
     bool all_ok = true;
     for (const auto& [name, impacts] : groups) {
       const ContactFitSummary s = dynamics::FitNormalContact(impacts, a.specimen, a.fit);
@@ -235,24 +178,11 @@ void RegisterFit(CLI::App& app, RunState& state) {
         PrintText(name, s, a.specimen.mass_kg);
         std::cout << "\n";
       }
-      for (std::size_t i = 0; i < s.map_k_N_m.size(); ++i)
-        for (std::size_t j = 0; j < s.map_b_N_s_m.size(); ++j)
-          grid << io::CsvEscape(name) << "," << io::CsvNumber(s.map_k_N_m[i]) << ","
-               << io::CsvNumber(s.map_b_N_s_m[j]) << ","
-               << io::CsvNumber(
-                      dynamics::DampingRatio(s.map_k_N_m[i], s.map_b_N_s_m[j], a.specimen.mass_kg))
-               << ","
-               << io::CsvNumber(
-                      s.map_mpe_percent(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)))
-               << ",0\n";
-      for (const auto& p : s.valley)
-        grid << io::CsvEscape(name) << "," << io::CsvNumber(p.k_N_m) << ","
-             << io::CsvNumber(p.b_N_s_m) << "," << io::CsvNumber(p.zeta) << ","
-             << io::CsvNumber(p.mpe_percent) << ",1\n";
+      fits.emplace_back(name, s);
     }
     if (a.json) std::cout << out.dump(2) << "\n";
     if (!a.valley_csv.empty()) {
-      io::WriteTextAtomically(a.valley_csv, grid.str());
+      io::WriteTextAtomically(a.valley_csv, study::ValleyCsv(fits, a.specimen.mass_kg));
       if (!a.json) std::cout << "Objective map and valley written to " << a.valley_csv << "\n";
     }
     state.exit_code = all_ok ? kExitOk : kExitFailure;
