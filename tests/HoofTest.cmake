@@ -13,7 +13,11 @@ function(hoof_add_test)
   target_compile_definitions(${ARG_NAME} PRIVATE
     HOOF_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     HOOF_BINARY_DIR="${PROJECT_BINARY_DIR}"
-    HOOF_CLI_PATH="$<TARGET_FILE:hoofimpact>")
+    HOOF_CLI_PATH="$<TARGET_FILE:hoofimpact>"
+    # What `hoofimpact synth` is built from: the renderer's libraries (deterministic archives)
+    # and the command's sources, with the OpenCV that encodes its PNG frames (RenderedStudy).
+    HOOF_RENDERER_FILES="$<TARGET_FILE:hoof_synth>|$<TARGET_FILE:hoof_dynamics>|$<TARGET_FILE:hoof_core>|$<TARGET_FILE:hoof_io>|${PROJECT_SOURCE_DIR}/src/cli/synth_command.cc|${PROJECT_SOURCE_DIR}/src/cli/common_options.cc|${PROJECT_SOURCE_DIR}/src/cli/common_options.h|${PROJECT_SOURCE_DIR}/src/cli/main.cc"
+    HOOF_RENDERER_OPENCV="${OpenCV_VERSION}")
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 600)
   endif()

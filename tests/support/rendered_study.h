@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Studies that tests render with `hoofimpact synth --study`, once per build of the program.
+/// Studies that tests render with `hoofimpact synth --study`, once per version of the renderer.
 
 #include <signal.h>
 #include <unistd.h>
@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstdlib>
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -28,23 +29,34 @@ inline std::uint64_t Fnv1a(std::string_view bytes, std::uint64_t h = 14695981039
   return h;
 }
 
-/// A hash of the program's bytes: a rebuilt renderer has another.
-inline std::uint64_t ProgramHash() {
+/// The renderer's version: a hash of what `hoofimpact synth` is built from (HOOF_RENDERER_FILES:
+/// the libraries it renders with, as deterministic archives, and the command's own sources) and
+/// of the OpenCV that writes its frames. A change elsewhere in the program (discovery, say)
+/// leaves it, so the tests' studies are not rendered again; a changed renderer has another.
+inline std::uint64_t RendererHash() {
   static const std::uint64_t hash = [] {
-    std::ifstream in(HOOF_CLI_PATH, std::ios::binary);
-    std::ostringstream bytes;
-    bytes << in.rdbuf();
-    return Fnv1a(bytes.str());
+    std::uint64_t h = Fnv1a(std::string("opencv ") + HOOF_RENDERER_OPENCV);
+    const std::string files = HOOF_RENDERER_FILES;
+    for (std::size_t start = 0; start <= files.size();) {
+      const std::size_t bar = std::min(files.find('|', start), files.size());
+      const std::string path = files.substr(start, bar - start);
+      std::ifstream in(path, std::ios::binary);
+      std::ostringstream bytes;
+      bytes << in.rdbuf();
+      h = Fnv1a(bytes.str(), Fnv1a(path + (in ? "" : " (missing)"), h));
+      start = bar + 1;
+    }
+    return h;
   }();
   return hash;
 }
 
 /// The folder of a study rendered by `hoofimpact synth --study -o DIR OPTIONS`, made once per
-/// build: it is test-output/studies/NAME-OOOOOOOOPPPPPPPP, where O is a hash of the options and P
-/// one of the program's bytes, so that changed options or a rebuilt renderer render anew instead
-/// of reusing frames an older renderer drew under the same name. Folders of NAME that another
-/// build made (another P) are removed; those of this build with other options are kept, as a
-/// test running beside this one may be reading them (two tests once gave one NAME options that
+/// renderer: it is test-output/studies/NAME-OOOOOOOOPPPPPPPP, where O is a hash of the options and
+/// P the renderer's version (RendererHash), so that changed options or a changed renderer render
+/// anew instead of reusing frames an older renderer drew under the same name. Folders of NAME that
+/// another build made (another P) are removed; those of this build with other options are kept, as
+/// a test running beside this one may be reading them (two tests once gave one NAME options that
 /// differed in their spelling, 1000 and 1000.000000, and each removed the other's frames).
 /// ctest runs tests as parallel processes: each renders into a folder of its own and renames it
 /// into place, and whoever renames second keeps the first one's study.
@@ -55,8 +67,8 @@ inline std::filesystem::path RenderedStudy(const std::string& name, const std::s
     os << std::hex << std::setw(8) << std::setfill('0') << ((h ^ (h >> 32)) & 0xffffffffULL);
     return os.str();
   };
-  const std::string program = hex8(ProgramHash());
-  const std::string key = hex8(Fnv1a(options)) + program;
+  const std::string renderer = hex8(RendererHash());
+  const std::string key = hex8(Fnv1a(options)) + renderer;
   const fs::path root = fs::path(HOOF_BINARY_DIR) / "test-output" / "studies";
   const fs::path dir = root / (name + "-" + key);
   if (fs::exists(dir / "study.json")) return dir;
@@ -64,9 +76,9 @@ inline std::filesystem::path RenderedStudy(const std::string& name, const std::s
   fs::create_directories(root, ec);
   for (const auto& entry : fs::directory_iterator(root, ec)) {
     const std::string other = entry.path().filename().string();
-    // NAME-<16 hex digits> whose last 8 are not this build's: a study an older renderer drew.
+    // NAME-<16 hex digits> whose last 8 are not this renderer's: a study an older one drew.
     if (other.size() == name.size() + 17 && other.rfind(name + "-", 0) == 0 &&
-        other.compare(name.size() + 9, 8, program) != 0)
+        other.compare(name.size() + 9, 8, renderer) != 0)
       fs::remove_all(entry.path(), ec);
     // NAME-HASH.tmp-PID of a test process that was killed (a timeout) while rendering.
     const std::size_t at = other.rfind(".tmp-");
