@@ -19,7 +19,7 @@ using namespace hoof::testing::discovery_fixture;
 using hoof::testing::FreshDir;
 
 TEST(DiscoveryTablesTest, TheResultReadsBackAsWritten) {
-  const fs::path dir = FreshDir("discovery_report_test/tables");
+  const fs::path dir = FreshDir("discovery_tables_test/tables");
   const fs::path h5 = StudyFile(dir);
   EXPECT_FALSE(discovery::HasDiscovery(h5));
   DiscoveryResult w = Result();
@@ -184,7 +184,7 @@ TEST(DiscoveryTablesTest, TheResultReadsBackAsWritten) {
 }
 
 TEST(DiscoveryTablesTest, AMissingTableIsNamedWithTheFile) {
-  const fs::path dir = FreshDir("discovery_report_test/missing");
+  const fs::path dir = FreshDir("discovery_tables_test/missing");
   const fs::path h5 = StudyFile(dir);
   hoof::testing::ExpectErrorContaining([&] { discovery::ReadDiscovery(h5); }, h5.string());
   hoof::testing::ExpectErrorContaining([&] { discovery::ReadDiscovery(h5); }, "/discovery/summary");
