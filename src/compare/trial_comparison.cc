@@ -106,6 +106,92 @@ ModelUncertainty Uncertainty(const SurfaceModel& model) {
   return u;
 }
 
+namespace {
+
+/// Frame `f` of trial `t`: the simulation (`s`, in S with its origin at `p_WT`, T at first
+/// touch) against the measured pose and markers, in W and in the image.
+FrameComparison CompareFrame(const pipeline::TrialAnalysis& t, std::size_t f,
+                             const dynamics::TrajectorySample& s, const Eigen::Vector2d& p_WT,
+                             const core::SurfaceRotation& S, const dynamics::SpecimenParameters& sp,
+                             const tracking::ImageToWorld& cam) {
+  FrameComparison fc;
+  fc.t_s = static_cast<double>(f) / t.spec.fps;
+  fc.p_WC_sim = p_WT + S.ToW(s.body.p_SC);
+  fc.theta_W_sim_rad = S.AngleToW(s.body.theta_S_rad);
+  fc.kinetic_energy_sim_J = s.kinetic_energy_J;
+  const core::BodyRotation R_WB_sim(fc.theta_W_sim_rad);
+  const Eigen::Vector2d p_WE_sim = fc.p_WC_sim - sp.d_EC_m * R_WB_sim.x_B();
+  const auto& pose = t.poses[f];
+  fc.measured = pose.valid;
+  if (pose.valid) {
+    fc.p_WC_meas = pose.p_WE + sp.d_EC_m * core::BodyRotation(pose.theta_W_rad).x_B();
+    fc.theta_W_meas_rad = pose.theta_W_rad;
+  }
+  for (std::size_t m = 0; m < t.spec.specimen.markers_B_m.size(); ++m) {
+    const Eigen::Vector2d sim_W = p_WE_sim + R_WB_sim.ToW(t.spec.specimen.markers_B_m[m].second);
+    fc.markers_W_sim.push_back(sim_W);
+    const Eigen::Vector2d sim_px = cam.ToImage(sim_W);
+    fc.markers_px_sim.push_back(sim_px);
+    const bool found =
+        f < t.tracks.frames.size() && m < t.tracks.frames[f].size() && t.tracks.frames[f][m].found;
+    const Eigen::Vector2d meas =
+        found ? t.tracks.frames[f][m].p_I : Eigen::Vector2d::Constant(core::kNaN);
+    fc.markers_px_meas.push_back(meas);
+    fc.marker_residual_px.push_back(found ? (meas - sim_px).norm() : core::kNaN);
+  }
+  return fc;
+}
+
+/// The velocities after the impact, simulated and measured, the simulated ones' uncertainty
+/// from the measured state before and the model (one-sided differences of one standard error
+/// in vx, vy, w, zeta and mu), and the z-scores of their differences.
+void CompareAfter(const pipeline::TrialAnalysis& t, const dynamics::ContactParameters& contact,
+                  const ModelUncertainty& uncertainty, const dynamics::SpecimenParameters& sp,
+                  TrialComparison& out) {
+  const auto& b = t.impact.before;
+  const auto [v_sim, w_sim] = AfterAtImpactTime(t, out.sim, out.t_touch_s);
+  out.v_SC_after_sim = v_sim;
+  out.w_after_sim = w_sim;
+  out.v_SC_after_meas = t.impact.v_SC_after;
+  out.w_after_meas = t.impact.w_after_rad_s;
+  Eigen::Vector2d var_v = Eigen::Vector2d::Zero();
+  double var_w = 0.0;
+  const double se_v = std::sqrt(b.cov_v_WC(0, 0));
+  for (int k = 0; k < 5; ++k) {
+    pipeline::TrialAnalysis shifted = t;  // cheap enough: a few per trial
+    auto& sb = shifted.impact.before;
+    dynamics::ContactParameters c = contact;
+    if (k < 2) {
+      sb.v_WC(k) += se_v;
+    } else if (k == 2) {
+      sb.w_rad_s += b.w_se_rad_s;
+    } else if (k == 3) {
+      if (uncertainty.zeta_se <= 0) continue;
+      const double zeta = dynamics::DampingRatio(c.k_N_m, c.b_N_s_m, sp.mass_kg);
+      c.b_N_s_m = dynamics::DampingForRatio(zeta + uncertainty.zeta_se, c.k_N_m, sp.mass_kg);
+    } else {
+      if (uncertainty.mu_se <= 0) continue;
+      c.mu += uncertainty.mu_se;
+    }
+    const auto r =
+        dynamics::ImpactSimulator(sp, c).Simulate(MeasuredConditions(shifted, out.t_touch_s));
+    if (!r.success) continue;
+    const auto [v2, w2] = AfterAtImpactTime(shifted, r, out.t_touch_s);
+    var_v += (v2 - v_sim).cwiseAbs2();
+    var_w += (w2 - w_sim) * (w2 - w_sim);
+  }
+  out.v_SC_after_sim_se = var_v.cwiseSqrt();
+  out.w_after_sim_se = std::sqrt(var_w);
+  const Eigen::Vector2d se_meas = t.impact.v_SC_after_se;
+  for (int k = 0; k < 2; ++k)
+    out.v_SC_after_z(k) =
+        (out.v_SC_after_meas(k) - v_sim(k)) / std::sqrt(se_meas(k) * se_meas(k) + var_v(k));
+  out.w_after_z = (out.w_after_meas - w_sim) /
+                  std::sqrt(t.impact.w_after_se_rad_s * t.impact.w_after_se_rad_s + var_w);
+}
+
+}  // namespace
+
 TrialComparison CompareTrial(const pipeline::TrialAnalysis& t,
                              const dynamics::ContactParameters& contact,
                              const ModelUncertainty& uncertainty) {
@@ -143,85 +229,15 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& t,
     const double theta_touch = b.theta_W_rad + b.w_rad_s * dt;
     const Eigen::Vector2d p_WT =
         p_WC_touch - sp.d_EC_m * core::BodyRotation(theta_touch).x_B() - sp.end_radius_m * S.y_S();
-
     const tracking::ImageToWorld cam = Camera(t);
-    for (std::size_t f = 0; f < frames; ++f) {
-      const auto& s = out.sim.samples[f];
-      FrameComparison fc;
-      fc.t_s = static_cast<double>(f) / t.spec.fps;
-      fc.p_WC_sim = p_WT + S.ToW(s.body.p_SC);
-      fc.theta_W_sim_rad = S.AngleToW(s.body.theta_S_rad);
-      fc.kinetic_energy_sim_J = s.kinetic_energy_J;
-      const core::BodyRotation R_WB_sim(fc.theta_W_sim_rad);
-      const Eigen::Vector2d p_WE_sim = fc.p_WC_sim - sp.d_EC_m * R_WB_sim.x_B();
-      const auto& pose = t.poses[f];
-      fc.measured = pose.valid;
-      if (pose.valid) {
-        fc.p_WC_meas = pose.p_WE + sp.d_EC_m * core::BodyRotation(pose.theta_W_rad).x_B();
-        fc.theta_W_meas_rad = pose.theta_W_rad;
-      }
-      for (std::size_t m = 0; m < t.spec.specimen.markers_B_m.size(); ++m) {
-        const Eigen::Vector2d sim_W =
-            p_WE_sim + R_WB_sim.ToW(t.spec.specimen.markers_B_m[m].second);
-        fc.markers_W_sim.push_back(sim_W);
-        const Eigen::Vector2d sim_px = cam.ToImage(sim_W);
-        fc.markers_px_sim.push_back(sim_px);
-        const bool found = f < t.tracks.frames.size() && m < t.tracks.frames[f].size() &&
-                           t.tracks.frames[f][m].found;
-        const Eigen::Vector2d meas =
-            found ? t.tracks.frames[f][m].p_I : Eigen::Vector2d::Constant(core::kNaN);
-        fc.markers_px_meas.push_back(meas);
-        fc.marker_residual_px.push_back(found ? (meas - sim_px).norm() : core::kNaN);
-      }
-      out.frames.push_back(fc);
-    }
+    for (std::size_t f = 0; f < frames; ++f)
+      out.frames.push_back(CompareFrame(t, f, out.sim.samples[f], p_WT, S, sp, cam));
     for (int i = 0; i < n_contact; ++i) {
       const auto& s = out.sim.samples[frames + static_cast<std::size_t>(i)];
       out.contact_t_s.push_back(s.t_s);
       out.contact_kinetic_energy_J.push_back(s.kinetic_energy_J);
     }
-
-    // Velocities after the impact, and the simulated ones' uncertainty from the measured state
-    // before (one-sided differences of one standard error in vx, vy and w).
-    const auto [v_sim, w_sim] = AfterAtImpactTime(t, out.sim, out.t_touch_s);
-    out.v_SC_after_sim = v_sim;
-    out.w_after_sim = w_sim;
-    out.v_SC_after_meas = t.impact.v_SC_after;
-    out.w_after_meas = t.impact.w_after_rad_s;
-    Eigen::Vector2d var_v = Eigen::Vector2d::Zero();
-    double var_w = 0.0;
-    const double se_v = std::sqrt(b.cov_v_WC(0, 0));
-    for (int k = 0; k < 5; ++k) {
-      pipeline::TrialAnalysis shifted = t;  // cheap enough: a few per trial
-      auto& sb = shifted.impact.before;
-      dynamics::ContactParameters c = contact;
-      if (k < 2) {
-        sb.v_WC(k) += se_v;
-      } else if (k == 2) {
-        sb.w_rad_s += b.w_se_rad_s;
-      } else if (k == 3) {
-        if (uncertainty.zeta_se <= 0) continue;
-        const double zeta = dynamics::DampingRatio(c.k_N_m, c.b_N_s_m, sp.mass_kg);
-        c.b_N_s_m = dynamics::DampingForRatio(zeta + uncertainty.zeta_se, c.k_N_m, sp.mass_kg);
-      } else {
-        if (uncertainty.mu_se <= 0) continue;
-        c.mu += uncertainty.mu_se;
-      }
-      const auto r =
-          dynamics::ImpactSimulator(sp, c).Simulate(MeasuredConditions(shifted, out.t_touch_s));
-      if (!r.success) continue;
-      const auto [v2, w2] = AfterAtImpactTime(shifted, r, out.t_touch_s);
-      var_v += (v2 - v_sim).cwiseAbs2();
-      var_w += (w2 - w_sim) * (w2 - w_sim);
-    }
-    out.v_SC_after_sim_se = var_v.cwiseSqrt();
-    out.w_after_sim_se = std::sqrt(var_w);
-    const Eigen::Vector2d se_meas = t.impact.v_SC_after_se;
-    for (int k = 0; k < 2; ++k)
-      out.v_SC_after_z(k) =
-          (out.v_SC_after_meas(k) - v_sim(k)) / std::sqrt(se_meas(k) * se_meas(k) + var_v(k));
-    out.w_after_z = (out.w_after_meas - w_sim) /
-                    std::sqrt(t.impact.w_after_se_rad_s * t.impact.w_after_se_rad_s + var_w);
+    CompareAfter(t, contact, uncertainty, sp, out);
     out.kinetic_energy_before_J = t.impact.kinetic_energy_before_J;
     out.kinetic_energy_after_meas_J = t.impact.kinetic_energy_after_J;
     out.kinetic_energy_after_sim_J = out.sim.kinetic_energy_after_J;
