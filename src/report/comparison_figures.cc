@@ -24,29 +24,19 @@ void Render(const Plot& plot, const std::filesystem::path& dir, const std::strin
   }
 }
 
-}  // namespace
+/// Velocities after impact by trial id, from /comparison/trials.
+using ComparedById = std::map<std::string, compare::TrialComparison>;
 
-std::vector<std::filesystem::path> WriteComparisonFigures(const std::filesystem::path& study_h5,
-                                                          const std::filesystem::path& dir) {
-  const studyfile::StudyResults study = studyfile::ReadStudyResults(study_h5);
-  std::map<std::string, compare::TrialComparison> row;  // by trial id
-  for (compare::ComparedTrial& t : compare::ReadComparedTrials(study_h5))
-    row[t.id] = std::move(t.comparison);
-
-  std::vector<std::filesystem::path> written;
-  std::vector<std::string> surfaces;
-  for (const auto& t : study.trials)
-    if (std::find(surfaces.begin(), surfaces.end(), t.surface) == surfaces.end() &&
-        !t.surface.empty())
-      surfaces.push_back(t.surface);
-
-  // Figure 6: normal impacts.
+/// Figures 6 and 7 (the paper's): the velocity of C after normal impacts against the impact
+/// speed, measured and simulated; and after oblique impacts, measured against simulated.
+void VelocityFigures(const studyfile::StudyResults& study, const ComparedById& row,
+                     const std::vector<std::string>& surfaces, const std::filesystem::path& dir,
+                     std::vector<std::filesystem::path>& written) {
   Plot normal;
   normal.title = "Velocity of C after normal impacts: measured and simulated";
   normal.x_label = "impact speed |v_{C,y}| before (m/s)";
   normal.y_label = "normal velocity of C after (m/s)";
   normal.key = "outside right top";
-  // Figure 7: oblique impacts, measured against simulated.
   Plot oblique;
   oblique.title = "Velocity of C after oblique impacts: measured against simulated";
   oblique.x_label = "simulated (m/s)";
@@ -95,7 +85,6 @@ std::vector<std::filesystem::path> WriteComparisonFigures(const std::filesystem:
       oblique.series.push_back(oy);
     }
   }
-  io::CreateFolder(dir);  // `dir` may be the report's temporary folder
   if (!normal.series.empty()) Render(normal, dir, "velocity_normal", written);
   if (!oblique.series.empty()) {
     const double pad = 0.05 * (hi - lo + 1e-9);
@@ -104,8 +93,13 @@ std::vector<std::filesystem::path> WriteComparisonFigures(const std::filesystem:
     oblique.series.back().options = "dt 2 lc rgb '#777777'";
     Render(oblique, dir, "velocity_oblique", written);
   }
+}
 
-  // Figure 8: kinetic energy through the contact, one oblique trial per surface.
+/// Figure 8: the kinetic energy through the contact, simulated, against the measured energies
+/// before and after, for the first oblique trial of each surface.
+void EnergyFigures(const std::filesystem::path& study_h5, const studyfile::StudyResults& study,
+                   const ComparedById& row, const std::filesystem::path& dir,
+                   std::vector<std::filesystem::path>& written) {
   std::set<std::string> done;
   for (const auto& t : study.trials) {
     const auto it = row.find(t.id);
@@ -140,6 +134,25 @@ std::vector<std::filesystem::path> WriteComparisonFigures(const std::filesystem:
     p.series = {sim, before, after};
     Render(p, dir, "energy_" + t.id, written);
   }
+}
+
+}  // namespace
+
+std::vector<std::filesystem::path> WriteComparisonFigures(const std::filesystem::path& study_h5,
+                                                          const std::filesystem::path& dir) {
+  const studyfile::StudyResults study = studyfile::ReadStudyResults(study_h5);
+  ComparedById row;
+  for (compare::ComparedTrial& t : compare::ReadComparedTrials(study_h5))
+    row[t.id] = std::move(t.comparison);
+  std::vector<std::string> surfaces;
+  for (const auto& t : study.trials)
+    if (std::find(surfaces.begin(), surfaces.end(), t.surface) == surfaces.end() &&
+        !t.surface.empty())
+      surfaces.push_back(t.surface);
+  std::vector<std::filesystem::path> written;
+  io::CreateFolder(dir);  // `dir` may be the report's temporary folder
+  VelocityFigures(study, row, surfaces, dir, written);
+  EnergyFigures(study_h5, study, row, dir, written);
   return written;
 }
 
