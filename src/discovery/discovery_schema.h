@@ -322,4 +322,26 @@ void Serialize(Archive& a, T& t) {
 }
 
 /// Parameter name and unit of an effect key, from the candidates and findings that name it.
+/// A row of a values table (candidate_values, finding_values): one value of an effect, the row
+/// of its owner (a candidate or a finding) in the owner's table, and the owner's unit.
+struct ValueRow {
+  std::int64_t owner = 0;
+  EffectValue value;
+  std::string unit;
+};
+
+/// `owner` names the owner column ("candidate" or "finding"), `owner_description` says what
+/// its numbers are.
+template <class Archive, class Row>
+requires std::is_same_v<std::remove_const_t<Row>, ValueRow>
+void Serialize(Archive& a, Row& row, const std::string& owner,
+               const std::string& owner_description) {
+  a.Integer(owner, row.owner, "1", owner_description);
+  a.Text("key", row.value.key, "library key of the effect");
+  a.Text("surface", row.value.surface, "surface the value holds on; empty = all surfaces");
+  a.Text("unit", row.unit, "unit of value and se (the owner's)");
+  a.Number("value", row.value.value, kEstimateUnits, "the value");
+  a.Number("se", row.value.se, kEstimateUnits, "its standard error");
+}
+
 }  // namespace hoof::discovery::schema

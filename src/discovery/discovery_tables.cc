@@ -43,27 +43,13 @@ struct ValuesOf {
 };
 Table ValuesTable(const std::string& name, const std::string& description, const std::string& owner,
                   const std::string& owner_description, const std::vector<ValuesOf>& owners) {
-  std::vector<std::int64_t> row;
-  std::vector<std::string> key, surface, unit;
-  std::vector<double> value, se;
+  std::vector<ValueRow> rows;
   for (std::size_t i = 0; i < owners.size(); ++i)
-    for (const auto& v : *owners[i].values) {
-      row.push_back(static_cast<std::int64_t>(i));
-      key.push_back(v.key);
-      surface.push_back(v.surface);
-      unit.push_back(owners[i].unit);
-      value.push_back(v.value);
-      se.push_back(v.se);
-    }
-  return Table{
-      name,
-      description,
-      {Column::Integers(owner, "1", owner_description, row),
-       Column::Texts("key", "library key of the effect", key),
-       Column::Texts("surface", "surface the value holds on; empty = all surfaces", surface),
-       Column::Texts("unit", "unit of value and se (the owner's)", unit),
-       Column::Numbers("value", kEstimateUnits, "the value", value),
-       Column::Numbers("se", kEstimateUnits, "its standard error", se)}};
+    for (const auto& v : *owners[i].values)
+      rows.push_back({static_cast<std::int64_t>(i), v, owners[i].unit});
+  return studyfile::TableWriter::Of(name, description, rows, [&](auto& a, const ValueRow& r) {
+    Serialize(a, r, owner, owner_description);
+  });
 }
 
 /// The columns of a held-out trial, declared once for writing and reading.

@@ -18,7 +18,7 @@ using namespace schema;
 
 // ---- reading ------------------------------------------------------------------------------
 
-/// One table of the file, with column access that names the file, the table and the column.
+/// One table of the /discovery group, read with errors that name the file and the table.
 class Reader {
  public:
   Reader(const std::filesystem::path& h5, const std::string& table)
@@ -31,77 +31,16 @@ class Reader {
                                    ? what
                                    : h5.string() + ": table " + path_ + ": " + what);
     }
-    rows_ = table_.columns.empty() ? 0 : table_.columns.front().size();
   }
 
-  std::size_t rows() const { return rows_; }
   const Table& table() const { return table_; }
   /// "<file>: table <path>", how errors name the table.
   std::string where() const { return h5_.string() + ": table " + path_; }
 
-  std::vector<double> Numbers(const std::string& name) const {
-    const auto& c = Find(name);
-    if (const auto* d = std::get_if<std::vector<double>>(&c.values)) return *d;
-    if (const auto* i = std::get_if<std::vector<std::int64_t>>(&c.values))
-      return std::vector<double>(i->begin(), i->end());
-    throw Error(name, "is not numeric");
-  }
-  std::vector<std::int64_t> Integers(const std::string& name) const {
-    const auto& c = Find(name);
-    if (const auto* i = std::get_if<std::vector<std::int64_t>>(&c.values)) return *i;
-    if (const auto* d = std::get_if<std::vector<double>>(&c.values)) {
-      std::vector<std::int64_t> out;
-      for (double x : *d) out.push_back(static_cast<std::int64_t>(x));
-      return out;
-    }
-    throw Error(name, "is not numeric");
-  }
-  bool Has(const std::string& name) const {
-    for (const auto& c : table_.columns)
-      if (c.name == name) return true;
-    return false;
-  }
-  std::vector<bool> Flags(const std::string& name) const {
-    std::vector<bool> out;
-    for (auto i : Integers(name)) out.push_back(i != 0);
-    return out;
-  }
-  std::vector<std::string> Texts(const std::string& name) const {
-    const auto& c = Find(name);
-    if (const auto* s = std::get_if<std::vector<std::string>>(&c.values)) return *s;
-    throw Error(name, "is not text");
-  }
-  /// A text column of enum values, each read with `parse` (a FromString function).
-  template <typename Enum>
-  std::vector<Enum> Enums(const std::string& name, Enum (*parse)(const std::string&)) const {
-    std::vector<Enum> out;
-    const auto texts = Texts(name);
-    for (std::size_t i = 0; i < texts.size(); ++i) {
-      try {
-        out.push_back(parse(texts[i]));
-      } catch (const std::exception& e) {
-        throw Error(name, "row " + std::to_string(i) + ": " + e.what());
-      }
-    }
-    return out;
-  }
-  /// The error for a bad value of column `column`.
-  std::runtime_error Error(const std::string& column, const std::string& what) const {
-    return std::runtime_error(h5_.string() + ": table " + path_ + ": column \"" + column + "\" " +
-                              what);
-  }
-
  private:
-  const Column& Find(const std::string& name) const {
-    for (const auto& c : table_.columns)
-      if (c.name == name) return c;
-    throw Error(name, "is missing");
-  }
-
   std::filesystem::path h5_;
   std::string path_;
   Table table_;
-  std::size_t rows_ = 0;
 };
 
 std::vector<StructureTest> ReadTests(const std::filesystem::path& h5, const std::string& table) {
@@ -123,16 +62,15 @@ template <typename Owner>
 void ReadValues(const std::filesystem::path& h5, const std::string& table, const std::string& owner,
                 std::vector<Owner>& owners) {
   const Reader t(h5, table);
-  const auto row = t.Integers(owner);
-  const auto key = t.Texts("key"), surface = t.Texts("surface");
-  const auto value = t.Numbers("value"), se = t.Numbers("se");
-  for (std::size_t i = 0; i < t.rows(); ++i) {
-    if (row[i] < 0 || static_cast<std::size_t>(row[i]) >= owners.size())
-      throw t.Error(owner, "row " + std::to_string(i) + ": " + std::to_string(row[i]) +
-                               " is not a row of the " + std::to_string(owners.size()) +
-                               " it refers to");
-    owners[static_cast<std::size_t>(row[i])].values.push_back(
-        EffectValue{key[i], surface[i], value[i], se[i]});
+  const auto rows = studyfile::TableReader::Read<ValueRow>(
+      t.table(), t.where(), [&](auto& a, ValueRow& r) { Serialize(a, r, owner, ""); });
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const std::int64_t row = rows[i].owner;
+    if (row < 0 || static_cast<std::size_t>(row) >= owners.size())
+      throw std::runtime_error(t.where() + ": column \"" + owner + "\" row " + std::to_string(i) +
+                               ": " + std::to_string(row) + " is not a row of the " +
+                               std::to_string(owners.size()) + " it refers to");
+    owners[static_cast<std::size_t>(row)].values.push_back(rows[i].value);
   }
 }
 
