@@ -34,8 +34,8 @@ namespace {
 namespace fs = std::filesystem;
 using hoof::discovery::DiscoveryResult;
 
-/// The design of tests/discovery/discovery_test.cc (kDesign): one surface, normal and oblique
-/// impacts at three speeds, two repetitions, the paper's contact law in every trial (no
+/// The design of tests/discovery/discovery_studies.h (kDiscoveryDesign): one surface, normal and
+/// oblique impacts at three speeds, two repetitions, the paper's contact law in every trial (no
 /// per-trial scatter) and every camera effect on.
 const char* kDesign =
     "--surfaces steel --angles-deg 0,10,20,30 --speeds 1.5,2.75,4 --trials-per-cell 2 --no-scatter";

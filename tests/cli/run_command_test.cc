@@ -9,6 +9,7 @@
 
 #include "studyfile/study_file.h"
 #include "support/run_command.h"
+#include "support/test_studies.h"
 
 namespace hoof::cli {
 namespace {
@@ -20,12 +21,8 @@ TEST(RunCommandTest, TheWholeStudyEndToEnd) {
   const fs::path base =
       fs::path(HOOF_BINARY_DIR) / "test-output" / ("run_" + std::to_string(::getpid()));
   fs::remove_all(base);
-  auto r = RunHoofimpact(
-      "synth --study --no-scatter --surfaces steel,concrete --angles-deg 0,20 "
-      "--speeds 2.5,3.5 --trials-per-cell 2 --seed 8 -o " +
-      (base / "study").string());
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  r = RunHoofimpact("run " + (base / "study").string() + " -o " + (base / "out").string());
+  const fs::path study = hoof::testing::TestStudyDir("run_16");
+  auto r = RunHoofimpact("run " + study.string() + " -o " + (base / "out").string());
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   EXPECT_NE(r.out.find("16 measured, 0 failed"), std::string::npos) << r.out;
   const fs::path h5 = base / "out" / "study.h5";

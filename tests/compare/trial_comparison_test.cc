@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
-#include <thread>
+
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -19,8 +19,10 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include "pipeline/study_analysis.h"
 #include "pipeline/truth_score.h"
 #include "support/run_command.h"
+#include "support/test_studies.h"
 
 namespace hoof::compare {
 namespace {
@@ -30,26 +32,8 @@ namespace fs = std::filesystem;
 /// A study rendered without per-trial scatter (every trial of a surface shares its contact
 /// law), so the surface model fitted to the measurements is the truth.
 const std::vector<pipeline::TrialAnalysis>& Trials() {
-  static const std::vector<pipeline::TrialAnalysis> trials = [] {
-    const fs::path dir =
-        fs::path(HOOF_BINARY_DIR) / "test-output" / ("compare_study_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    const auto r = hoof::testing::RunHoofimpact(
-        "synth --study --no-scatter --surfaces steel,asphalt --angles-deg 0,20 --speeds 2,3,4 "
-        "--trials-per-cell 1 --seed 4 -o " +
-        dir.string());
-    EXPECT_EQ(r.exit_code, 0) << r.err;
-    const auto study = pipeline::ReadStudy(dir);
-    std::vector<pipeline::TrialAnalysis> out(study.trial_dirs.size());
-    std::vector<std::thread> pool;
-    for (int w = 0; w < 2; ++w)
-      pool.emplace_back([&, w] {
-        for (std::size_t i = static_cast<std::size_t>(w); i < out.size(); i += 2)
-          out[i] = pipeline::AnalyzeTrial(pipeline::ReadTrial(study.trial_dirs[i], study));
-      });
-    for (auto& t : pool) t.join();
-    return out;
-  }();
+  static const std::vector<pipeline::TrialAnalysis> trials =
+      pipeline::AnalyzeStudy(pipeline::ReadStudy(hoof::testing::TestStudyDir("compare_12")), {}, 2);
   return trials;
 }
 

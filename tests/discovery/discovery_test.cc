@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "discovery_studies.h"
 #include "dynamics/parameters.h"
 #include "pipeline/study_analysis.h"
 #include "stats/distributions.h"
@@ -31,81 +32,27 @@ using hoof::discovery::FindingStatus;
 
 namespace {
 
-/// Renders a study with `hoofimpact synth --study`, once per build
-/// (tests/support/rendered_study.h).
-fs::path RenderStudy(const std::string& name, const std::string& options) {
-  return hoof::testing::RenderedStudy("discovery-" + name, options);
+using hoof::testing::TestStudy;
+
+TestStudy Named(const std::string& name) { return hoof::testing::NamedDiscoveryStudy(name); }
+
+/// The folder of `study`, which the fixture discovery_studies rendered (or, where this test runs
+/// without it, renders now). A study missing from the catalog fails the test: add it to
+/// DiscoveryStudies (tests/discovery/discovery_studies.h), so that the fixture renders it.
+fs::path RenderStudy(const TestStudy& study) {
+  static const std::vector<TestStudy> catalog = hoof::testing::DiscoveryStudies();
+  EXPECT_NE(std::find(catalog.begin(), catalog.end(), study), catalog.end())
+      << study.name << " is not in DiscoveryStudies()";
+  return hoof::testing::RenderedStudy(study);
 }
 
-/// One surface, normal and oblique impacts at three speeds, two repetitions, the paper's
-/// contact law in every trial (no per-trial scatter) and every camera effect on.
-/// (bench/discovery_explore uses the same design by default: keep the two alike.)
-const char* kDesign =
-    "--surfaces steel --angles-deg 0,10,20,30 --speeds 1.5,2.75,4 --trials-per-cell 2 --no-scatter";
-
-std::vector<hoof::pipeline::TrialAnalysis> MeasureStudy(const std::string& name,
-                                                        const std::string& options) {
-  const fs::path dir = RenderStudy(name, options);
-  const auto study = hoof::pipeline::ReadStudy(dir);
-  return hoof::pipeline::AnalyzeStudy(study, {}, 2);
+std::vector<hoof::pipeline::TrialAnalysis> MeasureStudy(const TestStudy& study) {
+  const auto dir = hoof::pipeline::ReadStudy(RenderStudy(study));
+  return hoof::pipeline::AnalyzeStudy(dir, {}, 2);
 }
 
-DiscoveryResult DiscoverStudy(const std::string& name, const std::string& options) {
-  return Discover(MeasureStudy(name, options), {},
-                  [](const std::string& s) { std::cerr << s << "\n"; });
-}
-
-/// Writes `cells` as a study config beside the test studies, and returns the synth options that
-/// render it with `seed`.
-std::string StudyConfigOptions(const std::string& name, const nlohmann::json& cells,
-                               std::uint64_t seed) {
-  const fs::path config =
-      fs::path(HOOF_BINARY_DIR) / "test-output" / "discovery" / (name + ".json");
-  fs::create_directories(config.parent_path());
-  std::ofstream(config) << nlohmann::json{{"cells", cells}, {"trials_per_cell", 1}}.dump(1);
-  return "--study-config " + config.string() + " --seed " + std::to_string(seed);
-}
-
-/// The design researchers often run: three surfaces, four angles, three trials per surface and
-/// angle at speeds drawn uniformly in [1.5, 4] m/s (one trial per condition, 36 trials), with
-/// the renderer's per-trial scatter of e and mu. Returns the synth options (a study config
-/// written beside the studies, and the seed).
-std::string UnreplicatedDesign(std::uint64_t seed, const std::vector<std::string>& surfaces = {
-                                                       "steel", "concrete", "asphalt"}) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> speed(1.5, 4.0);
-  nlohmann::json cells = nlohmann::json::array();
-  std::string tag;
-  for (const auto& s : surfaces) {
-    tag += s.substr(0, 1);
-    for (double angle : {0.0, 10.0, 20.0, 30.0}) {
-      std::vector<double> used;
-      while (used.size() < 3) {
-        // Trial ids carry the speed to 0.01 m/s: keep them distinct.
-        const double v = std::round(speed(rng) * 100) / 100;
-        if (std::find(used.begin(), used.end(), v) != used.end()) continue;
-        used.push_back(v);
-        cells.push_back({{"surface", s}, {"angle_deg", angle}, {"speed_m_s", v}});
-      }
-    }
-  }
-  return StudyConfigOptions("unreplicated_" + tag + "_" + std::to_string(seed), cells, seed);
-}
-
-/// A study of the scorecard's unreplicated design (bench/discovery_scorecard.cc), by the study
-/// seed it prints: the same trials, speeds and trial seeds (synth::DrawUnreplicatedCells).
-/// Returns the synth options, as UnreplicatedDesign does.
-std::string ScorecardUnreplicated(std::uint64_t study_seed) {
-  hoof::synth::StudyDesign d;
-  d.seed = study_seed;
-  hoof::synth::DrawUnreplicatedCells(d);
-  nlohmann::json cells = nlohmann::json::array();
-  for (const auto& c : d.cells)
-    cells.push_back({{"surface", hoof::dynamics::SurfaceName(c.surface)},
-                     {"angle_deg", c.angle_deg},
-                     {"speed_m_s", c.speed_m_s}});
-  return StudyConfigOptions("scorecard_unreplicated_" + std::to_string(study_seed), cells,
-                            study_seed);
+DiscoveryResult DiscoverStudy(const TestStudy& study) {
+  return Discover(MeasureStudy(study), {}, [](const std::string& s) { std::cerr << s << "\n"; });
 }
 
 void Print(const DiscoveryResult& r) { hoof::testing::PrintDiscoveryRounds(std::cout, r); }
@@ -140,8 +87,7 @@ const hoof::discovery::Finding* SpringNamedAlone(const DiscoveryResult& r) {
 /// Discovery on the scorecard's unreplicated study of `study_seed` with the spring at
 /// k/k_t = 0.02 hidden (twice the null studies' median limit).
 DiscoveryResult ScorecardSpring(std::uint64_t study_seed) {
-  return DiscoverStudy("scorecard_spring_" + std::to_string(study_seed),
-                       ScorecardUnreplicated(study_seed) + " --tangential-compliance-ratio 0.02");
+  return DiscoverStudy(hoof::testing::ScorecardSpringStudy(study_seed));
 }
 
 /// The spring named alone at 0.02, its estimate on an optimum near the truth's and clear of the
@@ -153,15 +99,7 @@ void ExpectSpringClearOfItsSmallestValue(const DiscoveryResult& r) {
   EXPECT_LT(f->estimate, 0.03);
 }
 
-struct HiddenEffect {
-  std::string key;   // library key
-  std::string flag;  // synth flag
-  double truth;      // hidden value
-  int seed;
-};
-
-// Readable test names in ctest's listing.
-void PrintTo(const HiddenEffect& h, std::ostream* os) { *os << h.key << " = " << h.truth; }
+using hoof::testing::HiddenEffect;
 
 class HiddenEffectTest : public ::testing::TestWithParam<HiddenEffect> {};
 
@@ -169,9 +107,7 @@ class HiddenEffectTest : public ::testing::TestWithParam<HiddenEffect> {};
 // comes back within 20 % of the truth, and adding it shrinks the held-out gap by half or more.
 TEST_P(HiddenEffectTest, IsNamedWithItsParameterAndShrinksTheHeldOutGap) {
   const HiddenEffect& h = GetParam();
-  std::ostringstream args;
-  args << kDesign << " --seed " << h.seed << " " << h.flag << " " << h.truth;
-  const DiscoveryResult r = DiscoverStudy(h.key, args.str());
+  const DiscoveryResult r = DiscoverStudy(hoof::testing::HiddenEffectStudy(h));
   Print(r);
   ASSERT_TRUE(r.success) << r.message;
   EXPECT_EQ(r.trials_used, 24);
@@ -191,22 +127,15 @@ TEST_P(HiddenEffectTest, IsNamedWithItsParameterAndShrinksTheHeldOutGap) {
   EXPECT_NEAR(r.effects[0].value, f->estimate, 1e-12 * std::abs(f->estimate) + 1e-300);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Effects, HiddenEffectTest,
-    ::testing::Values(HiddenEffect{"hunt_crossley", "--hunt-crossley-n-s-m2", 2e7, 11},
-                      HiddenEffect{"hertz_stiffness", "--stiffness-exponent-extra", 0.3, 13},
-                      HiddenEffect{"tangential_compliance", "--tangential-compliance-ratio", 1.0,
-                                   14},
-                      HiddenEffect{"rolling_resistance", "--rolling-resistance-m", 5e-4, 12}),
-    [](const auto& p) { return p.param.key; });
+INSTANTIATE_TEST_SUITE_P(Effects, HiddenEffectTest,
+                         ::testing::ValuesIn(hoof::testing::HiddenEffects()),
+                         [](const auto& p) { return p.param.key; });
 
 // The second target: with nothing hidden, nothing is named in at least 19 of 20 seeds.
 TEST(DiscoveryTest, NamesNothingInStudiesWithoutAHiddenEffect) {
   int clean = 0;
   for (int seed = 1; seed <= 20; ++seed) {
-    const DiscoveryResult r =
-        DiscoverStudy("null_" + std::to_string(seed),
-                      std::string(kDesign) + " --seed " + std::to_string(1000 + seed));
+    const DiscoveryResult r = DiscoverStudy(hoof::testing::NullStudy(seed));
     ASSERT_TRUE(r.success) << r.message;
     const bool quiet = Confident(r) == 0 && !r.unexplained;
     clean += quiet ? 1 : 0;
@@ -219,10 +148,7 @@ TEST(DiscoveryTest, NamesNothingInStudiesWithoutAHiddenEffect) {
 // Dissipative restitution against a changed zeta in normal impacts: the data cannot separate
 // them, and the workflow says so (and names nothing).
 TEST(DiscoveryTest, DissipativeRestitutionIsIndistinguishableFromZetaInNormalImpacts) {
-  const DiscoveryResult r = DiscoverStudy("unloading_normal",
-                                          "--surfaces steel --angles-deg 0 --speeds 1.5,2.75,4 "
-                                          "--trials-per-cell 3 --no-scatter --seed 16 "
-                                          "--unloading-stiffness-ratio 0.5");
+  const DiscoveryResult r = DiscoverStudy(Named("unloading_normal"));
   Print(r);
   ASSERT_TRUE(r.success) << r.message;
   const auto* f = FindingOf(r, "plastic_unloading");
@@ -240,8 +166,7 @@ TEST(DiscoveryTest, DissipativeRestitutionIsIndistinguishableFromZetaInNormalImp
 // An effect outside the library (friction that grows with slip speed) gives "unexplained
 // disagreement", never a confident wrong name.
 TEST(DiscoveryTest, AnEffectOutsideTheLibraryIsUnexplained) {
-  const DiscoveryResult r = DiscoverStudy(
-      "friction_speed", std::string(kDesign) + " --seed 17 --friction-speed-slope-s-m 0.5");
+  const DiscoveryResult r = DiscoverStudy(Named("friction_speed"));
   Print(r);
   ASSERT_TRUE(r.success) << r.message;
   EXPECT_TRUE(r.unexplained) << r.verdict;
@@ -253,8 +178,7 @@ TEST(DiscoveryTest, AnEffectOutsideTheLibraryIsUnexplained) {
 // It is not named with confidence here, because the tilt also biases the measured velocities
 // (by up to 1 % at 30 deg), which the workflow then reports as unexplained.
 TEST(DiscoveryTest, OutOfPlaneTiltIsEstimatedFromTheMarkerDistance) {
-  const DiscoveryResult r =
-      DiscoverStudy("tilt", std::string(kDesign) + " --seed 15 --tilt-deg 10");
+  const DiscoveryResult r = DiscoverStudy(Named("tilt"));
   Print(r);
   ASSERT_TRUE(r.success) << r.message;
   const auto* f = FindingOf(r, "out_of_plane");
@@ -273,8 +197,7 @@ TEST(DiscoveryTest, OutOfPlaneTiltIsEstimatedFromTheMarkerDistance) {
 // are measured by bench/discovery_scorecard; these few seeds guard the rule.)
 TEST(DiscoveryUnderScatterTest, NamesNothingInUnreplicatedStudiesWithoutAHiddenEffect) {
   for (std::uint64_t seed : {201, 202, 203}) {
-    const auto trials =
-        MeasureStudy("scatter_null_" + std::to_string(seed), UnreplicatedDesign(seed));
+    const auto trials = MeasureStudy(hoof::testing::ScatterNullStudy(seed));
     const DiscoveryResult r =
         Discover(trials, {}, [](const std::string& s) { std::cerr << s << "\n"; });
     ASSERT_TRUE(r.success) << r.message;
@@ -341,8 +264,7 @@ TEST(DiscoveryUnderScatterTest, NamesNothingInUnreplicatedStudiesWithoutAHiddenE
 
 TEST(DiscoveryUnderScatterTest, NamesRollingResistanceWithoutReplicates) {
   const double truth = 1e-4;  // m; the printed detection limit of this design is of order 3e-6 m
-  const DiscoveryResult r =
-      DiscoverStudy("scatter_rolling", UnreplicatedDesign(211) + " --rolling-resistance-m 1e-4");
+  const DiscoveryResult r = DiscoverStudy(Named("scatter_rolling"));
   Print(r);
   ASSERT_TRUE(r.success) << r.message;
   const auto* f = FindingOf(r, "rolling_resistance");
@@ -367,9 +289,7 @@ TEST(DiscoveryUnderScatterTest, NamesRollingResistanceWithoutReplicates) {
 // measured mu_eff (LibraryEntry::friction_limited).
 TEST(DiscoveryUnderScatterTest, NamesATangentialSpringWhereEveryObliqueTrialSticks) {
   const double truth = 0.064;
-  const DiscoveryResult r = DiscoverStudy("scatter_tangential_sticking_5",
-                                          "--angles-deg 0,10,20 --trials-per-cell 1 --seed 5 "
-                                          "--tangential-compliance-ratio 0.064");
+  const DiscoveryResult r = DiscoverStudy(Named("scatter_tangential_sticking_5"));
   const auto* f = SpringNamedAlone(r);
   ASSERT_NE(f, nullptr);
   EXPECT_NEAR(f->estimate, truth, 0.2 * truth);
@@ -411,8 +331,7 @@ TEST(DiscoveryUnderScatterTest, NamesTheSpringAtAnOptimumOnlyItsProfileShows) {
 // (docs/discovery.md, "The held-out rule").
 TEST(DiscoveryUnderScatterTest, NamesATangentialSpringThatPredictsHeldOutTrialsByItsOwnNoiseModel) {
   const double truth = 0.064;
-  const DiscoveryResult r = DiscoverStudy(
-      "scatter_tangential_253", UnreplicatedDesign(253) + " --tangential-compliance-ratio 0.064");
+  const DiscoveryResult r = DiscoverStudy(Named("scatter_tangential_253"));
   Print(r);
   ASSERT_TRUE(r.success) << r.message;
   const auto* f = FindingOf(r, "tangential_compliance");
@@ -467,8 +386,7 @@ TEST(DiscoveryUnderScatterTest, NamesATangentialSpringThatPredictsHeldOutTrialsB
 // rate is measured within a few per cent, and no contact effect is named for the bias the
 // rotation put into the velocities.
 TEST(DiscoveryUnderScatterTest, NamesAnOutOfPlaneTiltThatGrowsThroughTheImpact) {
-  const DiscoveryResult r = DiscoverStudy("scatter_out_of_plane_rate_231",
-                                          UnreplicatedDesign(231) + " --tilt-rate-deg-s 500");
+  const DiscoveryResult r = DiscoverStudy(Named("scatter_out_of_plane_rate_231"));
   Print(r);
   ASSERT_TRUE(r.success) << r.message;
   const auto* f = FindingOf(r, "out_of_plane_rate");
@@ -482,9 +400,7 @@ TEST(DiscoveryUnderScatterTest, NamesAnOutOfPlaneTiltThatGrowsThroughTheImpact) 
 // see it, and a bias of the velocities alone is also what a contact effect on v_x and spin does.
 // It is measured, but not named, and the verdict says why.
 TEST(DiscoveryUnderScatterTest, ARollTheMarkersCannotSeeIsNotNamed) {
-  const DiscoveryResult r =
-      DiscoverStudy("scatter_out_of_plane_roll_rate_232",
-                    UnreplicatedDesign(232) + " --roll-rate-deg-s -800.000000");
+  const DiscoveryResult r = DiscoverStudy(Named("scatter_out_of_plane_roll_rate_232"));
   Print(r);
   ASSERT_TRUE(r.success) << r.message;
   EXPECT_EQ(FindingOf(r, "out_of_plane_roll_rate"), nullptr) << r.verdict;
@@ -503,11 +419,8 @@ TEST(DiscoveryUnderScatterTest, ARollTheMarkersCannotSeeIsNotNamed) {
 // An effect on one surface only is named with its surface: Hunt-Crossley damping hidden on
 // asphalt, the other two surfaces without it, all with half the paper's scatter.
 TEST(DiscoveryUnderScatterTest, NamesAnEffectOnOneSurfaceWithItsSurface) {
-  auto trials = MeasureStudy(
-      "scatter_sc", UnreplicatedDesign(221, {"steel", "concrete"}) + " --scatter-scale 0.5");
-  const auto asphalt =
-      MeasureStudy("scatter_a_hc", UnreplicatedDesign(222, {"asphalt"}) +
-                                       " --scatter-scale 0.5 --hunt-crossley-n-s-m2 3e8");
+  auto trials = MeasureStudy(Named("scatter_sc"));
+  const auto asphalt = MeasureStudy(Named("scatter_a_hc"));
   trials.insert(trials.end(), asphalt.begin(), asphalt.end());
   const DiscoveryResult r =
       Discover(trials, {}, [](const std::string& s) { std::cerr << s << "\n"; });
@@ -529,7 +442,7 @@ TEST(DiscoveryUnderScatterTest, NamesAnEffectOnOneSurfaceWithItsSurface) {
 // information, so the detection limit falls by sqrt(2) and the trials needed for a given size
 // stay the same; the power at the detection limit is 80 %.
 TEST(DiscoveryPlanTest, TwiceTheTrialsHoldTwiceTheInformation) {
-  auto trials = MeasureStudy("scatter_null_201", UnreplicatedDesign(201));
+  auto trials = MeasureStudy(hoof::testing::ScatterNullStudy(201));
   const auto once = hoof::discovery::PlanDetection(trials, "rolling_resistance", 5e-6);
   ASSERT_TRUE(once.success) << once.message;
   auto twice_trials = trials;

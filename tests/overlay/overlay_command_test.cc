@@ -13,6 +13,7 @@
 
 #include "studyfile/study_file.h"
 #include "support/run_command.h"
+#include "support/test_studies.h"
 
 namespace hoof::cli {
 namespace {
@@ -25,12 +26,8 @@ class OverlayCommandTest : public ::testing::Test {
   static void SetUpTestSuite() {
     base_ = fs::path(HOOF_BINARY_DIR) / "test-output" / ("overlay_" + std::to_string(::getpid()));
     fs::remove_all(base_);
-    auto r = RunHoofimpact(
-        "synth --study --no-scatter --surfaces steel --angles-deg 0,20 --speeds 3 "
-        "--trials-per-cell 1 -o " +
-        (base_ / "study").string());
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    r = RunHoofimpact("run " + (base_ / "study").string() + " -o " + (base_ / "out").string());
+    const auto r = RunHoofimpact("run " + hoof::testing::TestStudyDir("overlay_2").string() +
+                                 " -o " + (base_ / "out").string());
     ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   }
   static void TearDownTestSuite() { fs::remove_all(base_); }
@@ -59,8 +56,9 @@ TEST_F(OverlayCommandTest, FramesAndVideoOfTheObliqueTrial) {
 
   // One PNG per input frame, the same size, in colour.
   const auto inputs =
-      PngsIn(fs::path(trial.dir).is_absolute() ? fs::path(trial.dir)
-                                               : base_ / "study" / fs::path(trial.dir).filename());
+      PngsIn(fs::path(trial.dir).is_absolute()
+                 ? fs::path(trial.dir)
+                 : hoof::testing::TestStudyDir("overlay_2") / fs::path(trial.dir).filename());
   const fs::path dir = x / trial.id;
   std::vector<fs::path> outputs;
   for (const auto& e : fs::directory_iterator(dir))

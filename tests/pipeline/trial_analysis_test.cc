@@ -7,9 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <mutex>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -21,8 +19,8 @@
 #include "pipeline/out_of_plane.h"
 #include "pipeline/study_analysis.h"
 #include "pipeline/truth_score.h"
-#include "support/rendered_study.h"
 #include "support/run_command.h"
+#include "support/test_studies.h"
 
 namespace hoof::pipeline {
 namespace {
@@ -33,43 +31,16 @@ fs::path OutDir(const std::string& name) {
   return fs::path(HOOF_BINARY_DIR) / "test-output" / name;
 }
 
-/// Renders a study with `hoofimpact synth --study`, once per build
-/// (tests/support/rendered_study.h).
-fs::path RenderStudy(const std::string& name, const std::string& options) {
-  return hoof::testing::RenderedStudy(name, options);
-}
+using hoof::testing::TestStudyDir;
 
-/// The study of the two re-measuring tests: four trials with a tilt growing at 1000 deg/s.
-constexpr const char* kOutOfPlaneRateStudy =
-    "--seed 11 --surfaces steel,asphalt --angles-deg 0,30 --speeds 3 --trials-per-cell 1 "
-    "--tilt-rate-deg-s 1000";
-
-std::vector<TrialAnalysis> AnalyzeAll(const StudySpec& study) {
-  std::vector<TrialAnalysis> out(study.trial_dirs.size());
-  std::size_t next = 0;
-  std::mutex mu;
-  auto work = [&] {
-    while (true) {
-      std::size_t i;
-      {
-        std::lock_guard<std::mutex> lock(mu);
-        if (next >= out.size()) return;
-        i = next++;
-      }
-      out[i] = AnalyzeTrial(ReadTrial(study.trial_dirs[i], study));
-    }
-  };
-  std::thread a(work), b(work);
-  a.join();
-  b.join();
-  return out;
-}
+/// Every trial of `study`, measured on two threads.
+std::vector<TrialAnalysis> AnalyzeAll(const StudySpec& study) { return AnalyzeStudy(study, {}, 2); }
 
 // The accuracy targets (docs/tracking.md, "Accuracy on rendered trials"), on every trial of the
 // paper-sized study (3 surfaces x 4 angles x 4 speeds x 3 repetitions) at the renderer's default
 // realism.
 TEST(TrialAnalysisTest, EveryTrialOfAFullStudyMeetsTheAccuracyTargets) {
-  const fs::path dir = RenderStudy("full_study", "--seed 2026");
+  const fs::path dir = TestStudyDir("full_study");
   const StudySpec study = ReadStudy(dir);
   ASSERT_EQ(study.trial_dirs.size(), 144u);
   const auto results = AnalyzeAll(study);
@@ -103,10 +74,7 @@ TEST(TrialAnalysisTest, EveryTrialOfAFullStudyMeetsTheAccuracyTargets) {
 }
 
 TEST(TrialAnalysisTest, OutOfPlaneRotationIsFlagged) {
-  const fs::path dir =
-      RenderStudy("out_of_plane",
-                  "--seed 7 --surfaces concrete,asphalt --angles-deg 10,20 --speeds 3 "
-                  "--trials-per-cell 1 --tilt-deg 6 --tilt-rate-deg-s 3000");
+  const fs::path dir = TestStudyDir("out_of_plane");
   const StudySpec study = ReadStudy(dir);
   ASSERT_EQ(study.trial_dirs.size(), 4u);
   for (const auto& r : AnalyzeAll(study)) {
@@ -121,7 +89,7 @@ TEST(TrialAnalysisTest, OutOfPlaneRotationIsFlagged) {
 // velocity. Re-measured with the rendered motion, the velocities are the body's again.
 TEST(TrialAnalysisTest, ATrialReMeasuredWithItsOutOfPlaneMotionHasTheTrueVelocities) {
   constexpr double kRateDegS = 1000.0;
-  const fs::path dir = RenderStudy("out_of_plane_rate", kOutOfPlaneRateStudy);
+  const fs::path dir = TestStudyDir("out_of_plane_rate");
   const StudySpec study = ReadStudy(dir);
   ASSERT_EQ(study.trial_dirs.size(), 4u);
   OutOfPlaneMotion motion;
@@ -156,7 +124,7 @@ TEST(TrialAnalysisTest, ATrialReMeasuredWithItsOutOfPlaneMotionHasTheTrueVelocit
 
 // A motion of zero leaves the trial as measured.
 TEST(TrialAnalysisTest, ReMeasuringWithoutAnOutOfPlaneMotionChangesNothing) {
-  const fs::path dir = RenderStudy("out_of_plane_rate", kOutOfPlaneRateStudy);
+  const fs::path dir = TestStudyDir("out_of_plane_rate");
   const StudySpec study = ReadStudy(dir);
   const TrialAnalysis r = AnalyzeTrial(ReadTrial(study.trial_dirs.at(0), study));
   ASSERT_TRUE(r.success) << r.error;
@@ -194,9 +162,7 @@ class BadInputTest : public ::testing::Test {
  protected:
   /// A fresh copy of a one-trial study.
   fs::path Copy(const std::string& name) {
-    const fs::path base = RenderStudy("bad_input_base",
-                                      "--seed 3 --surfaces steel --angles-deg 20 "
-                                      "--speeds 3 --trials-per-cell 1");
+    const fs::path base = TestStudyDir("bad_input_base");
     const fs::path dir = OutDir("bad_input_" + name);
     fs::remove_all(dir);
     fs::copy(base, dir, fs::copy_options::recursive);

@@ -10,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "support/run_command.h"
+#include "support/test_studies.h"
 #include "support/test_util.h"
 
 namespace hoof::report {
@@ -41,14 +42,9 @@ class FiguresCommandTest : public ::testing::Test {
   static void SetUpTestSuite() {
     fs::remove_all(Root());
     fs::create_directories(Root());
-    const auto s = RunHoofimpact(
-        "synth --study --surfaces steel,asphalt --angles-deg 0,20 --speeds 2,3"
-        " --trials-per-cell 2 --frames-before 26 --frames-after 26 --seed 5 -o " +
-        (Root() / "study").string());
-    ASSERT_EQ(s.exit_code, 0) << s.err;
-    const auto a =
-        RunHoofimpact("analyze " + (Root() / "study").string() + " -o " + StudyFile().string() +
-                      " --jobs 2 --figures " + (Root() / "analyze_figures").string());
+    const auto a = RunHoofimpact("analyze " + hoof::testing::TestStudyDir("figures_16").string() +
+                                 " -o " + StudyFile().string() + " --jobs 2 --figures " +
+                                 (Root() / "analyze_figures").string());
     ASSERT_EQ(a.exit_code, 0) << a.out << a.err;
   }
   static void TearDownTestSuite() { fs::remove_all(Root()); }
@@ -92,7 +88,8 @@ TEST_F(FiguresCommandTest, TrackWritesFigureThree) {
   const fs::path dir = Root() / "track_figures";
   const std::string trial = "steel_20deg_v3.00_r1";
   const auto r =
-      RunHoofimpact("track " + (Root() / "study" / trial).string() + " --figures " + dir.string());
+      RunHoofimpact("track " + (hoof::testing::TestStudyDir("figures_16") / trial).string() +
+                    " --figures " + dir.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ExpectFigure(dir / (trial + "_displacement.png"));
   EXPECT_NE(

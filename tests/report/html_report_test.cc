@@ -19,6 +19,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "support/run_command.h"
+#include "support/test_studies.h"
 #include "support/test_util.h"
 
 namespace hoof::report {
@@ -92,12 +93,8 @@ class HtmlReportPageTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     fs::remove_all(Root());
-    auto r = RunHoofimpact(
-        "synth --study --no-scatter --surfaces steel,asphalt --angles-deg 0,20 "
-        "--speeds 3 --trials-per-cell 1 --seed 3 -o " +
-        (Root() / "study").string());
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    r = RunHoofimpact("run " + (Root() / "study").string() + " -o " + (Root() / "out").string());
+    auto r = RunHoofimpact("run " + hoof::testing::TestStudyDir("report_4").string() + " -o " +
+                           (Root() / "out").string());
     ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
     r = RunHoofimpact("report " + (Root() / "out" / "study.h5").string() + " -o " +
                       (Root() / "report").string());
@@ -194,7 +191,8 @@ TEST_F(HtmlReportPageTest, NeedsNoNetwork) {
 
 TEST_F(HtmlReportPageTest, AStudyFileWithoutTheComparisonIsAClearError) {
   const fs::path h5 = Root() / "analyzed.h5";
-  auto r = RunHoofimpact("analyze " + (Root() / "study").string() + " -o " + h5.string());
+  auto r = RunHoofimpact("analyze " + hoof::testing::TestStudyDir("report_4").string() + " -o " +
+                         h5.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = RunHoofimpact("report " + h5.string() + " -o " + (Root() / "no-comparison").string());
   EXPECT_NE(r.exit_code, 0);

@@ -19,6 +19,7 @@
 #include "stats/two_way_anova.h"
 #include "studyfile/study_file.h"
 #include "support/run_command.h"
+#include "support/test_studies.h"
 
 namespace hoof::cli {
 namespace {
@@ -38,14 +39,10 @@ class AnalyzeCommandTest : public ::testing::Test {
   static void SetUpTestSuite() {
     fs::remove_all(Root());
     fs::create_directories(Root());
-    const auto r =
-        RunHoofimpact("synth --study -o " + Study().string() +
-                      " --surfaces steel,concrete --angles-deg 0,20 --speeds 3 --trials-per-cell 2"
-                      " --frames-before 26 --frames-after 26 --seed 11");
-    ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   static void TearDownTestSuite() { fs::remove_all(Root()); }
-  static fs::path Study() { return Root() / "study"; }
+  /// Rendered once per renderer by the fixture test_studies, and never written to.
+  static fs::path Study() { return hoof::testing::TestStudyDir("analyze_8"); }
 
   /// A copy of the study to break.
   static fs::path CopyStudy(const std::string& name) {

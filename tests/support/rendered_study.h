@@ -51,16 +51,33 @@ inline std::uint64_t RendererHash() {
   return hash;
 }
 
-/// The folder of a study rendered by `hoofimpact synth --study -o DIR OPTIONS`, made once per
-/// renderer: it is test-output/studies/NAME-OOOOOOOOPPPPPPPP, where O is a hash of the options and
-/// P the renderer's version (RendererHash), so that changed options or a changed renderer render
-/// anew instead of reusing frames an older renderer drew under the same name. Folders of NAME that
-/// another build made (another P) are removed; those of this build with other options are kept, as
-/// a test running beside this one may be reading them (two tests once gave one NAME options that
-/// differed in their spelling, 1000 and 1000.000000, and each removed the other's frames).
-/// ctest runs tests as parallel processes: each renders into a folder of its own and renames it
-/// into place, and whoever renames second keeps the first one's study.
-inline std::filesystem::path RenderedStudy(const std::string& name, const std::string& options) {
+/// A study the tests render: its name, the options of `hoofimpact synth --study` and, where the
+/// design is a list of cells, the study config (JSON) it is rendered from with --study-config.
+/// Each test folder lists its studies in one catalog (tests/support/test_studies.h,
+/// tests/discovery/discovery_studies.h), which a CTest fixture renders before the tests that read
+/// them run (tests/support/render_studies.h).
+struct TestStudy {
+  std::string name;
+  std::string options;
+  std::string config;  // JSON, or empty
+
+  bool operator==(const TestStudy&) const = default;
+};
+
+/// ctest's and gtest's name of a study: its name.
+inline void PrintTo(const TestStudy& s, std::ostream* os) { *os << s.name; }
+
+/// The folder of `study`, rendered by `hoofimpact synth --study -o DIR OPTIONS` (with
+/// `--study-config` of its config, written beside the folder while it renders) once per renderer:
+/// it is test-output/studies/NAME-OOOOOOOOPPPPPPPP, where O is a hash of the options (and of the
+/// config, where there is one) and P the renderer's version (RendererHash), so that changed options
+/// or a changed renderer render anew instead of reusing frames an older renderer drew under the
+/// same name. Folders of NAME that another build made (another P) are removed; those of this build
+/// with other options are kept, as a test running beside this one may be reading them (two tests
+/// once gave one NAME options that differed in their spelling, 1000 and 1000.000000, and each
+/// removed the other's frames). ctest runs tests as parallel processes: each renders into a folder
+/// of its own and renames it into place, and whoever renames second keeps the first one's study.
+inline std::filesystem::path RenderedStudy(const TestStudy& study) {
   namespace fs = std::filesystem;
   const auto hex8 = [](std::uint64_t h) {
     std::ostringstream os;
@@ -68,7 +85,10 @@ inline std::filesystem::path RenderedStudy(const std::string& name, const std::s
     return os.str();
   };
   const std::string renderer = hex8(RendererHash());
-  const std::string key = hex8(Fnv1a(options)) + renderer;
+  const std::string& name = study.name;
+  const std::uint64_t options = Fnv1a(study.options);
+  const std::string key =
+      hex8(study.config.empty() ? options : Fnv1a(study.config, options)) + renderer;
   const fs::path root = fs::path(HOOF_BINARY_DIR) / "test-output" / "studies";
   const fs::path dir = root / (name + "-" + key);
   if (fs::exists(dir / "study.json")) return dir;
@@ -90,8 +110,16 @@ inline std::filesystem::path RenderedStudy(const std::string& name, const std::s
   }
   const fs::path tmp = dir.string() + ".tmp-" + std::to_string(::getpid());
   fs::remove_all(tmp, ec);
-  const auto r = RunHoofimpact("synth --study -o " + tmp.string() + " " + options);
-  EXPECT_EQ(r.exit_code, 0) << r.err;
+  std::string config_option;
+  const fs::path config = tmp.string() + ".json";
+  if (!study.config.empty()) {
+    std::ofstream(config) << study.config;
+    config_option = " --study-config " + config.string();
+  }
+  const auto r =
+      RunHoofimpact("synth --study -o " + tmp.string() + config_option + " " + study.options);
+  fs::remove(config, ec);
+  EXPECT_EQ(r.exit_code, 0) << name << ": " << r.err;
   if (r.exit_code != 0) {  // nothing half made takes the study's place
     fs::remove_all(tmp, ec);
     return dir;
@@ -99,6 +127,11 @@ inline std::filesystem::path RenderedStudy(const std::string& name, const std::s
   fs::rename(tmp, dir, ec);
   if (ec) fs::remove_all(tmp, ec);
   return dir;
+}
+
+/// The study of `name` rendered with `options` (no study config).
+inline std::filesystem::path RenderedStudy(const std::string& name, const std::string& options) {
+  return RenderedStudy(TestStudy{name, options, ""});
 }
 
 }  // namespace hoof::testing
