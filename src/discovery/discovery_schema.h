@@ -75,6 +75,41 @@ void Serialize(Archive& a, T& t) {
   a.Text("description", t.description, "the test in words");
 }
 
+/// The settings the workflow ran with, the one row of the table `options`. per_surface and the
+/// tolerances after relative_tolerance came in later versions (older files lack them).
+template <class Archive, class T>
+requires std::is_same_v<std::remove_const_t<T>, DiscoveryOptions>
+void Serialize(Archive& a, T& o) {
+  constexpr auto kLater = studyfile::Presence::kAddedLater;
+  a.Number("alpha", o.alpha, "1",
+           "family-wise level of the structure tests (Holm) and of naming a candidate (min-P over "
+           "the candidates and forms)");
+  a.Integer("folds", o.folds, "1", "leave-trials-out folds");
+  a.Integer("max_rounds", o.max_rounds, "1", "effects added at most");
+  a.Integer("jobs", o.jobs, "1", "threads (0 = all cores)");
+  const char* candidates = "library keys tried, joined with ','; empty = all";
+  if constexpr (Archive::kWriting) {
+    a.Text("candidates", JoinSurfaces(o.candidates), candidates);
+  } else {
+    std::string keys;
+    a.Text("candidates", keys, candidates);
+    o.candidates = SplitSurfaces(keys);
+  }
+  a.Flag("per_surface", o.per_surface,
+         "1 when a contact effect could take its own value on each surface", kLater);
+  a.Number("relative_tolerance", o.relative_tolerance, "1", "of the simulator during fits");
+  a.Number("marker_ratio_tolerance", o.marker_ratio_tolerance, "1",
+           "smallest departure of the marker distance ratio that counts", kLater);
+  a.Number("measurement_floor", o.measurement_floor, "1",
+           "lower bound of the systematic measurement error per velocity component, fraction of "
+           "the impact speed",
+           kLater);
+  a.Number("replicate_tolerance", o.replicate_tolerance, "1",
+           "part of a replicate cell's mean residual the lack-of-fit test ignores, fraction of the "
+           "impact speed",
+           kLater);
+}
+
 inline constexpr studyfile::EnumText<EffectForm> kFormText{&ToString, &EffectFormFromString};
 inline constexpr studyfile::EnumText<Identifiability> kIdentifiabilityText{
     &ToString, &IdentifiabilityFromString};

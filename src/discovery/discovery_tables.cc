@@ -17,8 +17,6 @@ namespace {
 
 using namespace schema;
 
-std::int64_t Flag(bool b) { return b ? 1 : 0; }
-
 // ---- writing ------------------------------------------------------------------------------
 
 Table TestsTable(const std::string& name, const std::string& description,
@@ -151,36 +149,8 @@ std::vector<Table> DiscoveryTables(const DiscoveryResult& r) {
 }
 
 Table DiscoveryOptionsTable(const DiscoveryOptions& o) {
-  std::string keys;
-  for (const auto& k : o.candidates) keys += (keys.empty() ? "" : ",") + k;
-  return Table{
-      "options",
-      "The settings the discovery workflow ran with",
-      {Column::Numbers("alpha", "1",
-                       "family-wise level of the structure tests (Holm) and of naming a "
-                       "candidate (min-P over the candidates and forms)",
-                       {o.alpha}),
-       Column::Integers("folds", "1", "leave-trials-out folds", {o.folds}),
-       Column::Integers("max_rounds", "1", "effects added at most", {o.max_rounds}),
-       Column::Integers("jobs", "1", "threads (0 = all cores)", {o.jobs}),
-       Column::Texts("candidates", "library keys tried, joined with ','; empty = all", {keys}),
-       Column::Integers("per_surface", "",
-                        "1 when a contact effect could take its own value on each surface",
-                        {Flag(o.per_surface)}),
-       Column::Numbers("relative_tolerance", "1", "of the simulator during fits",
-                       {o.relative_tolerance}),
-       Column::Numbers("marker_ratio_tolerance", "1",
-                       "smallest departure of the marker distance ratio that counts",
-                       {o.marker_ratio_tolerance}),
-       Column::Numbers("measurement_floor", "1",
-                       "lower bound of the systematic measurement error per velocity component, "
-                       "fraction of the impact speed",
-                       {o.measurement_floor}),
-       Column::Numbers(
-           "replicate_tolerance", "1",
-           "part of a replicate cell's mean residual the lack-of-fit test ignores, fraction of the "
-           "impact speed",
-           {o.replicate_tolerance})}};
+  return studyfile::TableWriter::OfOne("options", "The settings the discovery workflow ran with", o,
+                                       [](auto& a, const auto& x) { Serialize(a, x); });
 }
 
 }  // namespace hoof::discovery

@@ -25,6 +25,7 @@
 /// unit named in the row's `unit` column; the held-out errors carry kHeldOutErrorUnit.
 
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include "discovery/discovery.h"
@@ -48,6 +49,12 @@ studyfile::Table DiscoveryOptionsTable(const DiscoveryOptions& options);
 /// field stored is restored; CandidateResult::name etc. as written). Throws std::runtime_error
 /// naming the file and the table (and the column) when one is missing or malformed.
 DiscoveryResult ReadDiscovery(const std::filesystem::path& h5);
+
+/// The settings of the table `/discovery/options` (DiscoveryOptionsTable), or nothing when the
+/// file has none. A setting the file's version did not store keeps its default, except
+/// measurement_floor, which is NaN. Throws std::runtime_error naming the file and the column
+/// when the table is malformed.
+std::optional<DiscoveryOptions> ReadDiscoveryOptions(const std::filesystem::path& h5);
 
 /// True when the study file `h5` has a `/discovery/summary` table (no exception for a file
 /// without one; a missing or unreadable file is false too).

@@ -2,6 +2,8 @@
 #include <cstdint>
 #include <exception>
 #include <filesystem>
+#include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -130,6 +132,17 @@ DiscoveryResult ReadDiscovery(const std::filesystem::path& h5) {
         t.table(), t.where(), [](auto& a, TrialResiduals& x) { Serialize(a, x); });
   }
   return r;
+}
+
+std::optional<DiscoveryOptions> ReadDiscoveryOptions(const std::filesystem::path& h5) {
+  if (!studyfile::HasGroup(h5, std::string(kDiscoveryGroup) + "/options")) return std::nullopt;
+  const Reader t(h5, "options");
+  DiscoveryOptions o;
+  // Not stored before it was a setting: shown as absent rather than as today's default.
+  o.measurement_floor = std::numeric_limits<double>::quiet_NaN();
+  studyfile::TableReader::ReadOne(t.table(), t.where(), o,
+                                  [](auto& a, DiscoveryOptions& x) { Serialize(a, x); });
+  return o;
 }
 
 bool HasDiscovery(const std::filesystem::path& h5) {

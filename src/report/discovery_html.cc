@@ -295,18 +295,18 @@ std::string DiscoverySection(const fs::path& h5, HtmlReportSummary& summary) {
     << " skipped (not measured)</dd><dt>Rounds</dt><dd>" << r.rounds.size()
     << "</dd><dt>Effort</dt><dd>" << r.simulations << " simulations, " << Fmt(r.seconds, 3)
     << " s</dd>";
-  if (const auto options = TryReadTable(h5, "/discovery/options"); options && Rows(*options) == 1)
-    h << "<dt>Settings</dt><dd>alpha " << Fmt(Num(*options, "alpha", 0)) << ", "
-      << Fmt(Num(*options, "folds", 0)) << " folds, at most " << Fmt(Num(*options, "max_rounds", 0))
-      << " rounds, candidates: "
-      << HtmlEscape(Text(*options, "candidates", 0).empty() ? "all"
-                                                            : Text(*options, "candidates", 0))
-      << (Num(*options, "per_surface", 0) == 0.0 ? ", shared values only" : "")
-      << (std::isfinite(Num(*options, "measurement_floor", 0))
-              ? ", measurement floor " + PercentHtml(Num(*options, "measurement_floor", 0)) +
-                    " of the impact speed"
+  if (const auto o = discovery::ReadDiscoveryOptions(h5)) {
+    std::string keys;
+    for (const auto& k : o->candidates) keys += (keys.empty() ? "" : ",") + k;
+    h << "<dt>Settings</dt><dd>alpha " << Fmt(o->alpha) << ", " << Fmt(o->folds)
+      << " folds, at most " << Fmt(o->max_rounds)
+      << " rounds, candidates: " << HtmlEscape(keys.empty() ? "all" : keys)
+      << (o->per_surface ? "" : ", shared values only")
+      << (std::isfinite(o->measurement_floor)
+              ? ", measurement floor " + PercentHtml(o->measurement_floor) + " of the impact speed"
               : "")
       << "</dd>";
+  }
   h << "</dl>";
   h << "<div class=\"tables\">" << FindingsTableHtml(r.findings) << SurfacesTableHtml(r)
     << NoiseTableHtml(r) << "</div>";

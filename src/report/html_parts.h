@@ -15,12 +15,8 @@ namespace hoof::report::internal {
 
 /// A number for the page, or a dash when it is not finite.
 std::string Fmt(double v, int precision = 4);
-/// The table at `path` of the study file, or nothing when it is absent.
-std::optional<studyfile::Table> TryReadTable(const std::filesystem::path& h5,
-                                             const std::string& path);
-/// A cell of a numeric or text column (NaN or empty when the column is absent).
+/// A cell of a numeric column (NaN when the column is absent).
 double Num(const studyfile::Table& t, const std::string& name, std::size_t row);
-std::string Text(const studyfile::Table& t, const std::string& name, std::size_t row);
 /// Rows of a table (0 without columns).
 std::size_t Rows(const studyfile::Table& t);
 /// A fresh folder for figures drawn only to be embedded (removed by an interrupt).

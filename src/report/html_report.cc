@@ -32,6 +32,7 @@
 #include "report/figures.h"
 #include "report/html_parts.h"
 #include "report/report_assets.h"
+#include "studyfile/stats_tables.h"
 #include "studyfile/study_file.h"
 #include "tracking/frame_source.h"
 
@@ -103,14 +104,6 @@ std::string ReadBinary(const fs::path& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-std::optional<Table> TryReadTable(const fs::path& h5, const std::string& path) {
-  try {
-    return studyfile::ReadTable(h5, path);
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
-}
-
 const studyfile::Column* FindColumn(const Table& t, const std::string& name) {
   for (const auto& c : t.columns)
     if (c.name == name) return &c;
@@ -124,13 +117,6 @@ double Num(const Table& t, const std::string& name, std::size_t row) {
   if (const auto* i = std::get_if<std::vector<std::int64_t>>(&c->values))
     return static_cast<double>((*i)[row]);
   return core::kNaN;
-}
-
-std::string Text(const Table& t, const std::string& name, std::size_t row) {
-  const auto* c = FindColumn(t, name);
-  if (!c || row >= c->size()) return "";
-  if (const auto* s = std::get_if<std::vector<std::string>>(&c->values)) return (*s)[row];
-  return "";
 }
 
 std::size_t Rows(const Table& t) { return t.columns.empty() ? 0 : t.columns.front().size(); }
@@ -220,33 +206,37 @@ std::string ModelSection(const std::vector<compare::SurfaceModel>& surfaces) {
   return h.str();
 }
 
+/// `t` as an HTML table, its columns as their Serialize declares them (studyfile/stats_tables.h).
+template <class Row>
+std::string RenderRows(const studyfile::StoredTable<Row>& t, const std::string& caption,
+                       const Row& declared = Row{}) {
+  return RenderTable(studyfile::TableWriter::Of(
+                         "", t.description, t.rows,
+                         [](auto& a, const auto& row) { studyfile::Serialize(a, row); }, declared),
+                     caption);
+}
+
 std::string StatsSection(const fs::path& h5) {
   std::ostringstream h;
   h << "<section id=\"statistics\"><h2>Statistics</h2>";
   bool any = false;
-  for (const std::string r : {"e", "mu_eff"}) {
+  const auto stored =
+      studyfile::HasStatistics(h5) ? std::optional(studyfile::ReadStatistics(h5)) : std::nullopt;
+  for (const studyfile::StoredResponse& r :
+       stored ? stored->responses : std::vector<studyfile::StoredResponse>{}) {
     const std::string label =
-        r == "e" ? "e (restitution)" : "mu_eff (effective friction, oblique trials)";
+        r.response == "e" ? "e (restitution)" : "mu_eff (effective friction, oblique trials)";
     std::ostringstream part;
-    bool have = false;
-    if (auto cells = TryReadTable(h5, "/stats/" + r + "/cells")) {
-      part << RenderTable(*cells, "Mean (s.d., n) per surface x angle");
-      have = true;
-    }
-    for (const std::string factor : {"surface", "angle", "speed"})
-      if (auto anova = TryReadTable(h5, "/stats/" + r + "/by_" + factor + "/anova")) {
-        part << RenderTable(*anova, "One-way ANOVA by " + factor);
-        have = true;
-      }
-    if (auto two = TryReadTable(h5, "/stats/" + r + "/two_way")) {
-      part << RenderTable(*two, "Two-way ANOVA, surface x angle");
-      have = true;
-    }
-    if (auto notes = TryReadTable(h5, "/stats/" + r + "/notes"); notes && Rows(*notes) > 0)
-      part << RenderTable(*notes, "Notes");
-    if (have)
-      h << "<h3>" << HtmlEscape(label) << "</h3><div class=\"tables\">" << part.str() << "</div>";
-    any = any || have;
+    studyfile::CellRow cell;
+    cell.response = r.response;
+    part << RenderRows(r.cells, "Mean (s.d., n) per surface x angle", cell);
+    for (const studyfile::StoredFactor& f : r.factors)
+      part << RenderRows(f.original.anova, "One-way ANOVA by " + f.factor);
+    if (r.two_way) part << RenderRows(*r.two_way, "Two-way ANOVA, surface x angle");
+    if (!r.notes.empty())
+      part << RenderRows(studyfile::StoredTable<studyfile::NoteRow>{"", r.notes}, "Notes");
+    h << "<h3>" << HtmlEscape(label) << "</h3><div class=\"tables\">" << part.str() << "</div>";
+    any = true;
   }
   if (!any)
     h << "<p class=\"bad\">No statistics in the study file: run <code>hoofimpact stats</code>.</p>";

@@ -9,6 +9,7 @@
 #include "io/atomic_file.h"
 #include "io/csv.h"
 #include "stats/grouping.h"
+#include "studyfile/stats_tables.h"
 
 namespace hoof::study {
 
@@ -103,88 +104,42 @@ StudyStatistics AnalyzeStatistics(const studyfile::StudyResults& study, const St
 
 namespace {
 
-std::vector<double> Sizes(const std::vector<stats::GroupSummary>& g) {
-  std::vector<double> n;
-  for (const auto& x : g) n.push_back(static_cast<double>(x.n));
-  return n;
+/// The table `name` of `rows`, each row's columns declared by its Serialize (stats_tables.h).
+template <class Row>
+Table Rows(std::string name, std::string description, const std::vector<Row>& rows,
+           const Row& declared = Row{}) {
+  return studyfile::TableWriter::Of(
+      std::move(name), std::move(description), rows,
+      [](auto& a, const auto& row) { studyfile::Serialize(a, row); }, declared);
 }
 
 void ScaleTables(const std::string& prefix, const stats::OneWayScaleResults& s,
                  std::vector<Table>& out) {
-  std::vector<std::string> labels;
-  std::vector<double> mean, sd;
-  for (const auto& g : s.groups) {
-    labels.push_back(g.label);
-    mean.push_back(g.mean);
-    sd.push_back(g.sd);
-  }
-  out.push_back({prefix + "groups",
-                 "group summaries, order of first appearance",
-                 {Column::Texts("group", "group label", labels),
-                  Column::Numbers("n", "1", "observations", Sizes(s.groups)),
-                  Column::Numbers("mean", "1", "group mean (units of the response)", mean),
-                  Column::Numbers("sd", "1", "sample standard deviation", sd)}});
+  std::vector<studyfile::GroupRow> groups;
+  for (const auto& g : s.groups) groups.push_back({g.label, g.n, g.mean, g.sd});
+  out.push_back(Rows(prefix + "groups", "group summaries, order of first appearance", groups));
   const auto& a = s.anova;
   const double nan = core::kNaN;
-  out.push_back(
-      {prefix + "anova",
-       "one-way ANOVA table",
-       {Column::Texts("source", "between, within or total", {"between", "within", "total"}),
-        Column::Numbers("df", "1", "degrees of freedom",
-                        {static_cast<double>(a.df_between), static_cast<double>(a.df_within),
-                         static_cast<double>(a.df_total)}),
-        Column::Numbers("ss", "1", "sum of squares", {a.ss_between, a.ss_within, a.ss_total}),
-        Column::Numbers("ms", "1", "mean square", {a.ms_between, a.ms_within, nan}),
-        Column::Numbers("f", "1", "F statistic", {a.f, nan, nan}),
-        Column::Numbers("p", "1", "P(F >= f)", {a.p, nan, nan}),
-        Column::Numbers("eta_squared", "1", "SS_between / SS_total", {a.eta_squared, nan, nan})}});
+  out.push_back(Rows<studyfile::AnovaRow>(
+      prefix + "anova", "one-way ANOVA table",
+      {{"between", a.df_between, a.ss_between, a.ms_between, a.f, a.p, a.eta_squared},
+       {"within", a.df_within, a.ss_within, a.ms_within, nan, nan, nan},
+       {"total", a.df_total, a.ss_total, nan, nan, nan, nan}}));
   const auto& b = s.bartlett;
-  std::vector<std::string> test = {"bartlett"}, note = {b.note};
-  std::vector<double> stat = {b.k_squared}, df1 = {static_cast<double>(b.df)}, df2 = {nan},
-                      p = {b.p};
-  test.push_back("welch");
-  stat.push_back(s.welch ? s.welch->f : nan);
-  df1.push_back(s.welch ? s.welch->df1 : nan);
-  df2.push_back(s.welch ? s.welch->df2 : nan);
-  p.push_back(s.welch ? s.welch->p : nan);
-  note.push_back(s.welch_note);
-  out.push_back({prefix + "tests",
-                 "Bartlett (K^2, chi-squared df1) and Welch (F, df1, df2)",
-                 {Column::Texts("test", "bartlett or welch", test),
-                  Column::Numbers("statistic", "1", "K^2 or Welch's F", stat),
-                  Column::Numbers("df1", "1", "degrees of freedom", df1),
-                  Column::Numbers("df2", "1", "denominator degrees of freedom (Welch)", df2),
-                  Column::Numbers("p", "1", "p-value", p),
-                  Column::Texts("note", "why a result is a limit or absent", note)}});
-  std::vector<std::string> pa, pb;
-  std::vector<double> d, se, t, df, pp, lo, hi, sig;
-  for (const auto& c : s.lsd) {
-    pa.push_back(c.group_a);
-    pb.push_back(c.group_b);
-    d.push_back(c.difference);
-    se.push_back(c.standard_error);
-    t.push_back(c.t);
-    df.push_back(static_cast<double>(c.df));
-    pp.push_back(c.p);
-    lo.push_back(c.ci_low);
-    hi.push_back(c.ci_high);
-    sig.push_back(c.significant ? 1.0 : 0.0);
-  }
-  std::vector<std::string> pair;
-  for (std::size_t i = 0; i < pa.size(); ++i) pair.push_back(pa[i] + " - " + pb[i]);
-  out.push_back({prefix + "lsd",
-                 s.lsd_performed ? "Fisher's LSD pairs (unadjusted)"
-                                 : "Fisher's LSD not performed: " + s.lsd_note,
-                 {Column::Texts("pair", "a - b", pair), Column::Texts("a", "group a", pa),
-                  Column::Texts("b", "group b", pb),
-                  Column::Numbers("difference", "1", "mean(a) - mean(b)", d),
-                  Column::Numbers("standard_error", "1", "of the difference", se),
-                  Column::Numbers("t", "1", "t statistic", t),
-                  Column::Numbers("df", "1", "degrees of freedom", df),
-                  Column::Numbers("p", "1", "two-sided p, unadjusted", pp),
-                  Column::Numbers("ci_low", "1", "lower end of the interval", lo),
-                  Column::Numbers("ci_high", "1", "upper end of the interval", hi),
-                  Column::Numbers("significant", "1", "1 when p < alpha", sig)}});
+  const auto& w = s.welch;
+  out.push_back(Rows<studyfile::VarianceTestRow>(
+      prefix + "tests", "Bartlett (K^2, chi-squared df1) and Welch (F, df1, df2)",
+      {{"bartlett", b.k_squared, static_cast<double>(b.df), nan, b.p, b.note},
+       {"welch", w ? w->f : nan, w ? w->df1 : nan, w ? w->df2 : nan, w ? w->p : nan,
+        s.welch_note}}));
+  std::vector<studyfile::LsdRow> lsd;
+  for (const auto& c : s.lsd)
+    lsd.push_back({c.group_a + " - " + c.group_b, c.group_a, c.group_b, c.difference,
+                   c.standard_error, c.t, c.df, c.p, c.ci_low, c.ci_high, c.significant});
+  out.push_back(Rows(prefix + "lsd",
+                     s.lsd_performed ? "Fisher's LSD pairs (unadjusted)"
+                                     : "Fisher's LSD not performed: " + s.lsd_note,
+                     lsd));
 }
 
 void FactorTables(const std::string& prefix, const stats::OneWayAnalysis& an,
@@ -192,26 +147,18 @@ void FactorTables(const std::string& prefix, const stats::OneWayAnalysis& an,
   ScaleTables(prefix, an.original, out);
   const auto& t = an.transform;
   const double nan = core::kNaN;
-  const auto bc = [&](double stats::BoxCoxResult::*field) {
-    return std::vector<double>{t.box_cox ? (*t.box_cox).*field : nan};
-  };
-  out.push_back(
-      {prefix + "transform",
-       "variance-stabilizing transform decision (Box-Cox)",
-       {Column::Texts("decision", "the decision in words", {t.reason}),
-        Column::Numbers("considered", "1", "1 when Bartlett rejected", {t.considered ? 1.0 : 0.0}),
-        Column::Numbers("applied", "1", "1 when the data were transformed",
-                        {t.applied ? 1.0 : 0.0}),
-        Column::Texts("formula", "the transform", {t.formula}),
-        Column::Numbers("lambda_ml", "1", "maximum-likelihood lambda",
-                        bc(&stats::BoxCoxResult::lambda_ml)),
-        Column::Numbers("lambda", "1", "lambda used", bc(&stats::BoxCoxResult::lambda)),
-        Column::Numbers("shift", "1", "shift added before transforming",
-                        bc(&stats::BoxCoxResult::shift)),
-        Column::Numbers("ci_low", "1", "profile-likelihood interval of lambda",
-                        bc(&stats::BoxCoxResult::ci_low)),
-        Column::Numbers("ci_high", "1", "profile-likelihood interval of lambda",
-                        bc(&stats::BoxCoxResult::ci_high))}});
+  studyfile::TransformRow row{t.reason, t.considered, t.applied, t.formula, nan,
+                              nan,      nan,          nan,       nan};
+  if (t.box_cox) {
+    const auto& bc = *t.box_cox;
+    row.lambda_ml = bc.lambda_ml;
+    row.lambda = bc.lambda;
+    row.shift = bc.shift;
+    row.ci_low = bc.ci_low;
+    row.ci_high = bc.ci_high;
+  }
+  out.push_back(Rows<studyfile::TransformRow>(
+      prefix + "transform", "variance-stabilizing transform decision (Box-Cox)", {row}));
   if (t.rerun) ScaleTables(prefix + "transformed/", *t.rerun, out);
 }
 
@@ -219,73 +166,37 @@ void FactorTables(const std::string& prefix, const stats::OneWayAnalysis& an,
 
 std::vector<Table> StatisticsTables(const StudyStatistics& s) {
   std::vector<Table> out;
-  std::vector<std::string> ids, reasons;
-  for (const auto& [id, why] : s.excluded) {
-    ids.push_back(id);
-    reasons.push_back(why);
-  }
-  out.push_back({"excluded",
-                 "trials left out of every analysis",
-                 {Column::Texts("id", "trial id", ids), Column::Texts("reason", "why", reasons)}});
+  std::vector<studyfile::ExcludedRow> excluded;
+  for (const auto& [id, why] : s.excluded) excluded.push_back({id, why});
+  out.push_back(Rows("excluded", "trials left out of every analysis", excluded));
   for (const auto& r : s.responses) {
-    std::vector<std::string> surface, angle;
-    std::vector<double> mean, sd;
+    std::vector<studyfile::CellRow> cells;
     for (const auto& c : r.cells) {
       const auto bar = c.label.find('|');
-      surface.push_back(c.label.substr(0, bar));
-      angle.push_back(c.label.substr(bar + 1));
-      mean.push_back(c.mean);
-      sd.push_back(c.sd);
+      cells.push_back({r.response, c.label, c.label.substr(0, bar), c.label.substr(bar + 1), c.n,
+                       c.mean, c.sd});
     }
-    out.push_back({r.response + "/cells",
-                   r.response + ": mean (s.d., n) per surface x angle, " + r.selection,
-                   {Column::Texts("cell", "surface|angle",
-                                  [&] {
-                                    std::vector<std::string> v;
-                                    for (const auto& c : r.cells) v.push_back(c.label);
-                                    return v;
-                                  }()),
-                    Column::Texts("surface", "surface", surface),
-                    Column::Texts("angle_deg", "surface angle (deg), as a label", angle),
-                    Column::Numbers("n", "1", "observations", Sizes(r.cells)),
-                    Column::Numbers("mean", "1", "mean of " + r.response, mean),
-                    Column::Numbers("sd", "1", "sample standard deviation", sd)}});
+    studyfile::CellRow declared;
+    declared.response = r.response;
+    out.push_back(Rows(studyfile::StatsTableName(r.response, "cells"),
+                       r.response + ": mean (s.d., n) per surface x angle, " + r.selection, cells,
+                       declared));
     for (const auto& f : r.factors)
-      if (f.analysis) FactorTables(r.response + "/by_" + f.factor + "/", *f.analysis, out);
+      if (f.analysis) FactorTables(studyfile::FactorPrefix(r.response, f.factor), *f.analysis, out);
     if (r.two_way) {
       const auto& w = *r.two_way;
-      std::vector<std::string> src;
-      std::vector<double> df, ss, ms, fv, p;
-      for (const auto* row : {&w.a, &w.b, &w.ab, &w.error}) {
-        src.push_back(row->source);
-        df.push_back(static_cast<double>(row->df));
-        ss.push_back(row->ss);
-        ms.push_back(row->ms);
-        fv.push_back(row->f);
-        p.push_back(row->p);
-      }
-      out.push_back({r.response + "/two_way",
-                     stats::ToString(w.type) + " two-way ANOVA, surface x angle",
-                     {Column::Texts("source", "effect", src),
-                      Column::Numbers("df", "1", "degrees of freedom", df),
-                      Column::Numbers("ss", "1", "sum of squares", ss),
-                      Column::Numbers("ms", "1", "mean square", ms),
-                      Column::Numbers("f", "1", "F statistic", fv),
-                      Column::Numbers("p", "1", "P(F >= f)", p)}});
+      std::vector<studyfile::TwoWayRow> rows;
+      for (const auto* row : {&w.a, &w.b, &w.ab, &w.error})
+        rows.push_back({row->source, row->df, row->ss, row->ms, row->f, row->p});
+      out.push_back(Rows(studyfile::StatsTableName(r.response, "two_way"),
+                         stats::ToString(w.type) + " two-way ANOVA, surface x angle", rows));
     }
-    std::vector<std::string> what, note;
+    std::vector<studyfile::NoteRow> notes;
     for (const auto& f : r.factors)
-      if (!f.analysis) {
-        what.push_back("by_" + f.factor);
-        note.push_back(f.note);
-      }
-    if (!r.two_way) {
-      what.push_back("two_way");
-      note.push_back(r.two_way_note);
-    }
-    out.push_back({r.response + "/notes",
-                   "analyses not computed and why",
-                   {Column::Texts("analysis", "which", what), Column::Texts("note", "why", note)}});
+      if (!f.analysis) notes.push_back({"by_" + f.factor, f.note});
+    if (!r.two_way) notes.push_back({"two_way", r.two_way_note});
+    out.push_back(Rows(studyfile::StatsTableName(r.response, "notes"),
+                       "analyses not computed and why", notes));
   }
   return out;
 }

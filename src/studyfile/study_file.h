@@ -118,6 +118,11 @@ void WriteTables(const std::filesystem::path& path, const std::string& group,
                  const std::function<void(std::size_t)>& after_table = {},
                  const std::vector<std::pair<std::string, std::string>>& soft_links = {});
 
+/// Whether the study file `path` has the group (or table) `group_path` (absolute, e.g.
+/// "/stats" or "/discovery/options"). Throws std::runtime_error naming the file when it is
+/// missing or not an HDF5 file.
+bool HasGroup(const std::filesystem::path& path, const std::string& group_path);
+
 /// Reads the table whose group is `table_path` (absolute, e.g. "/results" or
 /// "/stats/e/by_surface/anova") back, columns in their written order; its name is the path
 /// without the leading '/'. Throws

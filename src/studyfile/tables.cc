@@ -169,6 +169,18 @@ void WriteTables(const std::filesystem::path& path, const std::string& group,
 // Reading
 // ------------------------------------------------------------------------------------------
 
+bool HasGroup(const std::filesystem::path& path, const std::string& group_path) {
+  H5::Exception::dontPrint();
+  if (!std::filesystem::is_regular_file(path))
+    throw std::runtime_error(path.string() + ": no such file");
+  try {
+    const H5::H5File file(path.string(), H5F_ACC_RDONLY);
+    return h5::PathExists(file.openGroup("/"), group_path);
+  } catch (const H5::Exception& e) {
+    RethrowHdf5(e, path);
+  }
+}
+
 Table ReadTable(const std::filesystem::path& path, const std::string& table_path) {
   H5::Exception::dontPrint();
   if (!std::filesystem::is_regular_file(path))

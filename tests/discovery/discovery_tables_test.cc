@@ -183,6 +183,37 @@ TEST(DiscoveryTablesTest, TheResultReadsBackAsWritten) {
   EXPECT_DOUBLE_EQ(std::get<std::vector<double>>(options.Get("measurement_floor").values)[0], 2e-4);
 }
 
+// The settings read back through their typed reader: as written, nothing from a file without
+// them, and the later columns' defaults (the floor NaN) from a file written before they existed.
+TEST(DiscoveryTablesTest, TheSettingsReadBackAsWritten) {
+  const fs::path dir = FreshDir("discovery_tables_test/options");
+  const fs::path h5 = StudyFile(dir);
+  EXPECT_FALSE(discovery::ReadDiscoveryOptions(h5));
+  AddDiscovery(h5, Result());
+  const auto o = discovery::ReadDiscoveryOptions(h5);
+  ASSERT_TRUE(o);
+  EXPECT_EQ(o->candidates, (std::vector<std::string>{"hunt_crossley", "out_of_plane"}));
+  EXPECT_FALSE(o->per_surface);
+  EXPECT_EQ(o->measurement_floor, 2e-4);
+  EXPECT_EQ(o->alpha, discovery::DiscoveryOptions{}.alpha);
+  EXPECT_EQ(o->folds, discovery::DiscoveryOptions{}.folds);
+
+  // The first version's columns only (alpha to relative_tolerance, without per_surface).
+  studyfile::Table old = discovery::DiscoveryOptionsTable(discovery::DiscoveryOptions{});
+  std::erase_if(old.columns, [](const studyfile::Column& c) {
+    return c.name == "per_surface" || c.name == "marker_ratio_tolerance" ||
+           c.name == "measurement_floor" || c.name == "replicate_tolerance";
+  });
+  ASSERT_EQ(old.columns.size(), 6u);
+  studyfile::WriteTables(h5, "/discovery", "discovery (test)", {old});
+  const auto first = discovery::ReadDiscoveryOptions(h5);
+  ASSERT_TRUE(first);
+  EXPECT_TRUE(first->per_surface);
+  EXPECT_TRUE(first->candidates.empty());
+  EXPECT_TRUE(std::isnan(first->measurement_floor));
+  EXPECT_EQ(first->replicate_tolerance, discovery::DiscoveryOptions{}.replicate_tolerance);
+}
+
 TEST(DiscoveryTablesTest, AMissingTableIsNamedWithTheFile) {
   const fs::path dir = FreshDir("discovery_tables_test/missing");
   const fs::path h5 = StudyFile(dir);

@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include "study/statistics.h"
+#include "studyfile/stats_tables.h"
 #include "studyfile/study_file.h"
 #include "support/test_util.h"
 
@@ -31,10 +33,12 @@ studyfile::TrialResult Trial(const std::string& id, const std::string& surface, 
   return t;
 }
 
-TEST(StudyStatisticsTest, TrialsEnterAsThePaperChoseThemAndTheAnovaMatchesItsSums) {
+// e by surface: steel {0.80, 0.84, 0.82, 0.86}, concrete {0.70, 0.74, 0.72, 0.78}.
+const double e_steel[] = {0.80, 0.84, 0.82, 0.86}, e_concrete[] = {0.70, 0.74, 0.72, 0.78};
+
+/// Eight successful trials (two surfaces, 0 and 20 deg, one speed) and one failed.
+studyfile::StudyResults HandStudy() {
   studyfile::StudyResults study;
-  // e by surface: steel {0.80, 0.84, 0.82, 0.86}, concrete {0.70, 0.74, 0.72, 0.78}.
-  const double e_steel[] = {0.80, 0.84, 0.82, 0.86}, e_concrete[] = {0.70, 0.74, 0.72, 0.78};
   for (int i = 0; i < 4; ++i) {
     const double angle = i < 2 ? 0.0 : 20.0;
     study.trials.push_back(Trial("s" + std::to_string(i), "steel", angle, e_steel[i],
@@ -46,7 +50,11 @@ TEST(StudyStatisticsTest, TrialsEnterAsThePaperChoseThemAndTheAnovaMatchesItsSum
   failed.success = false;
   failed.error = "marker M1 lost in frame 12";
   study.trials.push_back(failed);
+  return study;
+}
 
+TEST(StudyStatisticsTest, TrialsEnterAsThePaperChoseThemAndTheAnovaMatchesItsSums) {
+  const studyfile::StudyResults study = HandStudy();
   const StudyStatistics s = AnalyzeStatistics(study, {}, "study.h5");
   EXPECT_EQ(s.trials, 9u);
   ASSERT_EQ(s.excluded.size(), 1u);
@@ -72,9 +80,78 @@ TEST(StudyStatisticsTest, TrialsEnterAsThePaperChoseThemAndTheAnovaMatchesItsSum
   EXPECT_NE(s.responses[0].factors[2].note.find("not computed"), std::string::npos);
   // No successful trial: an error naming the file.
   studyfile::StudyResults none;
-  none.trials.push_back(failed);
+  none.trials.push_back(study.trials.back());
   hoof::testing::ExpectErrorContaining([&] { AnalyzeStatistics(none, {}, "empty.h5"); },
                                        "empty.h5");
+}
+
+// The /stats tables as stored and read back through their typed reader (studyfile/stats_tables.h):
+// every table the analysis has, with the numbers it computed.
+TEST(StudyStatisticsTest, StoredTablesReadBackAsComputed) {
+  const StudyStatistics s = AnalyzeStatistics(HandStudy(), {}, "study.h5");
+  const fs::path h5 = hoof::testing::FreshDir("stats_tables") / "study.h5";
+  studyfile::StudyInfo info;
+  info.name = "hand";
+  studyfile::WriteStudyFile(h5, info, {});
+  EXPECT_FALSE(studyfile::HasStatistics(h5));
+  studyfile::WriteTables(h5, "/stats", StatisticsDescription(s.options), StatisticsTables(s));
+  ASSERT_TRUE(studyfile::HasStatistics(h5));
+  const studyfile::StoredStatistics read = studyfile::ReadStatistics(h5);
+
+  EXPECT_EQ(read.description, StatisticsDescription(s.options));
+  ASSERT_EQ(read.excluded.size(), 1u);
+  EXPECT_EQ(read.excluded[0].id, "x");
+  EXPECT_EQ(read.excluded[0].reason, "marker M1 lost in frame 12");
+  ASSERT_EQ(read.responses.size(), 2u);
+  const studyfile::StoredResponse& e = read.responses[0];
+  EXPECT_EQ(e.response, "e");
+  // Cells: steel|0 holds 0.80 and 0.84.
+  ASSERT_EQ(e.cells.rows.size(), 4u);
+  EXPECT_EQ(e.cells.rows[0].cell, "steel|0");
+  EXPECT_EQ(e.cells.rows[0].surface, "steel");
+  EXPECT_EQ(e.cells.rows[0].angle_deg, "0");
+  EXPECT_EQ(e.cells.rows[0].n, 2u);
+  EXPECT_DOUBLE_EQ(e.cells.rows[0].mean, 0.82);
+  // Surface and angle analysed; speed (one level) not, with its note.
+  ASSERT_EQ(e.factors.size(), 2u);
+  EXPECT_EQ(e.factors[0].factor, "surface");
+  EXPECT_EQ(e.factors[1].factor, "angle");
+  const auto& computed = s.responses[0].factors[0].analysis->original;
+  const auto& anova = e.factors[0].original.anova.rows;
+  ASSERT_EQ(anova.size(), 3u);
+  EXPECT_EQ(anova[0].source, "between");
+  EXPECT_EQ(anova[0].df, 1u);
+  EXPECT_EQ(anova[1].df, 6u);
+  EXPECT_EQ(anova[2].df, 7u);
+  EXPECT_EQ(anova[0].ss, computed.anova.ss_between);
+  EXPECT_EQ(anova[0].p, computed.anova.p);
+  EXPECT_TRUE(std::isnan(anova[2].f));
+  ASSERT_EQ(e.factors[0].original.groups.rows.size(), 2u);
+  EXPECT_EQ(e.factors[0].original.groups.rows[1].group, "concrete");
+  EXPECT_DOUBLE_EQ(e.factors[0].original.groups.rows[1].mean, 0.735);
+  ASSERT_EQ(e.factors[0].original.tests.rows.size(), 2u);
+  EXPECT_EQ(e.factors[0].original.tests.rows[0].test, "bartlett");
+  EXPECT_EQ(e.factors[0].original.tests.rows[0].p, computed.bartlett.p);
+  EXPECT_EQ(e.factors[0].original.lsd.rows.size(), computed.lsd.size());
+  for (std::size_t i = 0; i < computed.lsd.size(); ++i) {
+    EXPECT_EQ(e.factors[0].original.lsd.rows[i].significant, computed.lsd[i].significant);
+    EXPECT_EQ(e.factors[0].original.lsd.rows[i].df, computed.lsd[i].df);
+  }
+  const auto& transform = s.responses[0].factors[0].analysis->transform;
+  EXPECT_EQ(e.factors[0].transform.considered, transform.considered);
+  EXPECT_EQ(e.factors[0].transform.applied, transform.applied);
+  EXPECT_EQ(e.factors[0].transformed.has_value(), transform.rerun.has_value());
+  // The two-way table: surface, angle, their interaction and the error, 8 - 4 = 4 error df.
+  ASSERT_TRUE(e.two_way);
+  ASSERT_EQ(e.two_way->rows.size(), 4u);
+  EXPECT_EQ(e.two_way->rows[3].df, 4u);
+  ASSERT_EQ(e.notes.size(), 1u);
+  EXPECT_EQ(e.notes[0].analysis, "by_speed");
+  // mu_eff: the four oblique trials.
+  EXPECT_EQ(read.responses[1].response, "mu_eff");
+  std::size_t n = 0;
+  for (const auto& c : read.responses[1].cells.rows) n += c.n;
+  EXPECT_EQ(n, 4u);
 }
 
 /// Records the steps as the job reports them.

@@ -17,7 +17,6 @@
 #include <iterator>
 #include <map>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -25,6 +24,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "compare/trial_comparison.h"
+#include "core/parallel.h"
 #include "dynamics/parameters.h"
 #include "pipeline/study_analysis.h"
 #include "support/test_util.h"
@@ -99,14 +99,10 @@ const Written& Study() {
     pipeline::TrialAnalysisOptions from_markers;
     from_markers.scale_from_markers = true;
     out.trials.resize(out.study.trial_dirs.size() + 3);
-    std::vector<std::thread> pool;
-    for (std::size_t w0 = 0; w0 < 2; ++w0)
-      pool.emplace_back([&, w0] {
-        for (std::size_t i = w0; i < out.study.trial_dirs.size(); i += 2)
-          out.trials[i] = pipeline::AnalyzeTrialFolder(out.study.trial_dirs[i], out.study,
-                                                       i == 3 ? from_markers : options);
-      });
-    for (auto& t : pool) t.join();
+    core::ParallelFor(out.study.trial_dirs.size(), 2, [&](std::size_t i) {
+      out.trials[i] = pipeline::AnalyzeTrialFolder(out.study.trial_dirs[i], out.study,
+                                                   i == 3 ? from_markers : options);
+    });
     pipeline::TrialSpec cut = pipeline::ReadTrial(
         fs::path(HOOF_SOURCE_DIR) / "sample_frames" / "steel_20deg_v3.28_r1", out.study);
     cut.frames.count = 14;
