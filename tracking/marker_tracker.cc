@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -72,24 +73,21 @@ void TrackerOptions::Validate() const {
     throw std::invalid_argument("tracker layout_tolerance must be in (0, 1)");
 }
 
-MarkerTracks TrackMarkers(FrameSource& source,
-                          const std::vector<std::pair<std::string, Eigen::Vector2d>>& layout_B_m,
-                          double m_per_px, const Eigen::Vector2d& gravity_I,
-                          const TrackerOptions& options, const std::function<void(int)>& progress) {
-  options.Validate();
-  const int n = static_cast<int>(layout_B_m.size());
-  if (n < 2) throw std::invalid_argument("the marker layout needs two or more markers");
-  MarkerTracks tracks;
-  std::vector<Eigen::Vector2d> layout_px;
-  for (const auto& [name, p] : layout_B_m) {
-    tracks.names.push_back(name);
-    // Body frame (y up, like W) to image scale with y down.
-    layout_px.emplace_back(p.x() / m_per_px, -p.y() / m_per_px);
-  }
-  const Eigen::Vector2d up_I = -gravity_I.normalized();
+namespace {
 
-  // First frame: the n most significant dots, then identities from the layout.
-  const cv::Mat first = source.Read(0);
+/// What the tracker keeps of one marker between frames.
+struct MarkerState {
+  std::vector<Eigen::Vector2d> history;  ///< centres where found, in order
+  int misses = 0;                        ///< consecutive frames not found
+  double radius_px = 0.0;                ///< dot radius in the first frame
+};
+
+/// The first frame's dots, one per layout marker in layout order: the n most significant dots
+/// given identities from the layout, else all candidates. Errors name the frame.
+std::vector<Dot> IdentifyFirstFrame(FrameSource& source, const cv::Mat& first,
+                                    const std::vector<Eigen::Vector2d>& layout_px,
+                                    const Eigen::Vector2d& up_I, const TrackerOptions& options) {
+  const int n = static_cast<int>(layout_px.size());
   const std::vector<Dot> found = FindDots(first, n + 2, options.detector);
   if (static_cast<int>(found.size()) < n) {
     std::ostringstream os;
@@ -109,74 +107,104 @@ MarkerTracks TrackMarkers(FrameSource& source,
     ids =
         AssignIdentities(candidates, layout_px, up_I, options.layout_tolerance, source.Describe(0));
   }
+  std::vector<Dot> ordered;
+  for (int id : ids) ordered.push_back(candidates[static_cast<std::size_t>(id)]);
+  return ordered;
+}
 
-  std::vector<std::vector<Eigen::Vector2d>> history(static_cast<std::size_t>(n));
-  std::vector<int> misses(static_cast<std::size_t>(n), 0);
-  std::vector<double> radius(static_cast<std::size_t>(n));
+/// Looks for one marker in `frame` near where its track predicts it (constant velocity from the
+/// last two centres, over the frames since it was last found). Returns the dot, or nothing.
+std::optional<Dot> FindMarker(const cv::Mat& frame, const MarkerState& m,
+                              const TrackerOptions& options) {
+  const auto& h = m.history;
+  const std::size_t k = h.size();
+  const int gap = m.misses + 1;  // frames since the last find
+  Eigen::Vector2d predicted = h.back();
+  Eigen::Vector2d step = Eigen::Vector2d::Zero();
+  if (k >= 2) step = h[k - 1] - h[k - 2];
+  predicted += gap * step;
+  const double search = options.search_radius_px > 0
+                            ? options.search_radius_px
+                            : std::max(6.0, 0.5 * m.radius_px + 3.0 * step.norm() * gap);
+  return FindDotNear(frame, predicted, search, m.radius_px, options.detector);
+}
+
+/// Two markers on one dot: records both as merged, keeps neither (and drops the centre each
+/// added to its history in this frame).
+void MarkMerged(std::vector<MarkerObservation>& row, std::vector<MarkerState>& markers,
+                const std::string& frame, MarkerTracks& tracks) {
+  const std::size_t n = row.size();
+  for (std::size_t a = 0; a < n; ++a)
+    for (std::size_t b = a + 1; b < n; ++b) {
+      auto& oa = row[a];
+      auto& ob = row[b];
+      if (oa.found && ob.found && (oa.p_I - ob.p_I).norm() < 0.5 * (oa.radius_px + ob.radius_px)) {
+        oa.found = ob.found = false;
+        oa.status = ob.status = "merged";
+        markers[a].history.pop_back();
+        markers[b].history.pop_back();
+        tracks.warnings.push_back(frame + ": markers " + tracks.names[a] + " and " +
+                                  tracks.names[b] + " merged");
+      }
+    }
+}
+
+}  // namespace
+
+MarkerTracks TrackMarkers(FrameSource& source,
+                          const std::vector<std::pair<std::string, Eigen::Vector2d>>& layout_B_m,
+                          double m_per_px, const Eigen::Vector2d& gravity_I,
+                          const TrackerOptions& options, const std::function<void(int)>& progress) {
+  options.Validate();
+  const std::size_t n = layout_B_m.size();
+  if (n < 2) throw std::invalid_argument("the marker layout needs two or more markers");
+  MarkerTracks tracks;
+  std::vector<Eigen::Vector2d> layout_px;
+  for (const auto& [name, p] : layout_B_m) {
+    tracks.names.push_back(name);
+    // Body frame (y up, like W) to image scale with y down.
+    layout_px.emplace_back(p.x() / m_per_px, -p.y() / m_per_px);
+  }
+
+  // First frame: the n most significant dots, then identities from the layout.
+  const std::vector<Dot> first =
+      IdentifyFirstFrame(source, source.Read(0), layout_px, -gravity_I.normalized(), options);
+  std::vector<MarkerState> markers(n);
   // One row per frame as it is read (not `count` rows up front: a count of 2e9 would be
   // allocated before its first missing frame is found).
   tracks.frames.emplace_back();
-  for (int m = 0; m < n; ++m) {
-    const Dot& d = candidates[static_cast<std::size_t>(ids[static_cast<std::size_t>(m)])];
-    auto& obs = tracks.frames[0].emplace_back();
-    obs = {true, d.p_I, d.significance, d.radius_px, "ok"};
-    history[static_cast<std::size_t>(m)].push_back(d.p_I);
-    radius[static_cast<std::size_t>(m)] = d.radius_px;
+  for (std::size_t m = 0; m < n; ++m) {
+    const Dot& d = first[m];
+    tracks.frames[0].push_back({true, d.p_I, d.significance, d.radius_px, "ok"});
+    markers[m].history.push_back(d.p_I);
+    markers[m].radius_px = d.radius_px;
   }
   if (progress) progress(0);
 
   for (int f = 1; f < source.count(); ++f) {
     const cv::Mat frame = source.Read(f);
     auto& row = tracks.frames.emplace_back();
-    row.resize(static_cast<std::size_t>(n));
-    for (int m = 0; m < n; ++m) {
-      auto& h = history[static_cast<std::size_t>(m)];
-      auto& obs = row[static_cast<std::size_t>(m)];
-      if (misses[static_cast<std::size_t>(m)] >= options.max_consecutive_misses) {
+    row.resize(n);
+    for (std::size_t m = 0; m < n; ++m) {
+      MarkerState& state = markers[m];
+      auto& obs = row[m];
+      if (state.misses >= options.max_consecutive_misses) {
         obs.status = "lost_for_good";
         continue;
       }
-      // Predict: constant acceleration from the last three positions, else constant velocity.
-      const std::size_t k = h.size();
-      const int gap = misses[static_cast<std::size_t>(m)] + 1;  // frames since the last find
-      Eigen::Vector2d predicted = h.back();
-      Eigen::Vector2d step = Eigen::Vector2d::Zero();
-      if (k >= 2) step = h[k - 1] - h[k - 2];
-      predicted += gap * step;
-      const double search =
-          options.search_radius_px > 0
-              ? options.search_radius_px
-              : std::max(6.0, 0.5 * radius[static_cast<std::size_t>(m)] + 3.0 * step.norm() * gap);
-      const auto dot = FindDotNear(frame, predicted, search, radius[static_cast<std::size_t>(m)],
-                                   options.detector);
+      const auto dot = FindMarker(frame, state, options);
       if (!dot) {
         obs.status = "lost";
-        ++misses[static_cast<std::size_t>(m)];
-        tracks.warnings.push_back(source.Describe(f) + ": marker " +
-                                  tracks.names[static_cast<std::size_t>(m)] +
+        ++state.misses;
+        tracks.warnings.push_back(source.Describe(f) + ": marker " + tracks.names[m] +
                                   " not found near its predicted position");
         continue;
       }
       obs = {true, dot->p_I, dot->significance, dot->radius_px, "ok"};
-      misses[static_cast<std::size_t>(m)] = 0;
-      h.push_back(dot->p_I);
+      state.misses = 0;
+      state.history.push_back(dot->p_I);
     }
-    // Two markers on one dot: record both as merged, keep neither.
-    for (int a = 0; a < n; ++a)
-      for (int b = a + 1; b < n; ++b) {
-        auto& oa = row[static_cast<std::size_t>(a)];
-        auto& ob = row[static_cast<std::size_t>(b)];
-        if (oa.found && ob.found &&
-            (oa.p_I - ob.p_I).norm() < 0.5 * (oa.radius_px + ob.radius_px)) {
-          oa.found = ob.found = false;
-          oa.status = ob.status = "merged";
-          history[static_cast<std::size_t>(a)].pop_back();
-          history[static_cast<std::size_t>(b)].pop_back();
-          tracks.warnings.push_back(source.Describe(f) + ": markers " +
-                                    tracks.names[static_cast<std::size_t>(a)] + " and " +
-                                    tracks.names[static_cast<std::size_t>(b)] + " merged");
-        }
-      }
+    MarkMerged(row, markers, source.Describe(f), tracks);
     if (progress) progress(f);
   }
   return tracks;

@@ -359,6 +359,82 @@ void ExplainRate(bool ratio_blind, double ratio_p, double level, CandidateResult
   }
 }
 
+/// The information about a parameter from the curvature of a log-likelihood (0 where it is not
+/// finite or not negative).
+double Information(double curvature) {
+  return std::isfinite(curvature) ? std::max(0.0, -curvature) : 0.0;
+}
+
+/// Ends an evaluation at the point `p` of the search: its fit, the motion with its rate, and the
+/// trials re-measured with it.
+void Finish(const RateSearch& x, Point& p, RateEvaluation& out) {
+  out.fit = p.fit;
+  out.motion = WithRate(x.st.motion, x.key, p.rate);
+  out.remeasured = p.remeasured.trials;
+  out.ws = std::move(p.remeasured.ws);
+}
+
+/// A later round where the marker distance alone does not show the rate (ratio p `ratio_p`):
+/// named only with the image's evidence, so the velocities are not searched again; the probes
+/// on either side of 0 still give their information for the detection limit.
+void NotSearchedAgain(const RateSearch& x, Point& zero, double ratio_p, double z_level,
+                      const RatioTerms& none, RateEvaluation& out) {
+  constexpr int kSearchPasses = RateSearch::kSearchPasses;
+  CandidateResult& c = out.c;
+  const double curvature_at_0 =
+      (x.Evaluate(x.probe, kSearchPasses).velocity_loglik - 2 * zero.velocity_loglik +
+       x.Evaluate(-x.probe, kSearchPasses).velocity_loglik) /
+      (x.probe * x.probe);
+  c.fitted = false;
+  c.message = "not searched again after round 1: the marker distance alone does not show it";
+  c.estimate = c.se = c.p_value = c.lr_statistic = c.delta_aic = c.delta_bic = kNaN;
+  c.cv_error = c.cv_error_current = c.cv_p = kNaN;
+  c.identifiability = Identifiability::kIdentified;
+  c.outcome = CandidateOutcome::kNotSignificant;
+  c.reason = "the marker distance alone does not show it (p = " + FmtP(ratio_p) +
+             "), and it is named only with the image's evidence; the velocities were searched "
+             "for it in round 1 and are not searched again";
+  c.detection_limit = DetectionLimit(x.ws, x.measured, x.series, x.st, x.key, none, z_level,
+                                     x.upper, Information(curvature_at_0));
+  out.fit = zero.fit;
+  out.motion = x.st.motion;
+  out.remeasured = zero.remeasured.trials;
+  out.ws = std::move(zero.remeasured.ws);
+}
+
+/// The statistics of the rate's final fit `fin` against `zero_final` (the current model refitted
+/// to the trials as measured): the estimate, its s.e. from the curvature of the joint
+/// log-likelihood about the search's best point `best`, the likelihood ratio, AIC and BIC, the
+/// identifiability (from the marker series and the velocities' information `info_velocity`) and
+/// the Wald check at `z_level`.
+void RateStatistics(const RateSearch& x, const Point& fin, const Point& zero_final,
+                    const Point& best, double info_velocity, double z_level, CandidateResult& c) {
+  constexpr int kSearchPasses = RateSearch::kSearchPasses;
+  c.fitted = true;
+  c.estimate = fin.rate / kDeg;
+  // The s.e. from the curvature of the joint log-likelihood.
+  c.se = kNaN;
+  if (fin.rate != 0.0) {
+    const double h = 0.1 * std::abs(fin.rate);
+    // At the same passes as the search, whose best point is the middle one.
+    const Point lo = x.Evaluate(fin.rate - h, kSearchPasses),
+                hi = x.Evaluate(fin.rate + h, kSearchPasses);
+    const double curvature = (hi.loglik - 2 * best.loglik + lo.loglik) / (h * h);
+    if (curvature < 0) c.se = 1 / std::sqrt(-curvature) / kDeg;
+  }
+  c.values = {EffectValue{x.key, "", c.estimate, c.se}};
+  c.lr_statistic = std::max(0.0, 2 * (fin.loglik - zero_final.loglik));
+  c.p_value = stats::ChiSquaredUpperTail(c.lr_statistic, 1);
+  c.delta_aic = -c.lr_statistic + 2;
+  int frames = 0, residuals = 0;
+  for (const auto& s : x.series) frames += static_cast<int>(s.t_s.size());
+  for (const Obs& o : x.ws.obs) residuals += o.Dim();
+  c.delta_bic = -c.lr_statistic + std::log(static_cast<double>(frames + residuals));
+  c.identifiability = frames == 0 && !(info_velocity > 0) ? Identifiability::kNotTested
+                                                          : Identifiability::kIdentified;
+  c.wald_clear = c.se > 0 && std::abs(c.estimate) / c.se > z_level;
+}
+
 }  // namespace
 
 bool IsRotationRate(const std::string& key) { return Entry(key).rotation_rate; }
@@ -403,35 +479,14 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st,
   const double z_level =
       boost::math::quantile(boost::math::complement(boost::math::normal(), level / 2));
   const RatioTerms none = Ratio(ws, x.measured, x.series, st.motion);
-  const auto information = [](double curvature) {
-    return std::isfinite(curvature) ? std::max(0.0, -curvature) : 0.0;
-  };
   if (!st.accepted.empty() && !(ratio_p < level)) {
-    const double curvature_at_0 =
-        (x.Evaluate(x.probe, kSearchPasses).velocity_loglik - 2 * zero.velocity_loglik +
-         x.Evaluate(-x.probe, kSearchPasses).velocity_loglik) /
-        (x.probe * x.probe);
-    c.fitted = false;
-    c.message = "not searched again after round 1: the marker distance alone does not show it";
-    c.estimate = c.se = c.p_value = c.lr_statistic = c.delta_aic = c.delta_bic = kNaN;
-    c.cv_error = c.cv_error_current = c.cv_p = kNaN;
-    c.identifiability = Identifiability::kIdentified;
-    c.outcome = CandidateOutcome::kNotSignificant;
-    c.reason = "the marker distance alone does not show it (p = " + FmtP(ratio_p) +
-               "), and it is named only with the image's evidence; the velocities were searched "
-               "for it in round 1 and are not searched again";
-    c.detection_limit = DetectionLimit(ws, x.measured, x.series, st, key, none, z_level, x.upper,
-                                       information(curvature_at_0));
-    out.fit = zero.fit;
-    out.motion = st.motion;
-    out.remeasured = zero.remeasured.trials;
-    out.ws = std::move(zero.remeasured.ws);
+    NotSearchedAgain(x, zero, ratio_p, z_level, none, out);
     return out;
   }
   std::map<double, double> velocity;
   const Point best = x.Search(zero, from_ratio, velocity);
   // The velocities' information about the rate at 0 (for the detection limit), from the probes.
-  const double info_velocity = information(
+  const double info_velocity = Information(
       (velocity[x.probe] - 2 * velocity[0.0] + velocity[-x.probe]) / (x.probe * x.probe));
   // The final fit at the best rate (the noise model to convergence), and at 0 the same way.
   Point zero_final = x.Evaluate(0.0, 8);
@@ -439,29 +494,7 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st,
   if (best.rate != 0.0) with_rate = x.Evaluate(best.rate, 8);
   Point& fin = std::isfinite(with_rate.loglik) && with_rate.loglik > zero_final.loglik ? with_rate
                                                                                        : zero_final;
-  c.fitted = true;
-  c.estimate = fin.rate / kDeg;
-  // The s.e. from the curvature of the joint log-likelihood.
-  c.se = kNaN;
-  if (fin.rate != 0.0) {
-    const double h = 0.1 * std::abs(fin.rate);
-    // At the same passes as the search, whose best point is the middle one.
-    const Point lo = x.Evaluate(fin.rate - h, kSearchPasses),
-                hi = x.Evaluate(fin.rate + h, kSearchPasses);
-    const double curvature = (hi.loglik - 2 * best.loglik + lo.loglik) / (h * h);
-    if (curvature < 0) c.se = 1 / std::sqrt(-curvature) / kDeg;
-  }
-  c.values = {EffectValue{key, "", c.estimate, c.se}};
-  c.lr_statistic = std::max(0.0, 2 * (fin.loglik - zero_final.loglik));
-  c.p_value = stats::ChiSquaredUpperTail(c.lr_statistic, 1);
-  c.delta_aic = -c.lr_statistic + 2;
-  int frames = 0, residuals = 0;
-  for (const auto& s : x.series) frames += static_cast<int>(s.t_s.size());
-  for (const Obs& o : ws.obs) residuals += o.Dim();
-  c.delta_bic = -c.lr_statistic + std::log(static_cast<double>(frames + residuals));
-  c.identifiability = frames == 0 && !(info_velocity > 0) ? Identifiability::kNotTested
-                                                          : Identifiability::kIdentified;
-  c.wald_clear = c.se > 0 && std::abs(c.estimate) / c.se > z_level;
+  RateStatistics(x, fin, zero_final, best, info_velocity, z_level, c);
   x.HeldOut(none, ratio_blind, c);
   // Named only with the image's own evidence: a bias of the velocities alone is also what a
   // contact effect on v_x and spin does (the scorecard named a roll rate in studies with rolling
@@ -474,10 +507,7 @@ RateEvaluation EvaluateRotationRate(const Workspace& ws, const RoundState& st,
                                      info_velocity > 0 ? info_velocity
                                      : c.se > 0        ? 1 / std::pow(c.se * kDeg, 2)
                                                        : 0.0);
-  out.fit = fin.fit;
-  out.motion = WithRate(st.motion, key, fin.rate);
-  out.remeasured = fin.remeasured.trials;
-  out.ws = std::move(fin.remeasured.ws);
+  Finish(x, fin, out);
   return out;
 }
 

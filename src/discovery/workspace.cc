@@ -12,6 +12,66 @@
 namespace hoof::discovery::internal {
 namespace {
 constexpr double kG = dynamics::kStandardGravity_m_s2;
+
+/// The variance of the measured velocities after impact, per component (v_x, v_y, w d_EC) and
+/// over the impact speed `scale` squared. The prediction starts from the measured state before
+/// the impact, so its error enters too (to first order with a gain of at most 1); a component
+/// without an s.e. counts 0.
+Eigen::Vector3d MeasurementVariance(const kinematics::ImpactKinematics& im, double d_EC_m,
+                                    double scale) {
+  const double d = d_EC_m;
+  Eigen::Vector3d var = Eigen::Vector3d(im.v_SC_after_se.x() * im.v_SC_after_se.x() +
+                                            im.v_SC_before_se.x() * im.v_SC_before_se.x(),
+                                        im.v_SC_after_se.y() * im.v_SC_after_se.y() +
+                                            im.v_SC_before_se.y() * im.v_SC_before_se.y(),
+                                        d * d *
+                                            (im.w_after_se_rad_s * im.w_after_se_rad_s +
+                                             im.w_before_se_rad_s * im.w_before_se_rad_s)) /
+                        (scale * scale);
+  for (int c = 0; c < kComponents; ++c)
+    if (!std::isfinite(var[c])) var[c] = 0.0;
+  return var;
+}
+
+/// Image-level evidence: the mean and the slope in time of the marker distance ratio over the
+/// flight windows of `t` (left as they are with fewer than three frames).
+void MarkerRatioTrend(const pipeline::TrialAnalysis& t, Obs& o) {
+  const auto& im = t.impact;
+  std::vector<std::pair<double, double>> tr;
+  for (const auto* fit : {&im.before, &im.after})
+    for (int f = fit->first_frame; f <= fit->last_frame; ++f)
+      if (f >= 0 && static_cast<std::size_t>(f) < t.marker_distance_ratio.size() &&
+          std::isfinite(t.marker_distance_ratio[static_cast<std::size_t>(f)]))
+        tr.emplace_back(f / t.spec.fps, t.marker_distance_ratio[static_cast<std::size_t>(f)]);
+  if (tr.size() >= 3) {
+    double mx = 0, my = 0;
+    for (const auto& [x, y] : tr) mx += x, my += y;
+    mx /= static_cast<double>(tr.size());
+    my /= static_cast<double>(tr.size());
+    double sxx = 0, sxy = 0;
+    for (const auto& [x, y] : tr) sxx += (x - mx) * (x - mx), sxy += (x - mx) * (y - my);
+    o.marker_ratio = my;
+    o.marker_ratio_slope = sxx > 0 ? sxy / sxx : kNaN;
+  }
+}
+
+/// Folds: trials in design order (surface, angle, speed, id) dealt round-robin, so that each
+/// fold holds a share of every surface, angle and speed range, replicated or not.
+void AssignFolds(int folds, Workspace& ws) {
+  std::vector<std::size_t> order(ws.obs.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) {
+    const Obs& x = ws.obs[a];
+    const Obs& y = ws.obs[b];
+    if (x.surface != y.surface) return x.surface < y.surface;
+    if (x.angle_deg != y.angle_deg) return x.angle_deg < y.angle_deg;
+    if (x.speed_m_s != y.speed_m_s) return x.speed_m_s < y.speed_m_s;
+    return x.trial->spec.id < y.trial->spec.id;
+  });
+  int next = 0;
+  for (std::size_t i : order) ws.obs[i].fold = next++ % folds;
+}
+
 }  // namespace
 
 dynamics::ContactExtensions Workspace::Extensions(const Model& m, int surface) const {
@@ -160,57 +220,16 @@ void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOp
     o.phi = core::DegToRad(o.angle_deg);
     const auto& im = t->impact;
     o.measured = {im.v_SC_after.x(), im.v_SC_after.y(), im.w_after_rad_s * o.specimen.d_EC_m};
-    // The prediction starts from the measured state before the impact, so its error enters too
-    // (to first order with a gain of at most 1).
-    const double d = o.specimen.d_EC_m;
-    o.measurement_var = Eigen::Vector3d(im.v_SC_after_se.x() * im.v_SC_after_se.x() +
-                                            im.v_SC_before_se.x() * im.v_SC_before_se.x(),
-                                        im.v_SC_after_se.y() * im.v_SC_after_se.y() +
-                                            im.v_SC_before_se.y() * im.v_SC_before_se.y(),
-                                        d * d *
-                                            (im.w_after_se_rad_s * im.w_after_se_rad_s +
-                                             im.w_before_se_rad_s * im.w_before_se_rad_s)) /
-                        (o.scale * o.scale);
-    for (int c = 0; c < kComponents; ++c)
-      if (!std::isfinite(o.measurement_var[c])) o.measurement_var[c] = 0.0;
+    o.measurement_var = MeasurementVariance(im, o.specimen.d_EC_m, o.scale);
     // Normal impacts carry no information about the contact law in v_x and w.
     o.used = {!o.normal, true, !o.normal};
     const std::string cell_key =
         t->spec.surface + "|" + Fmt(o.angle_deg, 6) + "|" + Fmt(o.speed_m_s, 6);
     o.cell = cell_index.try_emplace(cell_key, static_cast<int>(cell_index.size())).first->second;
-    // Image-level evidence: the marker distance ratio over the flight windows.
-    std::vector<std::pair<double, double>> tr;
-    for (const auto* fit : {&im.before, &im.after})
-      for (int f = fit->first_frame; f <= fit->last_frame; ++f)
-        if (f >= 0 && static_cast<std::size_t>(f) < t->marker_distance_ratio.size() &&
-            std::isfinite(t->marker_distance_ratio[static_cast<std::size_t>(f)]))
-          tr.emplace_back(f / t->spec.fps, t->marker_distance_ratio[static_cast<std::size_t>(f)]);
-    if (tr.size() >= 3) {
-      double mx = 0, my = 0;
-      for (const auto& [x, y] : tr) mx += x, my += y;
-      mx /= static_cast<double>(tr.size());
-      my /= static_cast<double>(tr.size());
-      double sxx = 0, sxy = 0;
-      for (const auto& [x, y] : tr) sxx += (x - mx) * (x - mx), sxy += (x - mx) * (y - my);
-      o.marker_ratio = my;
-      o.marker_ratio_slope = sxx > 0 ? sxy / sxx : kNaN;
-    }
+    MarkerRatioTrend(*t, o);
     ws.obs.push_back(o);
   }
-  // Folds: trials in design order (surface, angle, speed, id) dealt round-robin, so that each
-  // fold holds a share of every surface, angle and speed range, replicated or not.
-  std::vector<std::size_t> order(ws.obs.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) {
-    const Obs& x = ws.obs[a];
-    const Obs& y = ws.obs[b];
-    if (x.surface != y.surface) return x.surface < y.surface;
-    if (x.angle_deg != y.angle_deg) return x.angle_deg < y.angle_deg;
-    if (x.speed_m_s != y.speed_m_s) return x.speed_m_s < y.speed_m_s;
-    return x.trial->spec.id < y.trial->spec.id;
-  });
-  int next = 0;
-  for (std::size_t i : order) ws.obs[i].fold = next++ % options.folds;
+  AssignFolds(options.folds, ws);
 }
 
 }  // namespace hoof::discovery::internal

@@ -184,6 +184,100 @@ StudySpec ReadStudy(const fs::path& dir) {
   return study;
 }
 
+/// trial.json's "frames": a video, or a pattern with the first frame and the count.
+FramesSpec ParseFrames(const json& frames, const fs::path& file,
+                       std::vector<std::string>& warnings) {
+  FramesSpec out;
+  WarnUnknown(frames, {"pattern", "first", "count", "video"}, file, "frames.", warnings);
+  if (frames.contains("video")) {
+    out.video = Text(frames, "video", file, "frames.");
+  } else {
+    out.pattern = Text(frames, "pattern", file, "frames.");
+    if (out.pattern.size() > tracking::kMaxFramePatternLength)
+      Fail(file, "frames.pattern",
+           "is " + std::to_string(out.pattern.size()) + " characters long; at most " +
+               std::to_string(tracking::kMaxFramePatternLength) + " are accepted");
+    if (!tracking::IsFramePattern(out.pattern))
+      Fail(file, "frames.pattern",
+           "\"" + out.pattern +
+               "\" must hold exactly one integer conversion such as %06d (and %% for a "
+               "percent sign)");
+    const json& first = Require(frames, "first", file, "frames.");
+    const json& count = Require(frames, "count", file, "frames.");
+    // Compared as 64-bit integers before narrowing, so 4294967297 is refused, not read as 1.
+    constexpr std::int64_t kMaxInt = std::numeric_limits<int>::max();
+    const auto in_range = [&](const json& v, std::int64_t low) {
+      if (!v.is_number_integer()) return false;
+      if (v.is_number_unsigned())
+        return v.get<std::uint64_t>() <= static_cast<std::uint64_t>(kMaxInt) &&
+               static_cast<std::int64_t>(v.get<std::uint64_t>()) >= low;
+      return v.get<std::int64_t>() >= low && v.get<std::int64_t>() <= kMaxInt;
+    };
+    if (!in_range(first, 0))
+      Fail(file, "frames.first",
+           "must be an integer in [0, " + std::to_string(kMaxInt) + "], found " + first.dump());
+    if (!in_range(count, 1))
+      Fail(file, "frames.count",
+           "must be an integer in [1, " + std::to_string(kMaxInt) + "], found " + count.dump());
+    out.first = first.get<int>();
+    out.count = count.get<int>();
+  }
+  return out;
+}
+
+/// camera.distortion: OpenCV's [k1, k2, p1, p2, k3].
+std::array<double, 5> ParseDistortion(const json& d, const fs::path& file) {
+  if (!d.is_array() || d.size() != 5)
+    Fail(file, "camera.distortion", "must be [k1, k2, p1, p2, k3], found " + d.dump());
+  std::array<double, 5> k{};
+  for (std::size_t i = 0; i < 5; ++i) {
+    if (!d[i].is_number()) Fail(file, "camera.distortion", "must hold numbers");
+    k[i] = d[i].get<double>();
+  }
+  return k;
+}
+
+/// camera.camera_matrix: 3x3, as nested rows or nine numbers, row by row.
+std::array<double, 9> ParseCameraMatrix(const json& m, const fs::path& file) {
+  std::array<double, 9> k{};
+  std::vector<double> flat;
+  if (m.is_array())
+    for (const auto& row : m) {
+      if (row.is_array())
+        for (const auto& v : row) flat.push_back(v.is_number() ? v.get<double>() : NAN);
+      else
+        flat.push_back(row.is_number() ? row.get<double>() : NAN);
+    }
+  if (flat.size() != 9)
+    Fail(file, "camera.camera_matrix", "must be a 3x3 matrix, found " + m.dump());
+  for (std::size_t i = 0; i < 9; ++i) {
+    if (!std::isfinite(flat[i])) Fail(file, "camera.camera_matrix", "must hold numbers");
+    k[i] = flat[i];
+  }
+  return k;
+}
+
+/// trial.json's "camera": the scale, and gravity's direction and the lens where given.
+CameraSpec ParseCamera(const json& camera, const fs::path& file,
+                       std::vector<std::string>& warnings) {
+  CameraSpec out;
+  WarnUnknown(camera, {"m_per_px", "gravity_image", "distortion", "camera_matrix"}, file, "camera.",
+              warnings);
+  out.m_per_px = Number(camera, "m_per_px", file, "camera.", true);
+  if (camera.contains("gravity_image")) {
+    const Eigen::Vector2d g = Pair(camera.at("gravity_image"), file, "camera.gravity_image");
+    if (!(g.norm() > 0)) Fail(file, "camera.gravity_image", "must not be zero");
+    out.gravity_image = g.normalized();
+  }
+  if (camera.contains("distortion"))
+    out.distortion = ParseDistortion(camera.at("distortion"), file);
+  if (camera.contains("camera_matrix"))
+    out.camera_matrix = ParseCameraMatrix(camera.at("camera_matrix"), file);
+  if (out.distortion && !out.camera_matrix)
+    Fail(file, "camera.camera_matrix", "is needed when camera.distortion is given");
+  return out;
+}
+
 TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
   const fs::path file = trial_dir / "trial.json";
   const json j = ReadJson(file);
@@ -216,83 +310,8 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
     Fail(file, "surface_angle_deg", "must be within (-90, 90)");
   t.fps = Number(j, "fps", file, "", true);
 
-  const json& frames = Require(j, "frames", file, "");
-  WarnUnknown(frames, {"pattern", "first", "count", "video"}, file, "frames.", t.warnings);
-  if (frames.contains("video")) {
-    t.frames.video = Text(frames, "video", file, "frames.");
-  } else {
-    t.frames.pattern = Text(frames, "pattern", file, "frames.");
-    if (t.frames.pattern.size() > tracking::kMaxFramePatternLength)
-      Fail(file, "frames.pattern",
-           "is " + std::to_string(t.frames.pattern.size()) + " characters long; at most " +
-               std::to_string(tracking::kMaxFramePatternLength) + " are accepted");
-    if (!tracking::IsFramePattern(t.frames.pattern))
-      Fail(file, "frames.pattern",
-           "\"" + t.frames.pattern +
-               "\" must hold exactly one integer conversion such as %06d (and %% for a "
-               "percent sign)");
-    const json& first = Require(frames, "first", file, "frames.");
-    const json& count = Require(frames, "count", file, "frames.");
-    // Compared as 64-bit integers before narrowing, so 4294967297 is refused, not read as 1.
-    constexpr std::int64_t kMaxInt = std::numeric_limits<int>::max();
-    const auto in_range = [&](const json& v, std::int64_t low) {
-      if (!v.is_number_integer()) return false;
-      if (v.is_number_unsigned())
-        return v.get<std::uint64_t>() <= static_cast<std::uint64_t>(kMaxInt) &&
-               static_cast<std::int64_t>(v.get<std::uint64_t>()) >= low;
-      return v.get<std::int64_t>() >= low && v.get<std::int64_t>() <= kMaxInt;
-    };
-    if (!in_range(first, 0))
-      Fail(file, "frames.first",
-           "must be an integer in [0, " + std::to_string(kMaxInt) + "], found " + first.dump());
-    if (!in_range(count, 1))
-      Fail(file, "frames.count",
-           "must be an integer in [1, " + std::to_string(kMaxInt) + "], found " + count.dump());
-    t.frames.first = first.get<int>();
-    t.frames.count = count.get<int>();
-  }
-
-  const json& camera = Require(j, "camera", file, "");
-  WarnUnknown(camera, {"m_per_px", "gravity_image", "distortion", "camera_matrix"}, file, "camera.",
-              t.warnings);
-  t.camera.m_per_px = Number(camera, "m_per_px", file, "camera.", true);
-  if (camera.contains("gravity_image")) {
-    const Eigen::Vector2d g = Pair(camera.at("gravity_image"), file, "camera.gravity_image");
-    if (!(g.norm() > 0)) Fail(file, "camera.gravity_image", "must not be zero");
-    t.camera.gravity_image = g.normalized();
-  }
-  if (camera.contains("distortion")) {
-    const json& d = camera.at("distortion");
-    if (!d.is_array() || d.size() != 5)
-      Fail(file, "camera.distortion", "must be [k1, k2, p1, p2, k3], found " + d.dump());
-    std::array<double, 5> k{};
-    for (std::size_t i = 0; i < 5; ++i) {
-      if (!d[i].is_number()) Fail(file, "camera.distortion", "must hold numbers");
-      k[i] = d[i].get<double>();
-    }
-    t.camera.distortion = k;
-  }
-  if (camera.contains("camera_matrix")) {
-    const json& m = camera.at("camera_matrix");
-    std::array<double, 9> k{};
-    std::vector<double> flat;
-    if (m.is_array())
-      for (const auto& row : m) {
-        if (row.is_array())
-          for (const auto& v : row) flat.push_back(v.is_number() ? v.get<double>() : NAN);
-        else
-          flat.push_back(row.is_number() ? row.get<double>() : NAN);
-      }
-    if (flat.size() != 9)
-      Fail(file, "camera.camera_matrix", "must be a 3x3 matrix, found " + m.dump());
-    for (std::size_t i = 0; i < 9; ++i) {
-      if (!std::isfinite(flat[i])) Fail(file, "camera.camera_matrix", "must hold numbers");
-      k[i] = flat[i];
-    }
-    t.camera.camera_matrix = k;
-  }
-  if (t.camera.distortion && !t.camera.camera_matrix)
-    Fail(file, "camera.camera_matrix", "is needed when camera.distortion is given");
+  t.frames = ParseFrames(Require(j, "frames", file, ""), file, t.warnings);
+  t.camera = ParseCamera(Require(j, "camera", file, ""), file, t.warnings);
 
   if (j.contains("surface_line_px")) {
     const json& l = j.at("surface_line_px");
