@@ -159,11 +159,10 @@ void ContactFitOptions::Validate() const {
     ThrowField("gravity_m_s2", gravity_m_s2, "must be finite and >= 0");
 }
 
-ContactFitSummary FitNormalContact(const std::vector<NormalImpact>& impacts,
-                                   const SpecimenParameters& specimen,
-                                   const ContactFitOptions& options) {
-  options.Validate();
-  specimen.Validate();
+namespace {
+
+/// Throws std::invalid_argument naming the first impact whose speeds are not finite and > 0.
+void CheckImpacts(const std::vector<NormalImpact>& impacts) {
   for (std::size_t i = 0; i < impacts.size(); ++i) {
     const auto& imp = impacts[i];
     if (!(imp.v_before_m_s > 0 && std::isfinite(imp.v_before_m_s)) ||
@@ -175,20 +174,19 @@ ContactFitSummary FitNormalContact(const std::vector<NormalImpact>& impacts,
       throw std::invalid_argument(os.str());
     }
   }
-  ContactFitSummary s;
-  s.n = static_cast<int>(impacts.size());
-  if (impacts.empty()) {
-    s.message = "no normal impacts to fit";
-    return s;
-  }
+}
+
+/// zeta at the reference k, its s.e. and confidence interval, and the errors of the fit; false
+/// (with the message in `s`) when it fails.
+bool FitZetaAtReference(const std::vector<NormalImpact>& impacts,
+                        const SpecimenParameters& specimen, const ContactFitOptions& options,
+                        ContactFitSummary& s) {
   const double g = options.gravity_m_s2;
   const double m = specimen.mass_kg;
-
-  // 1. zeta, at the reference k.
   const ZetaFit ref = FitZetaAtK(impacts, specimen, options.k_reference_N_m, g);
   if (!ref.ok) {
     s.message = ref.message;
-    return s;
+    return false;
   }
   s.zeta = ref.zeta;
   s.e_normal = s.zeta < 1.0 ? RestitutionFromDampingRatio(s.zeta) : 0.0;
@@ -208,8 +206,15 @@ ContactFitSummary FitNormalContact(const std::vector<NormalImpact>& impacts,
   } else {
     s.zeta_se = s.zeta_ci_low = s.zeta_ci_high = core::kNaN;
   }
+  return true;
+}
 
-  // 2. The valley: the best b at each k.
+/// The valley: the best b at each k of a log-spaced grid, and how little zeta and the error
+/// change along it within the bounds of b.
+void FitValley(const std::vector<NormalImpact>& impacts, const SpecimenParameters& specimen,
+               const ContactFitOptions& options, ContactFitSummary& s) {
+  const double g = options.gravity_m_s2;
+  const double m = specimen.mass_kg;
   double mean_v = 0.0;
   for (const auto& imp : impacts) mean_v += imp.v_before_m_s;
   mean_v /= s.n;
@@ -240,8 +245,12 @@ ContactFitSummary FitNormalContact(const std::vector<NormalImpact>& impacts,
   }
   s.valley_zeta_spread = zmax >= zmin ? zmax - zmin : 0.0;
   s.valley_mpe_spread_percent = emax >= emin ? emax - emin : 0.0;
+}
 
-  // 3. The paper's objective over the (k, b) box.
+/// The paper's objective (the mean absolute percent error) over the (k, b) box, where asked.
+void MapObjective(const std::vector<NormalImpact>& impacts, const SpecimenParameters& specimen,
+                  const ContactFitOptions& options, ContactFitSummary& s) {
+  const double g = options.gravity_m_s2;
   if (options.map_points_k > 0 && options.map_points_b > 0) {
     s.map_k_N_m = LogSpace(options.k_min_N_m, options.k_max_N_m, options.map_points_k);
     for (int j = 0; j < options.map_points_b; ++j)
@@ -254,6 +263,28 @@ ContactFitSummary FitNormalContact(const std::vector<NormalImpact>& impacts,
             MeanAbs(PercentErrors(impacts, specimen, s.map_k_N_m[static_cast<std::size_t>(i)],
                                   s.map_b_N_s_m[static_cast<std::size_t>(j)], g));
   }
+}
+
+}  // namespace
+
+ContactFitSummary FitNormalContact(const std::vector<NormalImpact>& impacts,
+                                   const SpecimenParameters& specimen,
+                                   const ContactFitOptions& options) {
+  options.Validate();
+  specimen.Validate();
+  CheckImpacts(impacts);
+  ContactFitSummary s;
+  s.n = static_cast<int>(impacts.size());
+  if (impacts.empty()) {
+    s.message = "no normal impacts to fit";
+    return s;
+  }
+  // 1. zeta, at the reference k.
+  if (!FitZetaAtReference(impacts, specimen, options, s)) return s;
+  // 2. The valley: the best b at each k.
+  FitValley(impacts, specimen, options, s);
+  // 3. The paper's objective over the (k, b) box.
+  MapObjective(impacts, specimen, options, s);
   s.success = true;
   return s;
 }

@@ -69,86 +69,84 @@ std::string HeldOutColumn(const CandidateResult& c) {
   return now + " (" + current + ")";
 }
 
-}  // namespace
-
-void WriteDiscoveryText(std::ostream& os, const DiscoveryResult& r, const std::string& h5) {
-  if (!r.success) {
-    os << "Discovery on " << h5 << ": could not run (" << r.trials_used << " trial(s) used, "
-       << r.trials_skipped << " skipped): " << r.message << "\n";
-    return;
-  }
-  os << "Discovery on " << h5 << ": " << r.trials_used << " trial(s) used, " << r.trials_skipped
-     << " skipped; " << r.rounds.size() << " round(s), " << r.simulations << " simulations, "
-     << Num(r.seconds, 3) << " s\n\nVerdict:\n";
-  std::istringstream verdict(r.verdict);
-  for (std::string line; std::getline(verdict, line);)
-    os << (line.empty() ? "" : "  ") << line << "\n";
-  const int outcome_width = TextWidth(AllCandidateOutcomes());
-  const int identifiability_width = TextWidth(std::array{
+/// The widths of the text columns that hold an enum's text: its longest value's.
+struct ColumnWidths {
+  int outcome = TextWidth(AllCandidateOutcomes());
+  int identifiability = TextWidth(std::array{
       Identifiability::kIdentified, Identifiability::kNotTested, Identifiability::kConfounded});
-  const int form_width = TextWidth(std::array{EffectForm::kShared, EffectForm::kPerSurface});
-  for (std::size_t i = 0; i < r.rounds.size(); ++i) {
-    const auto& round = r.rounds[i];
-    os << "\nRound " << i + 1 << ": " << round.decision << "\n";
-    if (round.candidates.empty())
-      os << "  (no candidate)\n";
-    else
-      os << "  " << std::left << std::setw(5) << "rank" << std::setw(24) << "effect"
-         << std::setw(form_width) << "form" << std::setw(30) << "estimate +- se" << std::right
-         << std::setw(10) << "LR p" << std::setw(11) << "dAIC" << std::setw(11) << "dBIC"
-         << "  " << std::left << std::setw(outcome_width) << "outcome"
-         << std::setw(identifiability_width) << "identifiability"
-         << "held-out (current)\n"
-         << std::right;
-    for (const auto& c : round.candidates) {
-      os << "  " << std::left << std::setw(5)
-         << (std::to_string(c.rank) + (c.key == round.accepted ? "*" : "")) << std::setw(24)
-         << c.key;
-      if (!c.fitted) {
-        os << "not fitted: " << c.message << std::right << "\n";
-        continue;
-      }
-      // A per-surface effect's estimate is the largest of its surface values.
-      const std::string parameter = c.form == EffectForm::kPerSurface && !c.parameter.empty()
-                                        ? "max " + c.parameter
-                                        : c.parameter;
-      os << std::setw(form_width) << ToString(c.form) << std::setw(30)
-         << Estimate(c.estimate, c.se, parameter, c.unit) << std::right << std::setw(10)
-         << (c.p_value > 0 ? Num(c.p_value, 3) : std::string("<1e-300")) << std::setw(11)
-         << Num(c.delta_aic, 3) << std::setw(11) << Num(c.delta_bic, 3) << "  " << std::left
-         << std::setw(outcome_width) << ToString(c.outcome) << std::setw(identifiability_width)
-         << ToString(c.identifiability) << std::right << HeldOutColumn(c) << "\n";
+  int form = TextWidth(std::array{EffectForm::kShared, EffectForm::kPerSurface});
+};
+
+/// A round's candidates, one row each, under a header.
+void WriteCandidateTable(std::ostream& os, const Round& round, const ColumnWidths& widths) {
+  if (round.candidates.empty())
+    os << "  (no candidate)\n";
+  else
+    os << "  " << std::left << std::setw(5) << "rank" << std::setw(24) << "effect"
+       << std::setw(widths.form) << "form" << std::setw(30) << "estimate +- se" << std::right
+       << std::setw(10) << "LR p" << std::setw(11) << "dAIC" << std::setw(11) << "dBIC"
+       << "  " << std::left << std::setw(widths.outcome) << "outcome"
+       << std::setw(widths.identifiability) << "identifiability"
+       << "held-out (current)\n"
+       << std::right;
+  for (const auto& c : round.candidates) {
+    os << "  " << std::left << std::setw(5)
+       << (std::to_string(c.rank) + (c.key == round.accepted ? "*" : "")) << std::setw(24) << c.key;
+    if (!c.fitted) {
+      os << "not fitted: " << c.message << std::right << "\n";
+      continue;
     }
-    if (!round.candidates.empty())
-      os << "  held-out: " << kHeldOutDensityUnit
-         << " under each model's own noise model for a contact effect; " << kHeldOutErrorUnit
-         << " for an out-of-plane candidate\n";
-    for (const auto& c : round.candidates) {
-      if (!SaysWhy(c)) continue;
-      os << "  " << c.key << " (" << ToString(c.outcome)
-         << "): " << (c.reason.empty() ? "-" : c.reason);
-      if (c.form == EffectForm::kPerSurface && !c.values.empty())
-        os << " [per surface: " << ValuesText(c.values, c.parameter, c.unit) << "]";
-      os << "\n";
-    }
-    int significant = 0;
-    for (const auto& t : round.tests)
-      if (t.significant) {
-        if (significant++ == 0) os << "  significant structure (Holm):\n";
-        os << "    " << t.quantity << ", " << t.scope << ", " << t.covariate << ", " << t.test
-           << ": " << Num(t.statistic) << ", p " << Num(t.p, 3) << ", Holm p " << Num(t.p_holm, 3)
-           << (t.description.empty() ? "" : " (" + t.description + ")") << "\n";
-      }
-    if (significant == 0)
-      os << "  no significant structure in the residuals (" << round.tests.size()
-         << (round.tests.size() == 1 ? " test" : " tests") << ")\n";
-    if (!round.accepted.empty())
-      os << "  held-out gap " << Percent(round.gap_before) << " -> " << Percent(round.gap_after)
-         << " (" << GapChangeText(round.gap_shrink) << ") with " << round.accepted << "\n";
+    // A per-surface effect's estimate is the largest of its surface values.
+    const std::string parameter = c.form == EffectForm::kPerSurface && !c.parameter.empty()
+                                      ? "max " + c.parameter
+                                      : c.parameter;
+    os << std::setw(widths.form) << ToString(c.form) << std::setw(30)
+       << Estimate(c.estimate, c.se, parameter, c.unit) << std::right << std::setw(10)
+       << (c.p_value > 0 ? Num(c.p_value, 3) : std::string("<1e-300")) << std::setw(11)
+       << Num(c.delta_aic, 3) << std::setw(11) << Num(c.delta_bic, 3) << "  " << std::left
+       << std::setw(widths.outcome) << ToString(c.outcome) << std::setw(widths.identifiability)
+       << ToString(c.identifiability) << std::right << HeldOutColumn(c) << "\n";
   }
+}
+
+/// Round `i` (from 0): its decision, candidates, reasons, structure tests and held-out gap.
+void WriteRoundText(std::ostream& os, const Round& round, std::size_t i,
+                    const ColumnWidths& widths) {
+  os << "\nRound " << i + 1 << ": " << round.decision << "\n";
+  WriteCandidateTable(os, round, widths);
+  if (!round.candidates.empty())
+    os << "  held-out: " << kHeldOutDensityUnit
+       << " under each model's own noise model for a contact effect; " << kHeldOutErrorUnit
+       << " for an out-of-plane candidate\n";
+  for (const auto& c : round.candidates) {
+    if (!SaysWhy(c)) continue;
+    os << "  " << c.key << " (" << ToString(c.outcome)
+       << "): " << (c.reason.empty() ? "-" : c.reason);
+    if (c.form == EffectForm::kPerSurface && !c.values.empty())
+      os << " [per surface: " << ValuesText(c.values, c.parameter, c.unit) << "]";
+    os << "\n";
+  }
+  int significant = 0;
+  for (const auto& t : round.tests)
+    if (t.significant) {
+      if (significant++ == 0) os << "  significant structure (Holm):\n";
+      os << "    " << t.quantity << ", " << t.scope << ", " << t.covariate << ", " << t.test << ": "
+         << Num(t.statistic) << ", p " << Num(t.p, 3) << ", Holm p " << Num(t.p_holm, 3)
+         << (t.description.empty() ? "" : " (" + t.description + ")") << "\n";
+    }
+  if (significant == 0)
+    os << "  no significant structure in the residuals (" << round.tests.size()
+       << (round.tests.size() == 1 ? " test" : " tests") << ")\n";
+  if (!round.accepted.empty())
+    os << "  held-out gap " << Percent(round.gap_before) << " -> " << Percent(round.gap_after)
+       << " (" << GapChangeText(round.gap_shrink) << ") with " << round.accepted << "\n";
+}
+
+/// The findings, one line each.
+void WriteFindingsText(std::ostream& os, const std::vector<Finding>& findings) {
   os << "\nFindings:\n";
-  if (r.findings.empty()) os << "  none\n";
-  for (const auto& f : r.findings) {
+  if (findings.empty()) os << "  none\n";
+  for (const auto& f : findings) {
     os << "  " << std::left
        << std::setw(TextWidth(std::array{FindingStatus::kNamed, FindingStatus::kTentative,
                                          FindingStatus::kIndistinguishable}))
@@ -167,6 +165,25 @@ void WriteDiscoveryText(std::ostream& os, const DiscoveryResult& r, const std::s
     if (!f.separating_measurement.empty()) os << "; to separate: " << f.separating_measurement;
     os << "\n";
   }
+}
+
+}  // namespace
+
+void WriteDiscoveryText(std::ostream& os, const DiscoveryResult& r, const std::string& h5) {
+  if (!r.success) {
+    os << "Discovery on " << h5 << ": could not run (" << r.trials_used << " trial(s) used, "
+       << r.trials_skipped << " skipped): " << r.message << "\n";
+    return;
+  }
+  os << "Discovery on " << h5 << ": " << r.trials_used << " trial(s) used, " << r.trials_skipped
+     << " skipped; " << r.rounds.size() << " round(s), " << r.simulations << " simulations, "
+     << Num(r.seconds, 3) << " s\n\nVerdict:\n";
+  std::istringstream verdict(r.verdict);
+  for (std::string line; std::getline(verdict, line);)
+    os << (line.empty() ? "" : "  ") << line << "\n";
+  const ColumnWidths widths;
+  for (std::size_t i = 0; i < r.rounds.size(); ++i) WriteRoundText(os, r.rounds[i], i, widths);
+  WriteFindingsText(os, r.findings);
   os << "\nRemaining significant disagreement: " << (r.remaining.empty() ? "none" : "") << "\n";
   for (const auto& t : r.remaining)
     os << "  " << t.quantity << ", " << t.scope << ", " << t.covariate << ", " << t.test

@@ -312,10 +312,11 @@ CandidateProbes ProbeCandidates(const Workspace& ws, const Model& current,
 
 using namespace internal;
 
-Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std::string& key,
-                   double size, const DiscoveryOptions& options, int bootstrap_draws,
-                   const std::function<void(const std::string&)>& progress) {
-  options.Validate();
+namespace {
+
+/// The library entry of `key`, checked for a plan of `size` with `bootstrap_draws` draws; throws
+/// std::invalid_argument naming what is wrong.
+const LibraryEntry& PlanEntry(const std::string& key, double size, int bootstrap_draws) {
   if (bootstrap_draws < 0)
     throw std::invalid_argument("plan: the bootstrap's draws must be >= 0, got " +
                                 std::to_string(bootstrap_draws));
@@ -326,6 +327,47 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
   if (!(size > 0 && size <= e.upper))
     throw std::invalid_argument("plan: the size of '" + key + "' must be in (0, " + Fmt(e.upper) +
                                 "], got " + Fmt(size));
+  return e;
+}
+
+/// Where the information comes from, per condition (surface and angle; speeds as a range), the
+/// most informative per trial first. `info` is each trial's, `total` their sum.
+std::vector<PlanCondition> PlanConditions(const Workspace& ws, const std::vector<double>& info,
+                                          double total) {
+  std::vector<PlanCondition> conditions;
+  std::map<std::pair<int, double>, PlanCondition> by;
+  for (std::size_t i = 0; i < ws.obs.size(); ++i) {
+    const Obs& o = ws.obs[i];
+    auto [it, added] = by.try_emplace({o.surface, o.angle_deg});
+    PlanCondition& c = it->second;
+    if (added) {
+      c.surface = ws.surfaces[static_cast<std::size_t>(o.surface)];
+      c.angle_deg = o.angle_deg;
+      c.speed_low_m_s = c.speed_high_m_s = o.scale;
+    }
+    c.speed_low_m_s = std::min(c.speed_low_m_s, o.scale);
+    c.speed_high_m_s = std::max(c.speed_high_m_s, o.scale);
+    ++c.trials;
+    c.information_per_trial += info[i];
+    c.share += total > 0 ? info[i] / total : kNaN;
+  }
+  for (auto& [k, c] : by) {
+    c.information_per_trial /= c.trials;
+    conditions.push_back(c);
+  }
+  std::stable_sort(conditions.begin(), conditions.end(), [](const auto& a, const auto& b) {
+    return a.information_per_trial > b.information_per_trial;
+  });
+  return conditions;
+}
+
+}  // namespace
+
+Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std::string& key,
+                   double size, const DiscoveryOptions& options, int bootstrap_draws,
+                   const std::function<void(const std::string&)>& progress) {
+  options.Validate();
+  const LibraryEntry& e = PlanEntry(key, size, bootstrap_draws);
   Plan plan;
   plan.key = key;
   plan.name = e.name;
@@ -377,31 +419,7 @@ Plan PlanDetection(const std::vector<pipeline::TrialAnalysis>& trials, const std
   plan.power = noncentrality > 0 ? boost::math::cdf(z, std::sqrt(noncentrality) - z_level) : kNaN;
   plan.trials_needed =
       noncentrality > 0 ? std::ceil(plan.trials * z_target * z_target / noncentrality) : kNaN;
-  // Per condition (surface and angle; speeds as a range): where the information comes from.
-  std::map<std::pair<int, double>, PlanCondition> by;
-  for (std::size_t i = 0; i < ws.obs.size(); ++i) {
-    const Obs& o = ws.obs[i];
-    auto [it, added] = by.try_emplace({o.surface, o.angle_deg});
-    PlanCondition& c = it->second;
-    if (added) {
-      c.surface = ws.surfaces[static_cast<std::size_t>(o.surface)];
-      c.angle_deg = o.angle_deg;
-      c.speed_low_m_s = c.speed_high_m_s = o.scale;
-    }
-    c.speed_low_m_s = std::min(c.speed_low_m_s, o.scale);
-    c.speed_high_m_s = std::max(c.speed_high_m_s, o.scale);
-    ++c.trials;
-    c.information_per_trial += info[i];
-    c.share += total > 0 ? info[i] / total : kNaN;
-  }
-  for (auto& [k, c] : by) {
-    c.information_per_trial /= c.trials;
-    plan.conditions.push_back(c);
-  }
-  std::stable_sort(plan.conditions.begin(), plan.conditions.end(),
-                   [](const auto& a, const auto& b) {
-                     return a.information_per_trial > b.information_per_trial;
-                   });
+  plan.conditions = PlanConditions(ws, info, total);
   plan.bootstrap_power = plan.bootstrap_low = plan.bootstrap_high = kNaN;
   if (bootstrap_draws > 0) {
     const BootstrapResult b =

@@ -53,6 +53,95 @@ std::vector<SurfaceFit> SurfaceFits(const Workspace& ws, const Fit& f) {
   return out;
 }
 
+namespace {
+
+/// The evidence of the added effect `f`, from the round that added it.
+std::string Evidence(const DiscoveryResult& out, const Finding& f) {
+  std::ostringstream e;
+  for (const auto& rd : out.rounds)
+    if (rd.accepted == f.key)
+      for (const auto& c : rd.candidates)
+        if (c.key == f.key)
+          e << "likelihood-ratio p = " << FmtP(c.p_value) << "; " << HeldOutText(c)
+            << ", held-out gap " << Fmt(100 * rd.gap_before) << " % -> " << Fmt(100 * rd.gap_after)
+            << " % of the impact speed (" << GapChangeText(f.gap_shrink) << ")";
+  return e.str();
+}
+
+/// A line per finding; returns whether one is named.
+bool WriteFindings(std::ostream& v, const DiscoveryResult& out) {
+  bool any_named = false;
+  for (const auto& f : out.findings) {
+    if (f.status == FindingStatus::kNamed) {
+      any_named = true;
+      v << "Named: " << f.name << Scope(f) << ", " << Estimate(f) << ". " << Evidence(out, f)
+        << ".\n";
+    } else if (f.status == FindingStatus::kTentative) {
+      v << "Tentative: " << f.name << Scope(f) << ", " << Estimate(f)
+        << ", improves the fit significantly (" << Evidence(out, f)
+        << "), but the residuals still show structure that no effect explains.\n";
+    } else {
+      v << "Cannot be told apart with these data: " << f.name << " and " << f.partner
+        << ". A measurement that would separate them: " << f.separating_measurement << ".\n";
+    }
+  }
+  return any_named;
+}
+
+/// Every significant candidate (at `alpha`), with why it was not added; and in a later round,
+/// every candidate that was significant in an earlier one, so that what became of it is said.
+void WriteNotAdded(std::ostream& v, const DiscoveryResult& out, double alpha) {
+  for (const auto& rd : out.rounds)
+    for (const auto& c : rd.candidates)
+      if (c.outcome != CandidateOutcome::kAdded &&
+          ((c.fitted && c.p_value < alpha) ||
+           (!c.measurement_effect && EarlierSignificance(out.rounds, rd.index, c.key))))
+        v << "Round " << rd.index << ", " << c.name << " (p = " << FmtP(c.p_value)
+          << "): not added, " << c.reason << ".\n";
+}
+
+/// What the last round's candidates could have missed (their detection limits), and those no
+/// trial is sensitive to.
+void WriteLimits(std::ostream& v, const Round& last) {
+  std::vector<std::string> limits, untested;
+  for (const auto& c : last.candidates) {
+    // (A rotation the image cannot see, but whose velocities speak, has its own line above.)
+    if (c.outcome == CandidateOutcome::kNotTested &&
+        !(IsRotationRate(c.key) && c.p_value < last.naming_level))
+      untested.push_back(c.name);
+    if ((!c.measurement_effect || IsRotationRate(c.key)) &&
+        (c.outcome == CandidateOutcome::kNotSignificant ||
+         c.outcome == CandidateOutcome::kWorseHeldOut ||
+         c.outcome == CandidateOutcome::kRestsOnOneTrial ||
+         c.outcome == CandidateOutcome::kConfounded)) {
+      // No limit: the ladder reached the library's largest value without 80 % power (the
+      // effect's change there is still within the noise, or zeta and mu take it back).
+      if (std::isfinite(c.detection_limit))
+        limits.push_back(c.name + ": " + c.parameter + " = " + Fmt(c.detection_limit, 2) +
+                         UnitSuffix(c.unit));
+      else
+        limits.push_back(c.name + ": none up to " + c.parameter + " = " +
+                         Fmt(Entry(c.key).upper, 2) + UnitSuffix(c.unit) +
+                         " (the library's largest value)");
+    }
+  }
+  if (!limits.empty()) {
+    v << "\nWhat these trials could have missed: the smallest size of each effect not added that "
+         "this design and "
+         "noise detect with 80 % power at the naming level (shared by all surfaces; from the "
+         "study's expected data with the effect simulated at a ladder of sizes, zeta and mu "
+         "refitted):\n";
+    for (const auto& l : limits) v << "  - " << l << "\n";
+  }
+  if (!untested.empty()) {
+    v << "\nNot tested by these data (no trial is sensitive to them): ";
+    for (std::size_t i = 0; i < untested.size(); ++i) v << (i ? "; " : "") << untested[i];
+    v << ".\n";
+  }
+}
+
+}  // namespace
+
 std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& options, int skipped) {
   std::ostringstream v;
   v << "Data: " << out.trials_used << " measured trial(s) on " << out.baseline.size()
@@ -64,42 +153,8 @@ std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& opti
        "(s.d. of zeta";
   for (const auto& s : out.final_model) v << " " << Fmt(s.zeta_sd, 2) << " on " << s.surface << ";";
   v << " fitted), plus each velocity's own measurement error.\n\n";
-  // The evidence of an added effect, from the round that added it.
-  auto evidence = [&](const Finding& f) {
-    std::ostringstream e;
-    for (const auto& rd : out.rounds)
-      if (rd.accepted == f.key)
-        for (const auto& c : rd.candidates)
-          if (c.key == f.key)
-            e << "likelihood-ratio p = " << FmtP(c.p_value) << "; " << HeldOutText(c)
-              << ", held-out gap " << Fmt(100 * rd.gap_before) << " % -> "
-              << Fmt(100 * rd.gap_after) << " % of the impact speed ("
-              << GapChangeText(f.gap_shrink) << ")";
-    return e.str();
-  };
-  bool any_named = false;
-  for (const auto& f : out.findings) {
-    if (f.status == FindingStatus::kNamed) {
-      any_named = true;
-      v << "Named: " << f.name << Scope(f) << ", " << Estimate(f) << ". " << evidence(f) << ".\n";
-    } else if (f.status == FindingStatus::kTentative) {
-      v << "Tentative: " << f.name << Scope(f) << ", " << Estimate(f)
-        << ", improves the fit significantly (" << evidence(f)
-        << "), but the residuals still show structure that no effect explains.\n";
-    } else {
-      v << "Cannot be told apart with these data: " << f.name << " and " << f.partner
-        << ". A measurement that would separate them: " << f.separating_measurement << ".\n";
-    }
-  }
-  // Every significant candidate, with why it was or was not added; and in a later round, every
-  // candidate that was significant in an earlier one, so that what became of it is said.
-  for (const auto& rd : out.rounds)
-    for (const auto& c : rd.candidates)
-      if (c.outcome != CandidateOutcome::kAdded &&
-          ((c.fitted && c.p_value < options.alpha) ||
-           (!c.measurement_effect && EarlierSignificance(out.rounds, rd.index, c.key))))
-        v << "Round " << rd.index << ", " << c.name << " (p = " << FmtP(c.p_value)
-          << "): not added, " << c.reason << ".\n";
+  const bool any_named = WriteFindings(v, out);
+  WriteNotAdded(v, out, options.alpha);
   if (out.unexplained) {
     v << "\nUnexplained disagreement: with "
       << (out.effects.empty() ? "the baseline" : "the effects above added") << ", "
@@ -113,44 +168,7 @@ std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& opti
     v << "Nothing is named: no candidate of the library improves the model significantly under the "
          "noise model.\n";
   }
-  if (!out.rounds.empty()) {
-    const Round& last = out.rounds.back();
-    std::vector<std::string> limits, untested;
-    for (const auto& c : last.candidates) {
-      // (A rotation the image cannot see, but whose velocities speak, has its own line above.)
-      if (c.outcome == CandidateOutcome::kNotTested &&
-          !(IsRotationRate(c.key) && c.p_value < last.naming_level))
-        untested.push_back(c.name);
-      if ((!c.measurement_effect || IsRotationRate(c.key)) &&
-          (c.outcome == CandidateOutcome::kNotSignificant ||
-           c.outcome == CandidateOutcome::kWorseHeldOut ||
-           c.outcome == CandidateOutcome::kRestsOnOneTrial ||
-           c.outcome == CandidateOutcome::kConfounded)) {
-        // No limit: the ladder reached the library's largest value without 80 % power (the
-        // effect's change there is still within the noise, or zeta and mu take it back).
-        if (std::isfinite(c.detection_limit))
-          limits.push_back(c.name + ": " + c.parameter + " = " + Fmt(c.detection_limit, 2) +
-                           UnitSuffix(c.unit));
-        else
-          limits.push_back(c.name + ": none up to " + c.parameter + " = " +
-                           Fmt(Entry(c.key).upper, 2) + UnitSuffix(c.unit) +
-                           " (the library's largest value)");
-      }
-    }
-    if (!limits.empty()) {
-      v << "\nWhat these trials could have missed: the smallest size of each effect not added that "
-           "this design and "
-           "noise detect with 80 % power at the naming level (shared by all surfaces; from the "
-           "study's expected data with the effect simulated at a ladder of sizes, zeta and mu "
-           "refitted):\n";
-      for (const auto& l : limits) v << "  - " << l << "\n";
-    }
-    if (!untested.empty()) {
-      v << "\nNot tested by these data (no trial is sensitive to them): ";
-      for (std::size_t i = 0; i < untested.size(); ++i) v << (i ? "; " : "") << untested[i];
-      v << ".\n";
-    }
-  }
+  if (!out.rounds.empty()) WriteLimits(v, out.rounds.back());
   return v.str();
 }
 
