@@ -19,6 +19,7 @@
 #include <numeric>
 #include <span>
 #include <sstream>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -416,6 +417,42 @@ void FinishImpact(M& model, const SpecimenParameters& specimen, const typename M
   result.success = true;
 }
 
+/// Why a contact that did not end within `max_steps` steps (at `t_s` into it) failed.
+inline std::string TooManySteps(int max_steps, double t_s, double omega_n) {
+  std::ostringstream os;
+  os << "the contact did not end within " << max_steps << " integration steps (t = " << t_s
+     << " s into it, against a natural period of " << 2 * M_PI / omega_n
+     << " s): the contact law is too stiff, too soft or too damped for this specimen's mass and "
+        "inertia (options.max_steps)";
+  return os.str();
+}
+
+/// The earliest event in (t0, t1] of the step the stepper just took, and whether it is a phase
+/// event (else a friction event; the friction event wins only when strictly earlier); infinity
+/// when there is none.
+template <class M, class Stepper>
+std::pair<double, bool> EarliestEvent(M& model, Stepper& stepper, double t0, double t1) {
+  using State = typename M::State;
+  const State& x0 = stepper.previous_state();
+  const State& x1 = stepper.current_state();
+  double t_event = std::numeric_limits<double>::infinity();
+  bool phase_event = false;
+  if (const double g1 = PhaseEvent(model, x1); g1 > 0.0) {
+    t_event = LocateEvent(stepper, t0, t1, PhaseEvent(model, x0), g1,
+                          [&](const State& s) { return PhaseEvent(model, s); });
+    phase_event = true;
+  }
+  if (const double g1 = FrictionEvent(model, x1); g1 > 0.0) {
+    const double t_f = LocateEvent(stepper, t0, t1, FrictionEvent(model, x0), g1,
+                                   [&](const State& s) { return FrictionEvent(model, s); });
+    if (t_f < t_event) {
+      t_event = t_f;
+      phase_event = false;
+    }
+  }
+  return {t_event, phase_event};
+}
+
 /// One impact from first touch to separation, on N states (7 with a tangential spring).
 template <class M>
 ImpactResult Run(const SpecimenParameters& specimen, const ContactParameters& contact,
@@ -459,37 +496,13 @@ ImpactResult Run(const SpecimenParameters& specimen, const ContactParameters& co
   bool separated = false;
   while (!separated) {
     if (++result.steps > options.max_steps) {
-      std::ostringstream os;
-      os << "the contact did not end within " << options.max_steps
-         << " integration steps (t = " << stepper.current_time()
-         << " s into it, against a natural period of " << 2 * M_PI / omega_n
-         << " s): the contact law is too stiff, too soft or too damped for this specimen's mass "
-            "and "
-            "inertia (options.max_steps)";
-      result.message = os.str();
+      result.message = TooManySteps(options.max_steps, stepper.current_time(), omega_n);
       return result;
     }
     // By reference: Odeint passes the system by value down its call chain.
     const auto [t0, t1] = stepper.do_step(std::ref(model));
-    const State& x0 = stepper.previous_state();
     const State& x1 = stepper.current_state();
-
-    // Earliest event in (t0, t1].
-    double t_event = std::numeric_limits<double>::infinity();
-    bool phase_event = false;
-    if (const double g1 = PhaseEvent(model, x1); g1 > 0.0) {
-      t_event = LocateEvent(stepper, t0, t1, PhaseEvent(model, x0), g1,
-                            [&](const State& s) { return PhaseEvent(model, s); });
-      phase_event = true;
-    }
-    if (const double g1 = FrictionEvent(model, x1); g1 > 0.0) {
-      const double t_f = LocateEvent(stepper, t0, t1, FrictionEvent(model, x0), g1,
-                                     [&](const State& s) { return FrictionEvent(model, s); });
-      if (t_f < t_event) {
-        t_event = t_f;
-        phase_event = false;
-      }
-    }
+    const auto [t_event, phase_event] = EarliestEvent(model, stepper, t0, t1);
     const ContactPhase phase =
         model.compression ? ContactPhase::kCompression : ContactPhase::kRestitution;
     State xs;

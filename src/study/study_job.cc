@@ -56,16 +56,9 @@ void SummarizeComparison(StudyJobSummary& s) {
   }
 }
 
-}  // namespace
-
-bool StudyJobSummary::Complete() const {
-  return measured == trials.size() && (!discovery || discovery->result.success);
-}
-
-StudyJobSummary RunStudyJob(const StudyJobOptions& options, StudyJobObserver* observer) {
-  StudyJobObserver silent;
-  StudyJobObserver& tell = observer ? *observer : silent;
-  const auto t0 = std::chrono::steady_clock::now();
+/// The job's summary before its first step: the study read, the outputs' paths, the figures'
+/// folder made and what a killed earlier job left removed. Throws for a study without trials.
+StudyJobSummary Prepare(const StudyJobOptions& options) {
   StudyJobSummary s;
   s.jobs = core::ResolveJobs(options.jobs);
   s.study = pipeline::ReadStudy(options.study_dir);
@@ -80,6 +73,47 @@ StudyJobSummary RunStudyJob(const StudyJobOptions& options, StudyJobObserver* ob
   s.report_html = out / "report.html";
   fs::create_directories(s.figures_dir);
   s.stale_removed = RemoveStaleOutputs(out);
+  return s;
+}
+
+/// Step 1: every trial measured, written to the uncommitted study file `h5` and to results.csv.
+/// `measure_seconds` counts from `t0`, the job's start, to the last trial measured.
+void Measure(const StudyJobOptions& options, const fs::path& h5,
+             std::chrono::steady_clock::time_point t0, StudyJobObserver& tell, StudyJobSummary& s) {
+  s.trials = pipeline::AnalyzeStudy(s.study, options.analysis, s.jobs, [&](std::size_t done) {
+    tell.TrialsMeasured(done, s.study.trial_dirs.size());
+  });
+  for (const auto& t : s.trials) s.measured += t.success ? 1 : 0;
+  s.measure_seconds = Since(t0);
+  studyfile::WriteStudyFile(
+      h5, studyfile::StudyInfo::Of(s.study, options.analysis, options.command_line), s.trials);
+  studyfile::WriteResultsCsv(s.results_csv, s.trials);
+}
+
+/// The study's figures, the comparison's and each trial's that was asked for (or failed), from
+/// the committed study file.
+void DrawFigures(const StudyJobOptions& options, StudyJobSummary& s) {
+  const auto results = studyfile::ReadStudyResults(s.study_h5);
+  s.figures = report::WriteStudyFigures(results, s.figures_dir);
+  for (const auto& f : report::WriteComparisonFigures(s.study_h5, s.figures_dir))
+    s.figures.push_back(f);
+  for (const auto& t : s.trials)
+    for (const auto& f : report::WriteTrialFigures(t, options.analysis, s.figures_dir.string(),
+                                                   /*always=*/false, options.trial_figures))
+      s.figures.emplace_back(f);
+}
+
+}  // namespace
+
+bool StudyJobSummary::Complete() const {
+  return measured == trials.size() && (!discovery || discovery->result.success);
+}
+
+StudyJobSummary RunStudyJob(const StudyJobOptions& options, StudyJobObserver* observer) {
+  StudyJobObserver silent;
+  StudyJobObserver& tell = observer ? *observer : silent;
+  const auto t0 = std::chrono::steady_clock::now();
+  StudyJobSummary s = Prepare(options);
   // The study file is built under a temporary name and committed once, complete (measurements,
   // comparison, statistics, discovery): a job killed on the way leaves the previous study.h5.
   const fs::path h5 = io::TemporaryPathFor(s.study_h5);
@@ -93,14 +127,7 @@ StudyJobSummary RunStudyJob(const StudyJobOptions& options, StudyJobObserver* ob
 
   // 1. Measure.
   tell.StepStarted(StudyJobStep::kMeasure, s);
-  s.trials = pipeline::AnalyzeStudy(s.study, options.analysis, s.jobs, [&](std::size_t done) {
-    tell.TrialsMeasured(done, s.study.trial_dirs.size());
-  });
-  for (const auto& t : s.trials) s.measured += t.success ? 1 : 0;
-  s.measure_seconds = Since(t0);
-  studyfile::WriteStudyFile(
-      h5, studyfile::StudyInfo::Of(s.study, options.analysis, options.command_line), s.trials);
-  studyfile::WriteResultsCsv(s.results_csv, s.trials);
+  Measure(options, h5, t0, tell, s);
   tell.StepDone(StudyJobStep::kMeasure, s);
 
   // 2. Simulation against measurement.
@@ -131,14 +158,7 @@ StudyJobSummary RunStudyJob(const StudyJobOptions& options, StudyJobObserver* ob
 
   // Figures, from the committed study file.
   tell.StepStarted(StudyJobStep::kFigures, s);
-  const auto results = studyfile::ReadStudyResults(s.study_h5);
-  s.figures = report::WriteStudyFigures(results, s.figures_dir);
-  for (const auto& f : report::WriteComparisonFigures(s.study_h5, s.figures_dir))
-    s.figures.push_back(f);
-  for (const auto& t : s.trials)
-    for (const auto& f : report::WriteTrialFigures(t, options.analysis, s.figures_dir.string(),
-                                                   /*always=*/false, options.trial_figures))
-      s.figures.emplace_back(f);
+  DrawFigures(options, s);
   tell.StepDone(StudyJobStep::kFigures, s);
 
   // The report.
