@@ -342,6 +342,53 @@ void ChooseForm(const RoundContext& x, const std::string& key, const std::vector
   }
 }
 
+/// The fitted effect's values (the largest as the estimate), and its likelihood ratio against
+/// the `reference` log-likelihood with its p, AIC and BIC.
+void FitStatistics(const RoundContext& x, const std::string& key, const Fit& chosen,
+                   double reference, CandidateResult& c) {
+  c.fitted = chosen.ok;
+  c.message = chosen.message;
+  c.values = EffectValues(x.ws, chosen, key);
+  c.estimate = kNaN;
+  c.se = kNaN;
+  for (const auto& v : c.values)
+    if (!std::isfinite(c.estimate) || v.value > c.estimate) c.estimate = v.value, c.se = v.se;
+  c.lr_statistic = std::max(0.0, 2 * (chosen.loglik - reference));
+  c.p_value = ChiBarSquareUpperTail(c.lr_statistic, c.df);
+  c.delta_aic = -c.lr_statistic + 2 * c.df;
+  c.delta_bic = -c.lr_statistic + c.df * std::log(x.n_res);
+}
+
+/// The candidate's held-out predictions (cross-validated, or the current model's at 0) and
+/// their comparison with the current model's. At 0 the candidate is the current model, and so
+/// are its held-out predictions. Its held-out density is under its own noise model: an effect
+/// that explains part of the trial-to-trial scatter predicts held-out trials with less of it.
+void HeldOut(const RoundContext& x, const Fit& chosen, const std::vector<std::string>& free,
+             bool at_zero, Evaluation& ev) {
+  CandidateResult& c = ev.c;
+  if (at_zero) {
+    ev.cv = x.cv_current;
+  } else {
+    ev.cv = CrossValidate(x.ws, chosen, free, x.ref, x.options.folds);
+    AddDensity(ev.cv, Covariances(x.ws, x.ws.Sensitivities(chosen.model, x.all), chosen.noise));
+  }
+  c.cv_error = ev.cv.mean_error;
+  c.cv_error_current = x.cv_current.mean_error;
+  c.cv_density = ev.cv.mean_density;
+  c.cv_density_current = x.cv_current.mean_density;
+  c.cv_p = PairedImprovementP(x.cv_current.density, ev.cv.density);
+}
+
+/// Whether some value stands clear of `smallest` by its own s.e. (one-sided Wald at
+/// `level`).
+bool ClearOfSmallest(const std::vector<EffectValue>& values, double smallest, double level) {
+  const boost::math::normal z;
+  const double z_level = boost::math::quantile(boost::math::complement(z, level));
+  bool clear = false;
+  for (const auto& v : values) clear |= v.se > 0 && (v.value - smallest) / v.se > z_level;
+  return clear;
+}
+
 }  // namespace
 
 /// A contact effect: probed for identifiability, fitted (shared, then per surface), tested by
@@ -378,46 +425,20 @@ Evaluation EvaluateContact(const RoundContext& x, const std::string& key) {
   c.df = 1;
   if (x.options.per_surface && x.ws.surfaces.size() > 1 && chosen.ok && !at_zero)
     ChooseForm(x, key, free, chosen, c);
-  c.fitted = chosen.ok;
-  c.message = chosen.message;
-  c.values = EffectValues(x.ws, chosen, key);
-  c.estimate = kNaN;
-  c.se = kNaN;
-  for (const auto& v : c.values)
-    if (!std::isfinite(c.estimate) || v.value > c.estimate) c.estimate = v.value, c.se = v.se;
-  c.lr_statistic = std::max(0.0, 2 * (chosen.loglik - reference));
-  c.p_value = ChiBarSquareUpperTail(c.lr_statistic, c.df);
-  c.delta_aic = -c.lr_statistic + 2 * c.df;
-  c.delta_bic = -c.lr_statistic + c.df * std::log(x.n_res);
-  // At 0 the candidate is the current model, and so are its held-out predictions. Its
-  // held-out density is under its own noise model: an effect that explains part of the
-  // trial-to-trial scatter predicts held-out trials with less of it.
-  if (at_zero) {
-    ev.cv = x.cv_current;
-  } else {
-    ev.cv = CrossValidate(x.ws, chosen, free, x.ref, x.options.folds);
-    AddDensity(ev.cv, Covariances(x.ws, x.ws.Sensitivities(chosen.model, x.all), chosen.noise));
-  }
-  c.cv_error = ev.cv.mean_error;
-  c.cv_error_current = x.cv_current.mean_error;
-  c.cv_density = ev.cv.mean_density;
-  c.cv_density_current = x.cv_current.mean_density;
-  c.cv_p = PairedImprovementP(x.cv_current.density, ev.cv.density);
+  FitStatistics(x, key, chosen, reference, c);
+  HeldOut(x, chosen, free, at_zero, ev);
   // A significant likelihood ratio is itself the evidence that the data tell the effect from
   // zeta and mu (they were refitted); only a candidate without it is probed further.
   // So is a gain of the fit at its own estimate that the probe's size falls short of: data
   // that answer with a likelihood ratio beyond chi^2_1(0.95) are sensitive to the effect (at a
   // size other than the probe's), and "not tested" beside that p would contradict it.
-  if (c.p_value < x.level || c.lr_statistic >= x.chi95) {
-    c.identifiability = Identifiability::kIdentified;
-  } else if (std::abs(fixed_lr) < x.chi95) {
-    c.identifiability = Identifiability::kNotTested;
-  } else if (std::abs(probe_lr) < x.chi95) {
-    c.identifiability = Identifiability::kConfounded;
+  c.identifiability = c.p_value < x.level || c.lr_statistic >= x.chi95
+                          ? Identifiability::kIdentified
+                      : std::abs(fixed_lr) < x.chi95 ? Identifiability::kNotTested
+                      : std::abs(probe_lr) < x.chi95 ? Identifiability::kConfounded
+                                                     : Identifiability::kIdentified;
+  if (c.identifiability == Identifiability::kConfounded)
     c.confounded_with = Moved(x.ws, probe, current);
-  } else {
-    c.identifiability = Identifiability::kIdentified;
-  }
   // Detection limit: from the study's expected data with the effect at the ladder's sizes.
   c.detection_limit =
       ExpectedDetectionLimit(x.ws, current, x.free_current, key, x.probes.ladder.at(key), x.level);
@@ -427,11 +448,7 @@ Evaluation EvaluateContact(const RoundContext& x, const std::string& key) {
   // estimate printed beside it. Clear of the smallest value the fit may take, where that is
   // above 0: an estimate on it says the data want less of the effect than the library can
   // represent, and the step from 0 to it is no evidence of the effect.
-  const boost::math::normal z;
-  const double z_level = boost::math::quantile(boost::math::complement(z, x.level / c.df));
-  c.wald_clear = false;
-  for (const auto& v : c.values)
-    c.wald_clear |= v.se > 0 && (v.value - e.smallest) / v.se > z_level;
+  c.wald_clear = ClearOfSmallest(c.values, e.smallest, x.level / c.df);
   if (ContactEvidenceHolds(c, x.level, LaterRound(x))) CheckInfluence(x, key, free, chosen, c);
   c.significant = ContactEvidenceHolds(c, x.level, LaterRound(x));
   ev.fit = chosen;

@@ -4,6 +4,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 #include <unordered_map>
 #include <utility>
 
@@ -136,10 +137,11 @@ std::string ToString(SumOfSquaresType type) {
   return type == SumOfSquaresType::kTypeI ? "Type I" : "Type III";
 }
 
-TwoWayAnovaResult TwoWayAnova(const std::vector<double>& response,
-                              const std::vector<std::string>& factor_a,
-                              const std::vector<std::string>& factor_b,
-                              const TwoWayOptions& options) {
+namespace {
+
+/// Throws std::invalid_argument unless the response and both factors pair one to one.
+void CheckPairing(const std::vector<double>& response, const std::vector<std::string>& factor_a,
+                  const std::vector<std::string>& factor_b, const TwoWayOptions& options) {
   if (response.size() != factor_a.size() || response.size() != factor_b.size()) {
     std::ostringstream os;
     os << "response has " << response.size() << " values, " << options.name_a << " has "
@@ -147,6 +149,41 @@ TwoWayAnovaResult TwoWayAnova(const std::vector<double>& response,
        << "; they must pair one to one";
     throw std::invalid_argument(os.str());
   }
+}
+
+/// Type I (sequential) sums of squares of A and then B given A, from the cell moments `m` of
+/// an a x b design and the interaction's `ss_ab`.
+std::pair<long double, long double> TypeISums(const Moments& m, std::size_t a, std::size_t b,
+                                              long double ss_ab) {
+  AccurateSum sa, within_rows;
+  for (std::size_t i = 0; i < a; ++i) {
+    AccurateSum row_sum;
+    std::size_t row_n = 0;
+    for (std::size_t j = 0; j < b; ++j) {
+      row_sum.Add(static_cast<long double>(m.groups[i * b + j].n) *
+                  m.groups[i * b + j].mean_offset);
+      row_n += m.groups[i * b + j].n;
+    }
+    const long double row_mean = row_sum.Value() / static_cast<long double>(row_n);
+    const long double d = row_mean - m.grand_mean_offset;
+    sa.Add(static_cast<long double>(row_n) * d * d);
+    for (std::size_t j = 0; j < b; ++j) {
+      const long double e = m.groups[i * b + j].mean_offset - row_mean;
+      within_rows.Add(static_cast<long double>(m.groups[i * b + j].n) * e * e);
+    }
+  }
+  long double ss_b = within_rows.Value() - ss_ab;
+  if (ss_b < 0.0L) ss_b = 0.0L;
+  return {sa.Value(), ss_b};
+}
+
+}  // namespace
+
+TwoWayAnovaResult TwoWayAnova(const std::vector<double>& response,
+                              const std::vector<std::string>& factor_a,
+                              const std::vector<std::string>& factor_b,
+                              const TwoWayOptions& options) {
+  CheckPairing(response, factor_a, factor_b, options);
   if (response.empty()) throw std::invalid_argument("no observations for the two-way ANOVA");
   TwoWayAnovaResult r;
   r.type = options.type;
@@ -193,26 +230,7 @@ TwoWayAnovaResult TwoWayAnova(const std::vector<double>& response,
     ss_a = HypothesisSS(ContrastA(a, b), means, inverse_n);
     ss_b = HypothesisSS(ContrastB(a, b), means, inverse_n);
   } else {
-    AccurateSum sa, within_rows;
-    for (std::size_t i = 0; i < a; ++i) {
-      AccurateSum row_sum;
-      std::size_t row_n = 0;
-      for (std::size_t j = 0; j < b; ++j) {
-        row_sum.Add(static_cast<long double>(m.groups[i * b + j].n) *
-                    m.groups[i * b + j].mean_offset);
-        row_n += m.groups[i * b + j].n;
-      }
-      const long double row_mean = row_sum.Value() / static_cast<long double>(row_n);
-      const long double d = row_mean - m.grand_mean_offset;
-      sa.Add(static_cast<long double>(row_n) * d * d);
-      for (std::size_t j = 0; j < b; ++j) {
-        const long double e = m.groups[i * b + j].mean_offset - row_mean;
-        within_rows.Add(static_cast<long double>(m.groups[i * b + j].n) * e * e);
-      }
-    }
-    ss_a = sa.Value();
-    ss_b = within_rows.Value() - ss_ab;
-    if (ss_b < 0.0L) ss_b = 0.0L;
+    std::tie(ss_a, ss_b) = TypeISums(m, a, b, ss_ab);
   }
   r.a = MakeRow(options.name_a, a - 1, ss_a, mse, df_error);
   r.b = MakeRow(options.name_b, b - 1, ss_b, mse, df_error);
