@@ -248,21 +248,11 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& t,
   return out;
 }
 
-SurfaceModel FitSurfaceModel(const std::string& surface,
-                             const std::vector<pipeline::TrialAnalysis>& trials, int jobs) {
-  SurfaceModel m;
-  m.surface = surface;
-  std::vector<const pipeline::TrialAnalysis*> normal, oblique;
-  for (const auto& t : trials) {
-    if (!t.success || t.spec.surface != surface) continue;
-    (std::abs(t.spec.surface_angle_deg) < 1e-9 ? normal : oblique).push_back(&t);
-  }
-  m.normal_trials = static_cast<int>(normal.size());
-  m.oblique_trials = static_cast<int>(oblique.size());
-  if (normal.empty()) {
-    m.message = "no measured normal (0 deg) trials on " + surface + " to fit zeta to";
-    return m;
-  }
+namespace {
+
+/// zeta from the normal trials (k is not identified by velocities: the paper's for the surface,
+/// else 1e8 N/m) and the damping it gives; false (with the message in `m`) when the fit fails.
+bool FitZeta(const std::vector<const pipeline::TrialAnalysis*>& normal, SurfaceModel& m) {
   const dynamics::SpecimenParameters sp = Specimen(*normal.front());
   std::vector<dynamics::NormalImpact> impacts;
   for (const auto* t : normal)
@@ -272,21 +262,20 @@ SurfaceModel FitSurfaceModel(const std::string& surface,
   m.zeta_fit = dynamics::FitNormalContact(impacts, sp, fo);
   if (!m.zeta_fit.success) {
     m.message = "zeta fit failed: " + m.zeta_fit.message;
-    return m;
+    return false;
   }
   try {
-    m.k_N_m = dynamics::PaperContact(dynamics::ParseSurface(surface)).k_N_m;
+    m.k_N_m = dynamics::PaperContact(dynamics::ParseSurface(m.surface)).k_N_m;
   } catch (const std::invalid_argument&) {
     m.k_N_m = 1e8;
   }
   m.b_N_s_m = dynamics::DampingForRatio(m.zeta_fit.zeta, m.k_N_m, sp.mass_kg);
-  m.success = true;
-  if (oblique.empty()) {
-    m.mu = core::kNaN;
-    m.mu_se = m.mu;
-    m.message = "no oblique trials on " + surface + ": mu not fitted";
-    return m;
-  }
+  return true;
+}
+
+/// mu from the oblique trials (at least one), on `jobs` threads: a grid, then Brent about its
+/// best point, with the s.e. from the curvature, or only a lower bound where contacts stick.
+void FitMu(const std::vector<const pipeline::TrialAnalysis*>& oblique, int jobs, SurfaceModel& m) {
   // mu: least squares of the tangential velocity of C and the spin after the impact, weighted
   // by their standard errors; touch times fixed from a first simulation (they hardly depend on
   // mu).
@@ -334,8 +323,36 @@ SurfaceModel FitSurfaceModel(const std::string& surface,
   m.mu_se =
       curvature > 0 && !m.mu_only_lower_bound ? std::sqrt(2.0 / curvature * scale) : core::kNaN;
   if (m.mu_only_lower_bound)
-    m.message = "every mu above " + std::to_string(mu) + " fits the oblique trials on " + surface +
-                " as well: their contacts stick, so mu is bounded only from below";
+    m.message = "every mu above " + std::to_string(mu) + " fits the oblique trials on " +
+                m.surface + " as well: their contacts stick, so mu is bounded only from below";
+}
+
+}  // namespace
+
+SurfaceModel FitSurfaceModel(const std::string& surface,
+                             const std::vector<pipeline::TrialAnalysis>& trials, int jobs) {
+  SurfaceModel m;
+  m.surface = surface;
+  std::vector<const pipeline::TrialAnalysis*> normal, oblique;
+  for (const auto& t : trials) {
+    if (!t.success || t.spec.surface != surface) continue;
+    (std::abs(t.spec.surface_angle_deg) < 1e-9 ? normal : oblique).push_back(&t);
+  }
+  m.normal_trials = static_cast<int>(normal.size());
+  m.oblique_trials = static_cast<int>(oblique.size());
+  if (normal.empty()) {
+    m.message = "no measured normal (0 deg) trials on " + surface + " to fit zeta to";
+    return m;
+  }
+  if (!FitZeta(normal, m)) return m;
+  m.success = true;
+  if (oblique.empty()) {
+    m.mu = core::kNaN;
+    m.mu_se = m.mu;
+    m.message = "no oblique trials on " + surface + ": mu not fitted";
+    return m;
+  }
+  FitMu(oblique, jobs, m);
   return m;
 }
 

@@ -264,6 +264,57 @@ std::string NoiseTableHtml(const discovery::DiscoveryResult& r) {
 /// The Discovery section, or "" when the study file has no /discovery.
 }  // namespace
 
+namespace {
+
+/// The facts of the run: trials, rounds, effort, and the settings it ran with where stored.
+std::string FactsHtml(const discovery::DiscoveryResult& r, const fs::path& h5) {
+  std::ostringstream h;
+  h << "<dl class=\"facts\"><dt>Trials</dt><dd>" << r.trials_used << " used, " << r.trials_skipped
+    << " skipped (not measured)</dd><dt>Rounds</dt><dd>" << r.rounds.size()
+    << "</dd><dt>Effort</dt><dd>" << r.simulations << " simulations, " << Fmt(r.seconds, 3)
+    << " s</dd>";
+  if (const auto o = discovery::ReadDiscoveryOptions(h5)) {
+    std::string keys;
+    for (const auto& k : o->candidates) keys += (keys.empty() ? "" : ",") + k;
+    h << "<dt>Settings</dt><dd>alpha " << Fmt(o->alpha) << ", " << Fmt(o->folds)
+      << " folds, at most " << Fmt(o->max_rounds)
+      << " rounds, candidates: " << HtmlEscape(keys.empty() ? "all" : keys)
+      << (o->per_surface ? "" : ", shared values only")
+      << (std::isfinite(o->measurement_floor)
+              ? ", measurement floor " + PercentHtml(o->measurement_floor) + " of the impact speed"
+              : "")
+      << "</dd>";
+  }
+  h << "</dl>";
+  return h.str();
+}
+
+/// Round `i` (from 0): its decision, the gap it closed, its candidates and the structure left.
+std::string RoundHtml(const discovery::Round& round, std::size_t i) {
+  std::ostringstream h;
+  h << "<h3>Round " << i + 1 << "</h3><p>" << HtmlEscape(round.decision) << "</p>";
+  if (!round.accepted.empty())
+    h << "<p>Held-out gap " << PercentHtml(round.gap_before) << " &rarr; "
+      << PercentHtml(round.gap_after) << " ("
+      << HtmlEscape(discovery::GapChangeText(round.gap_shrink)) << ") with <code>"
+      << HtmlEscape(round.accepted) << "</code>.</p>";
+  h << CandidatesTableHtml(round);
+  std::vector<discovery::StructureTest> significant;
+  for (const auto& t : round.tests)
+    if (t.significant) significant.push_back(t);
+  if (significant.empty())
+    h << "<p class=\"note\">No significant structure in the residuals (" << round.tests.size()
+      << (round.tests.size() == 1 ? " test" : " tests") << ", Holm-adjusted).</p>";
+  else
+    h << TestsTableHtml(significant, "Significant structure in the residuals (" +
+                                         std::to_string(significant.size()) + " of " +
+                                         std::to_string(round.tests.size()) +
+                                         " tests, Holm-adjusted)");
+  return h.str();
+}
+
+}  // namespace
+
 std::string DiscoverySection(const fs::path& h5, HtmlReportSummary& summary) {
   if (!discovery::HasDiscovery(h5)) return "";
   summary.discovery = true;
@@ -290,24 +341,7 @@ std::string DiscoverySection(const fs::path& h5, HtmlReportSummary& summary) {
        "impact speed).</p>"
     << "<div class=\"verdict" << (r.unexplained ? " unexplained" : "")
     << "\" id=\"discovery-verdict\"><p class=\"headline\">" << HtmlEscape(Headline(r)) << "</p>"
-    << VerdictHtml(r.verdict) << "</div>"
-    << "<dl class=\"facts\"><dt>Trials</dt><dd>" << r.trials_used << " used, " << r.trials_skipped
-    << " skipped (not measured)</dd><dt>Rounds</dt><dd>" << r.rounds.size()
-    << "</dd><dt>Effort</dt><dd>" << r.simulations << " simulations, " << Fmt(r.seconds, 3)
-    << " s</dd>";
-  if (const auto o = discovery::ReadDiscoveryOptions(h5)) {
-    std::string keys;
-    for (const auto& k : o->candidates) keys += (keys.empty() ? "" : ",") + k;
-    h << "<dt>Settings</dt><dd>alpha " << Fmt(o->alpha) << ", " << Fmt(o->folds)
-      << " folds, at most " << Fmt(o->max_rounds)
-      << " rounds, candidates: " << HtmlEscape(keys.empty() ? "all" : keys)
-      << (o->per_surface ? "" : ", shared values only")
-      << (std::isfinite(o->measurement_floor)
-              ? ", measurement floor " + PercentHtml(o->measurement_floor) + " of the impact speed"
-              : "")
-      << "</dd>";
-  }
-  h << "</dl>";
+    << VerdictHtml(r.verdict) << "</div>" << FactsHtml(r, h5);
   h << "<div class=\"tables\">" << FindingsTableHtml(r.findings) << SurfacesTableHtml(r)
     << NoiseTableHtml(r) << "</div>";
 
@@ -325,25 +359,7 @@ std::string DiscoverySection(const fs::path& h5, HtmlReportSummary& summary) {
       return "";
     };
     for (std::size_t i = 0; i < r.rounds.size(); ++i) {
-      const auto& round = r.rounds[i];
-      h << "<h3>Round " << i + 1 << "</h3><p>" << HtmlEscape(round.decision) << "</p>";
-      if (!round.accepted.empty())
-        h << "<p>Held-out gap " << PercentHtml(round.gap_before) << " &rarr; "
-          << PercentHtml(round.gap_after) << " ("
-          << HtmlEscape(discovery::GapChangeText(round.gap_shrink)) << ") with <code>"
-          << HtmlEscape(round.accepted) << "</code>.</p>";
-      h << CandidatesTableHtml(round);
-      std::vector<discovery::StructureTest> significant;
-      for (const auto& t : round.tests)
-        if (t.significant) significant.push_back(t);
-      if (significant.empty())
-        h << "<p class=\"note\">No significant structure in the residuals (" << round.tests.size()
-          << (round.tests.size() == 1 ? " test" : " tests") << ", Holm-adjusted).</p>";
-      else
-        h << TestsTableHtml(significant, "Significant structure in the residuals (" +
-                                             std::to_string(significant.size()) + " of " +
-                                             std::to_string(round.tests.size()) +
-                                             " tests, Holm-adjusted)");
+      h << RoundHtml(r.rounds[i], i);
       h << figure_of("discovery_gap_round" + std::to_string(i + 1));
     }
     h << "<h3>What the final model leaves</h3>";
