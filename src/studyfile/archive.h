@@ -169,6 +169,10 @@ class H5Writer {
     throw std::logic_error(name + ": an enum value without a name");
   }
 
+ protected:
+  /// The group written, for an archive that adds fields of other kinds (FramesWriter).
+  const H5::Group& group() const { return g_; }
+
  private:
   H5::Group g_;
 };
@@ -270,6 +274,10 @@ class H5Reader {
     }
     throw std::runtime_error(g_.Item(name) + " = \"" + text + "\" is none of " + choices);
   }
+
+ protected:
+  /// The group read, for an archive that adds fields of other kinds (FramesReader).
+  const GroupReader& group() const { return g_; }
 
  private:
   GroupReader g_;
