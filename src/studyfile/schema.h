@@ -5,9 +5,9 @@
 /// archive of studyfile/archive.h visits them: H5Writer writes the group, H5Reader reads it.
 /// `T` is the struct, const when writing.
 ///
-/// The tracks and poses of a trial are per-frame arrays, transposed into one dataset per field
-/// with NaN for what a frame did not measure; study_file.cc writes those and study_file_read.cc
-/// reads them.
+/// The tracks and poses of a trial are per-frame arrays: the fields of one marker in one frame
+/// and of one frame's pose are declared here too, and the archives of studyfile/frame_archive.h
+/// turn each into one dataset over all the frames, with NaN for what a frame did not measure.
 #include <type_traits>
 
 #include "kinematics/impact_kinematics.h"
@@ -15,7 +15,9 @@
 #include "pipeline/trial_analysis.h"
 #include "studyfile/archive.h"
 #include "studyfile/file_util.h"
+#include "studyfile/frame_archive.h"
 #include "tracking/marker_tracker.h"
+#include "tracking/pose.h"
 
 namespace hoof::studyfile::internal {
 
@@ -119,6 +121,66 @@ void SerializeMetadata(Archive&& a, T& r) {
   a.MaybeNumber("surface_angle_measured_deg", r.surface_angle_measured_deg, "deg",
                 "surface angle measured in the first frame (NaN when not measured)");
   a.Number("analysis_seconds", r.seconds, "s", "wall time of the analysis");
+}
+
+/// One marker in one frame: an element of the [frame, marker] datasets of
+/// `/trials/<id>/tracks`. A marker not found has no centre or radius (NaN in the file).
+template <class Archive, class T>
+requires std::is_same_v<std::remove_const_t<T>, tracking::MarkerObservation>
+void Serialize(Archive&& a, T& o) {
+  a.Vec2If(o.found, "p_I_px", o.p_I, "px",
+           "marker centre in the image frame I (x right, y down), [frame, marker, (x, y)]; "
+           "NaN when not found");
+  a.Flag("found", o.found, "marker found, [frame, marker]");
+  a.Text("status", o.status, "ok, lost, merged or lost_for_good, [frame, marker]");
+  a.Number("quality", o.quality, "1",
+           "significance (contrast / noise), 0 when not found, [frame, marker]");
+  a.NumberIf(o.found, "radius_px", o.radius_px, "px", "dot radius, NaN when not found");
+}
+
+/// The raw marker tracks of a trial: `/trials/<id>/tracks` (a FramesWriter or FramesReader).
+template <class Archive, class T>
+requires std::is_same_v<std::remove_const_t<T>, pipeline::TrialAnalysis>
+void SerializeTracks(Archive&& a, T& r) {
+  auto& t = r.tracks;
+  a.TextList("marker_names", t.names, "marker names, layout order");
+  a.FrameTimes("t_s", t.frames, r.spec.fps, "s", "frame time since frame 0 (frame index / fps)");
+  a.PerFrameAndMarker(t.frames, t.names.size());
+  a.TextList("warnings", t.warnings, "lost or merged markers, per frame");
+}
+
+/// The body pose in one frame: an element of the [frame] datasets of `/trials/<id>/poses`. An
+/// invalid pose has no numbers (NaN in the file) but the count of markers it had; a marker
+/// distance of 0 (not measured) is NaN in the file too.
+template <class Archive, class T>
+requires std::is_same_v<std::remove_const_t<T>, tracking::BodyPose>
+void Serialize(Archive&& a, T& q) {
+  a.Flag("valid", q.valid, "pose measured (enough markers found)");
+  a.Vec2If(q.valid, "p_WE_m", q.p_WE, "m",
+           "centre of the round end E in the world frame W (y up), [frame, (x, y)]; NaN when "
+           "not valid");
+  a.NumberIf(q.valid, "theta_W_rad", q.theta_W_rad, "rad",
+             "angle of x_B from x_W, counter-clockwise");
+  a.NumberIf(q.valid, "rms_residual_m", q.rms_residual_m, "m",
+             "misfit of the marker layout to the markers");
+  a.Int32("markers_used", q.markers_used, "1", "markers in the pose fit");
+  a.NumberZeroUnmeasuredIf(q.valid, "marker_distance_m", q.marker_distance_m, "m",
+                           "projected distance between the first two markers");
+}
+
+/// The body pose per frame of a trial: `/trials/<id>/poses` (a FramesWriter or FramesReader).
+template <class Archive, class T>
+requires std::is_same_v<std::remove_const_t<T>, pipeline::TrialAnalysis>
+void SerializePoses(Archive&& a, T& r) {
+  a.FrameTimes("t_s", r.poses, r.spec.fps, "s", "frame time since frame 0");
+  a.PerFrame(r.poses);
+  a.FrameNumbers("marker_distance_ratio", r.marker_distance_ratio, r.poses.size(), "1",
+                 "projected / layout marker distance (out-of-plane rotation shrinks it); NaN = "
+                 "missing");
+  a.Number("out_of_plane_change", r.out_of_plane_change, "1",
+           "range of marker_distance_ratio over the fit windows");
+  a.Number("out_of_plane_noise", r.out_of_plane_noise, "1",
+           "noise standard deviation of marker_distance_ratio");
 }
 
 /// A free-flight fit: `/trials/<id>/fits/before` and `.../after`.

@@ -14,6 +14,7 @@
 #include "io/atomic_file.h"
 #include "io/csv.h"
 #include "studyfile/file_util.h"
+#include "studyfile/frame_archive.h"
 #include "studyfile/hdf5_util.h"
 #include "studyfile/schema.h"
 #include "studyfile/table_archive.h"
@@ -62,79 +63,6 @@ void WriteStudyInfo(H5::H5File& file, const StudyInfo& info) {
 // One trial
 // ------------------------------------------------------------------------------------------
 
-void WriteTracks(const H5::Group& g, const pipeline::TrialAnalysis& r) {
-  const auto& t = r.tracks;
-  const std::size_t F = t.frames.size(), M = t.names.size();
-  std::vector<double> p(F * M * 2, kNaN), quality(F * M, 0.0), radius(F * M, kNaN), time(F);
-  std::vector<std::uint8_t> found(F * M, 0);
-  std::vector<std::string> status(F * M);
-  for (std::size_t f = 0; f < F; ++f) {
-    time[f] = r.spec.fps > 0 ? static_cast<double>(f) / r.spec.fps : kNaN;
-    for (std::size_t m = 0; m < M && m < t.frames[f].size(); ++m) {
-      const auto& o = t.frames[f][m];
-      const std::size_t i = f * M + m;
-      found[i] = o.found ? 1 : 0;
-      status[i] = o.status;
-      quality[i] = o.quality;
-      if (o.found) {
-        p[2 * i] = o.p_I.x();
-        p[2 * i + 1] = o.p_I.y();
-        radius[i] = o.radius_px;
-      }
-    }
-  }
-  h5::Texts(g, "marker_names", t.names, {M}, "marker names, layout order");
-  h5::Doubles(g, "t_s", time, {F}, "s", "frame time since frame 0 (frame index / fps)");
-  h5::Doubles(g, "p_I_px", p, {F, M, 2}, "px",
-              "marker centre in the image frame I (x right, y down), [frame, marker, (x, y)]; "
-              "NaN when not found");
-  h5::Bools(g, "found", found, {F, M}, "marker found, [frame, marker]");
-  h5::Texts(g, "status", status, {F, M}, "ok, lost, merged or lost_for_good, [frame, marker]");
-  h5::Doubles(g, "quality", quality, {F, M}, "1",
-              "significance (contrast / noise), 0 when not found, [frame, marker]");
-  h5::Doubles(g, "radius_px", radius, {F, M}, "px", "dot radius, NaN when not found");
-  h5::Texts(g, "warnings", t.warnings, {t.warnings.size()}, "lost or merged markers, per frame");
-}
-
-void WritePoses(const H5::Group& g, const pipeline::TrialAnalysis& r) {
-  const std::size_t F = r.poses.size();
-  std::vector<double> time(F), p(2 * F, kNaN), theta(F, kNaN), rms(F, kNaN), dist(F, kNaN),
-      ratio(F, kNaN);
-  std::vector<std::uint8_t> valid(F);
-  std::vector<std::int32_t> used(F);
-  for (std::size_t f = 0; f < F; ++f) {
-    const auto& q = r.poses[f];
-    time[f] = r.spec.fps > 0 ? static_cast<double>(f) / r.spec.fps : kNaN;
-    valid[f] = q.valid ? 1 : 0;
-    used[f] = q.markers_used;
-    if (q.valid) {
-      p[2 * f] = q.p_WE.x();
-      p[2 * f + 1] = q.p_WE.y();
-      theta[f] = q.theta_W_rad;
-      rms[f] = q.rms_residual_m;
-      dist[f] = q.marker_distance_m > 0 ? q.marker_distance_m : kNaN;
-    }
-    if (f < r.marker_distance_ratio.size()) ratio[f] = r.marker_distance_ratio[f];
-  }
-  h5::Doubles(g, "t_s", time, {F}, "s", "frame time since frame 0");
-  h5::Bools(g, "valid", valid, {F}, "pose measured (enough markers found)");
-  h5::Doubles(g, "p_WE_m", p, {F, 2}, "m",
-              "centre of the round end E in the world frame W (y up), [frame, (x, y)]; NaN when "
-              "not valid");
-  h5::Doubles(g, "theta_W_rad", theta, {F}, "rad", "angle of x_B from x_W, counter-clockwise");
-  h5::Doubles(g, "rms_residual_m", rms, {F}, "m", "misfit of the marker layout to the markers");
-  h5::Int32s(g, "markers_used", used, {F}, "1", "markers in the pose fit");
-  h5::Doubles(g, "marker_distance_m", dist, {F}, "m",
-              "projected distance between the first two markers");
-  h5::Doubles(g, "marker_distance_ratio", ratio, {F}, "1",
-              "projected / layout marker distance (out-of-plane rotation shrinks it); NaN = "
-              "missing");
-  h5::Scalar(g, "out_of_plane_change", r.out_of_plane_change, "1",
-             "range of marker_distance_ratio over the fit windows");
-  h5::Scalar(g, "out_of_plane_noise", r.out_of_plane_noise, "1",
-             "noise standard deviation of marker_distance_ratio");
-}
-
 void WriteTrial(const H5::Group& trials, const std::string& group_name,
                 const pipeline::TrialAnalysis& r) {
   const H5::Group g = h5::MakeGroup(trials, group_name, "trial " + r.spec.id);
@@ -143,8 +71,10 @@ void WriteTrial(const H5::Group& trials, const std::string& group_name,
   internal::H5Writer metadata(
       h5::MakeGroup(g, "metadata", "trial.json and the calibration checks"));
   internal::SerializeMetadata(metadata, r);
-  WriteTracks(h5::MakeGroup(g, "tracks", "raw marker tracks"), r);
-  WritePoses(h5::MakeGroup(g, "poses", "body pose per frame"), r);
+  internal::FramesWriter tracks(h5::MakeGroup(g, "tracks", "raw marker tracks"));
+  internal::SerializeTracks(tracks, r);
+  internal::FramesWriter poses(h5::MakeGroup(g, "poses", "body pose per frame"));
+  internal::SerializePoses(poses, r);
   h5::Text(g, "impact_message", r.impact.message, "why the impact measurement failed, if it did");
   if (!r.impact.success) return;
   const H5::Group fits = h5::MakeGroup(g, "fits", "free-flight fits before and after the impact");

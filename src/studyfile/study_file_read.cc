@@ -4,12 +4,10 @@
 
 #include <H5Cpp.h>
 
-#include <algorithm>
-#include <cmath>
 #include <stdexcept>
 
-#include "core/frames.h"
 #include "studyfile/file_util.h"
+#include "studyfile/frame_archive.h"
 #include "studyfile/hdf5_util.h"
 #include "studyfile/schema.h"
 #include "studyfile/table_archive.h"
@@ -26,65 +24,13 @@ using internal::RethrowHdf5;
 // Reading trials back
 // ------------------------------------------------------------------------------------------
 
-tracking::MarkerTracks ReadTracks(const GroupReader& g) {
-  tracking::MarkerTracks t;
-  t.names = g.TextList("marker_names");
-  const hsize_t F = g.Length("t_s"), M = t.names.size();
-  const std::vector<double> p = g.Doubles("p_I_px", {F, M, 2});
-  const std::vector<std::int64_t> found = g.Integers("found", {F, M});
-  const std::vector<std::string> status = g.Texts("status", {F, M});
-  const std::vector<double> quality = g.Doubles("quality", {F, M});
-  const std::vector<double> radius = g.Doubles("radius_px", {F, M});
-  t.frames.assign(F, std::vector<tracking::MarkerObservation>(M));
-  for (std::size_t f = 0; f < F; ++f) {
-    for (std::size_t m = 0; m < M; ++m) {
-      const std::size_t i = f * M + m;
-      tracking::MarkerObservation& o = t.frames[f][m];
-      o.found = found[i] != 0;
-      o.status = status[i];
-      o.quality = quality[i];
-      if (o.found) {  // the file holds no centre or radius for a marker not found
-        o.p_I = {p[2 * i], p[2 * i + 1]};
-        o.radius_px = radius[i];
-      }
-    }
-  }
-  t.warnings = g.TextList("warnings");
-  return t;
-}
-
-void ReadPoses(const GroupReader& g, pipeline::TrialAnalysis& r) {
-  const hsize_t F = g.Length("t_s");
-  const std::vector<std::int64_t> valid = g.Integers("valid", {F});
-  const std::vector<double> p = g.Doubles("p_WE_m", {F, 2});
-  const std::vector<double> theta = g.Doubles("theta_W_rad", {F});
-  const std::vector<double> rms = g.Doubles("rms_residual_m", {F});
-  const std::vector<std::int64_t> used = g.Integers("markers_used", {F});
-  const std::vector<double> distance = g.Doubles("marker_distance_m", {F});
-  r.marker_distance_ratio = g.Doubles("marker_distance_ratio", {F});
-  r.poses.assign(F, tracking::BodyPose{});
-  for (std::size_t f = 0; f < F; ++f) {
-    tracking::BodyPose& q = r.poses[f];
-    q.valid = valid[f] != 0;
-    q.markers_used = static_cast<int>(used[f]);
-    if (q.valid) {  // an invalid pose's numbers are NaN in the file
-      q.p_WE = {p[2 * f], p[2 * f + 1]};
-      q.theta_W_rad = theta[f];
-      q.rms_residual_m = rms[f];
-      q.marker_distance_m = std::isnan(distance[f]) ? 0.0 : distance[f];
-    }
-  }
-  r.out_of_plane_change = g.Scalar("out_of_plane_change");
-  r.out_of_plane_noise = g.Scalar("out_of_plane_noise");
-}
-
 /// One `/trials/<id>` group; the specimen is filled in by the caller.
 pipeline::TrialAnalysis ReadTrialGroup(const GroupReader& g) {
   pipeline::TrialAnalysis r;
   internal::SerializeOutcome(internal::H5Reader(g), r);
   internal::SerializeMetadata(internal::H5Reader(g.Group("metadata")), r);
-  r.tracks = ReadTracks(g.Group("tracks"));
-  ReadPoses(g.Group("poses"), r);
+  internal::SerializeTracks(internal::FramesReader(g.Group("tracks")), r);
+  internal::SerializePoses(internal::FramesReader(g.Group("poses")), r);
   r.impact.message = g.Text("impact_message");
   if (g.Has("results")) {  // written only when the impact was measured, with the fits
     r.impact.success = true;
