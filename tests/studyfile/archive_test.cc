@@ -1,5 +1,6 @@
 // The archives of the study file: one list of fields drives writing and reading, of a group
-// (studyfile/archive.h, schema.h) and of a table of struct rows (studyfile/table_archive.h).
+// (studyfile/archive.h, schema.h), of a table of struct rows (studyfile/table_archive.h) and of
+// a trial's per-frame tracks and poses (studyfile/frame_archive.h).
 #include <H5Cpp.h>
 
 #include <cmath>
@@ -15,6 +16,7 @@
 
 #include "studyfile/archive.h"
 #include "studyfile/schema.h"
+#include "studyfile/study_file.h"
 #include "studyfile/table_archive.h"
 #include "support/test_util.h"
 
@@ -200,6 +202,143 @@ TEST(GroupArchiveTest, AFitAndATrialsMetadataReadBackAsWritten) {
         internal::Serialize(internal::H5Reader(root.Group("fit")), s);
       },
       path.string() + ":/fit/mass_kg does not exist");
+}
+
+// ------------------------------------------------------------------------------------------
+// Per-frame arrays: /trials/<id>/tracks and /trials/<id>/poses
+// ------------------------------------------------------------------------------------------
+
+/// A trial of three frames and two markers, by hand: M2 lost in frame 1 (with a centre and a
+/// radius in memory that the file must not keep), frame 2 holding M1 only; pose 1 invalid (with
+/// numbers that must not be kept), pose 2 valid with a marker distance of 0 (not measured); the
+/// distance ratio NaN in frame 1 and one frame short.
+hoof::pipeline::TrialAnalysis TrackedTrial() {
+  hoof::pipeline::TrialAnalysis r;
+  r.spec.id = "tracked";
+  r.spec.fps = 2000.0;
+  auto& t = r.tracks;
+  t.names = {"M1", "M2"};
+  t.warnings = {"frame 1: M2 lost"};
+  t.frames = {{{true, {10.25, 20.5}, 3.5, 4.25, "ok"}, {true, {30.75, 21.0}, 4.0, 4.5, "ok"}},
+              {{true, {11.0, 22.5}, 3.25, 4.0, "ok"}, {false, {99.0, 98.0}, 0.0, 7.0, "lost"}},
+              {{true, {12.5, 24.0}, 3.0, 4.125, "ok"}}};
+  r.poses = {{true, {0.1, -0.2}, 0.3, 1e-5, 2, 0.024},
+             {false, {5.0, 6.0}, 1.0, 2.0, 1, 0.02},
+             {true, {0.11, -0.25}, 0.31, 2e-5, 2, 0.0}};
+  r.marker_distance_ratio = {1.0, std::nan("")};
+  r.out_of_plane_change = 0.01;
+  r.out_of_plane_noise = 0.002;
+  return r;
+}
+
+/// A trial whose tracking never started: marker names, no frames.
+hoof::pipeline::TrialAnalysis UntrackedTrial() {
+  hoof::pipeline::TrialAnalysis r;
+  r.spec.id = "untracked";
+  r.spec.fps = 2000.0;
+  r.tracks.names = {"M1", "M2"};
+  return r;
+}
+
+/// Exactly equal, or both NaN.
+void ExpectSame(double read, double want, const std::string& what) {
+  if (std::isnan(want))
+    EXPECT_TRUE(std::isnan(read)) << what << ": " << read;
+  else
+    EXPECT_EQ(read, want) << what;
+}
+
+/// `read` against `want`, field by field: the tracks, the poses and their per-frame numbers.
+void ExpectSameFrames(const hoof::pipeline::TrialAnalysis& read,
+                      const hoof::pipeline::TrialAnalysis& want) {
+  EXPECT_EQ(read.tracks.names, want.tracks.names);
+  EXPECT_EQ(read.tracks.warnings, want.tracks.warnings);
+  ASSERT_EQ(read.tracks.frames.size(), want.tracks.frames.size());
+  for (std::size_t f = 0; f < want.tracks.frames.size(); ++f) {
+    ASSERT_EQ(read.tracks.frames[f].size(), want.tracks.frames[f].size()) << "frame " << f;
+    for (std::size_t m = 0; m < want.tracks.frames[f].size(); ++m) {
+      const auto& x = read.tracks.frames[f][m];
+      const auto& y = want.tracks.frames[f][m];
+      const std::string what = "frame " + std::to_string(f) + " marker " + std::to_string(m);
+      EXPECT_EQ(x.found, y.found) << what;
+      EXPECT_EQ(x.p_I, y.p_I) << what;
+      EXPECT_EQ(x.quality, y.quality) << what;
+      EXPECT_EQ(x.radius_px, y.radius_px) << what;
+      EXPECT_EQ(x.status, y.status) << what;
+    }
+  }
+  ASSERT_EQ(read.poses.size(), want.poses.size());
+  for (std::size_t f = 0; f < want.poses.size(); ++f) {
+    const auto& x = read.poses[f];
+    const auto& y = want.poses[f];
+    const std::string what = "pose " + std::to_string(f);
+    EXPECT_EQ(x.valid, y.valid) << what;
+    EXPECT_EQ(x.p_WE, y.p_WE) << what;
+    EXPECT_EQ(x.theta_W_rad, y.theta_W_rad) << what;
+    EXPECT_EQ(x.rms_residual_m, y.rms_residual_m) << what;
+    EXPECT_EQ(x.markers_used, y.markers_used) << what;
+    EXPECT_EQ(x.marker_distance_m, y.marker_distance_m) << what;
+  }
+  ASSERT_EQ(read.marker_distance_ratio.size(), want.marker_distance_ratio.size());
+  for (std::size_t f = 0; f < want.marker_distance_ratio.size(); ++f)
+    ExpectSame(read.marker_distance_ratio[f], want.marker_distance_ratio[f],
+               "marker_distance_ratio " + std::to_string(f));
+  EXPECT_EQ(read.out_of_plane_change, want.out_of_plane_change);
+  EXPECT_EQ(read.out_of_plane_noise, want.out_of_plane_noise);
+}
+
+TEST(FrameArchiveTest, TracksAndPosesReadBackAsWrittenFieldByField) {
+  const fs::path path = hoof::testing::FreshDir("archive_test_frames") / "study.h5";
+  const std::vector<hoof::pipeline::TrialAnalysis> written = {TrackedTrial(), UntrackedTrial()};
+  hoof::studyfile::WriteStudyFile(path, hoof::studyfile::StudyInfo{}, written);
+  const std::vector<hoof::pipeline::TrialAnalysis> read = hoof::studyfile::ReadTrialAnalyses(path);
+  ASSERT_EQ(read.size(), 2u);
+  // What the file keeps: no centre or radius of a marker not found, a missing marker of a
+  // frame as not found, no numbers of an invalid pose, the ratio as long as the poses.
+  hoof::pipeline::TrialAnalysis want = TrackedTrial();
+  want.tracks.frames[1][1].p_I = {0.0, 0.0};
+  want.tracks.frames[1][1].radius_px = 0.0;
+  want.tracks.frames[2].emplace_back();
+  want.poses[1] = {false, {0.0, 0.0}, 0.0, 0.0, 1, 0.0};
+  want.marker_distance_ratio.push_back(std::nan(""));
+  {
+    SCOPED_TRACE("tracked");
+    ExpectSameFrames(read[0], want);
+  }
+  {
+    SCOPED_TRACE("untracked");
+    ExpectSameFrames(read[1], UntrackedTrial());
+  }
+  // The file itself: NaN for what was not measured, shapes [frame, marker(, 2)].
+  H5::H5File file(path.string(), H5F_ACC_RDONLY);
+  const internal::GroupReader trial =
+      internal::GroupReader(file.openGroup("/"), path.string() + ":")
+          .Group("trials")
+          .Group("tracked");
+  const internal::GroupReader tracks = trial.Group("tracks");
+  const std::vector<double> p = tracks.Doubles("p_I_px", {3, 2, 2});
+  EXPECT_EQ(p[0], 10.25);
+  for (std::size_t i : {6, 7, 10, 11}) EXPECT_TRUE(std::isnan(p[i])) << "p_I_px " << i;
+  const std::vector<double> radius = tracks.Doubles("radius_px", {3, 2});
+  EXPECT_TRUE(std::isnan(radius[3]));
+  EXPECT_TRUE(std::isnan(radius[5]));
+  EXPECT_EQ(tracks.Doubles("t_s", {3}), (std::vector<double>{0.0, 0.0005, 0.001}));
+  EXPECT_EQ(tracks.Texts("status", {3, 2})[5], "");
+  const internal::GroupReader poses = trial.Group("poses");
+  const std::vector<double> distance = poses.Doubles("marker_distance_m", {3});
+  EXPECT_EQ(distance[0], 0.024);
+  EXPECT_TRUE(std::isnan(distance[1]));  // invalid
+  EXPECT_TRUE(std::isnan(distance[2]));  // 0: not measured
+  EXPECT_TRUE(std::isnan(poses.Doubles("p_WE_m", {3, 2})[2]));
+  EXPECT_TRUE(std::isnan(poses.Doubles("theta_W_rad", {3})[1]));
+  EXPECT_EQ(poses.Integers("markers_used", {3}), (std::vector<std::int64_t>{2, 1, 2}));
+  const internal::GroupReader untracked =
+      internal::GroupReader(file.openGroup("/"), path.string() + ":")
+          .Group("trials")
+          .Group("untracked");
+  EXPECT_TRUE(untracked.Group("tracks").Doubles("p_I_px", {0, 2, 2}).empty());
+  EXPECT_TRUE(untracked.Group("tracks").Texts("status", {0, 2}).empty());
+  EXPECT_TRUE(untracked.Group("poses").Integers("valid", {0}).empty());
 }
 
 }  // namespace
