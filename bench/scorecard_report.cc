@@ -96,113 +96,107 @@ void PrintConfusion(const std::vector<Row>& rows, const std::string& design, dou
   PrintTable(header, table);
 }
 
-}  // namespace
-
-void PrintReport(const std::vector<Row>& rows, const std::vector<std::string>& designs,
-                 const std::vector<double>& scatters, bool only_render) {
-  std::cout << "# Discovery scorecard\n\n";
-  std::vector<std::pair<std::string, double>> combos;
-  for (const auto& d : designs)
-    for (double s : scatters) combos.push_back({d, s});
-  if (!only_render) {
-    for (const auto& [d, s] : combos) PrintConfusion(rows, d, s);
-
-    // Power: rate at which the hidden effect is named, per effect size.
-    std::vector<std::string> header = {"hidden effect"};
-    for (const auto& [d, s] : combos) header.push_back(d + ", scatter " + Num(s));
-    std::vector<std::string> labels;
-    for (const Row& r : rows)
-      if (r.point.effect->key != "null" &&
-          std::find(labels.begin(), labels.end(), SizeLabel(r)) == labels.end())
-        labels.push_back(SizeLabel(r));
-    std::vector<std::vector<std::string>> table;
-    for (const auto& label : labels) {
-      std::vector<std::string> cells = {label};
-      for (const auto& [d, s] : combos) {
-        int k = 0, n = 0;
-        for (const Row& r : rows)
-          if (r.discovered && SizeLabel(r) == label && r.point.design == d &&
-              r.point.scatter == s) {
-            ++n;
-            k += Detected(r) ? 1 : 0;
-          }
-        cells.push_back(Rate(k, n));
-      }
-      table.push_back(cells);
-    }
-    if (!table.empty()) {
-      std::cout << "### Power: hidden effect named (rate, Wilson 95 %)\n\n";
-      PrintTable(header, table);
-    }
-
-    // Power against the size in units of the detection limit discovery printed for each study:
-    // where the limits are right, about 80 % at 1 and at least 90 % from 2.
-    {
-      const std::vector<double> edges = {0.0, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 1e300};
-      std::vector<std::string> effects;
+/// Power: the rate at which the hidden effect is named, per effect and size, per design and
+/// scatter.
+void PrintPower(const std::vector<Row>& rows,
+                const std::vector<std::pair<std::string, double>>& combos) {
+  std::vector<std::string> header = {"hidden effect"};
+  for (const auto& [d, s] : combos) header.push_back(d + ", scatter " + Num(s));
+  std::vector<std::string> labels;
+  for (const Row& r : rows)
+    if (r.point.effect->key != "null" &&
+        std::find(labels.begin(), labels.end(), SizeLabel(r)) == labels.end())
+      labels.push_back(SizeLabel(r));
+  std::vector<std::vector<std::string>> table;
+  for (const auto& label : labels) {
+    std::vector<std::string> cells = {label};
+    for (const auto& [d, s] : combos) {
+      int k = 0, n = 0;
       for (const Row& r : rows)
-        if (r.point.effect->key != "null" &&
-            std::find(effects.begin(), effects.end(), r.point.effect->key) == effects.end())
-          effects.push_back(r.point.effect->key);
-      std::vector<std::string> head = {"size / printed limit"};
-      for (const auto& e : effects) head.push_back(e);
-      head.push_back("all");
-      std::vector<std::vector<std::string>> bins;
-      for (std::size_t b = 0; b + 1 < edges.size(); ++b) {
-        std::vector<std::string> cells = {b + 2 < edges.size()
-                                              ? Num(edges[b]) + " - " + Num(edges[b + 1])
-                                              : ">= " + Num(edges[b])};
-        int all_k = 0, all_n = 0;
-        for (std::size_t j = 0; j <= effects.size(); ++j) {
-          int k = 0, n = 0;
-          for (const Row& r : rows) {
-            if (!r.discovered || r.point.effect->key == "null" || !(r.limit > 0)) continue;
-            if (j < effects.size() && r.point.effect->key != effects[j]) continue;
-            const double x = r.point.size / r.limit;
-            if (x < edges[b] || x >= edges[b + 1]) continue;
-            ++n;
-            k += Detected(r) ? 1 : 0;
-          }
-          if (j == effects.size()) all_k = k, all_n = n;
-          cells.push_back(j == effects.size()
-                              ? Rate(all_k, all_n)
-                              : (n ? std::to_string(k) + "/" + std::to_string(n) : "-"));
+        if (r.discovered && SizeLabel(r) == label && r.point.design == d && r.point.scatter == s) {
+          ++n;
+          k += Detected(r) ? 1 : 0;
         }
-        bins.push_back(cells);
-      }
-      std::cout << "### Power against the printed detection limit (hidden effect named; size over "
-                   "the limit "
-                   "discovery printed for that study in round 1)\n\n";
-      PrintTable(head, bins);
+      cells.push_back(Rate(k, n));
     }
-
-    // False naming on null studies and wrong names over all studies.
-    table.clear();
-    const auto add = [&](const std::string& label, const std::function<bool(const Row&)>& in) {
-      int null_k = 0, null_n = 0, wrong_k = 0, wrong_n = 0;
-      for (const Row& r : rows) {
-        if (!r.discovered || !in(r)) continue;
-        ++wrong_n;
-        wrong_k += WrongName(r) ? 1 : 0;
-        if (r.point.effect->key == "null") {
-          ++null_n;
-          null_k += r.named.empty() ? 0 : 1;
-        }
-      }
-      table.push_back({label, Rate(null_k, null_n), Rate(wrong_k, wrong_n)});
-    };
-    for (const auto& combo : combos)
-      add(combo.first + ", scatter " + Num(combo.second), [&combo](const Row& r) {
-        return r.point.design == combo.first && r.point.scatter == combo.second;
-      });
-    add("all", [](const Row&) { return true; });
-    std::cout << "### False and wrong names (rate, Wilson 95 %)\n\n"
-                 "False naming: a null study in which anything is named. Wrong effect: a study "
-                 "in which a key other than the hidden effect's is named.\n\n";
-    PrintTable({"studies", "false naming (null studies)", "wrong effect (all studies)"}, table);
+    table.push_back(cells);
   }
+  if (!table.empty()) {
+    std::cout << "### Power: hidden effect named (rate, Wilson 95 %)\n\n";
+    PrintTable(header, table);
+  }
+}
 
-  // Time per study and size of a cache entry.
+/// Power against the size in units of the detection limit discovery printed for each study:
+/// where the limits are right, about 80 % at 1 and at least 90 % from 2.
+void PrintPowerAgainstLimit(const std::vector<Row>& rows) {
+  const std::vector<double> edges = {0.0, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 1e300};
+  std::vector<std::string> effects;
+  for (const Row& r : rows)
+    if (r.point.effect->key != "null" &&
+        std::find(effects.begin(), effects.end(), r.point.effect->key) == effects.end())
+      effects.push_back(r.point.effect->key);
+  std::vector<std::string> head = {"size / printed limit"};
+  for (const auto& e : effects) head.push_back(e);
+  head.push_back("all");
+  std::vector<std::vector<std::string>> bins;
+  for (std::size_t b = 0; b + 1 < edges.size(); ++b) {
+    std::vector<std::string> cells = {
+        b + 2 < edges.size() ? Num(edges[b]) + " - " + Num(edges[b + 1]) : ">= " + Num(edges[b])};
+    int all_k = 0, all_n = 0;
+    for (std::size_t j = 0; j <= effects.size(); ++j) {
+      int k = 0, n = 0;
+      for (const Row& r : rows) {
+        if (!r.discovered || r.point.effect->key == "null" || !(r.limit > 0)) continue;
+        if (j < effects.size() && r.point.effect->key != effects[j]) continue;
+        const double x = r.point.size / r.limit;
+        if (x < edges[b] || x >= edges[b + 1]) continue;
+        ++n;
+        k += Detected(r) ? 1 : 0;
+      }
+      if (j == effects.size()) all_k = k, all_n = n;
+      cells.push_back(j == effects.size()
+                          ? Rate(all_k, all_n)
+                          : (n ? std::to_string(k) + "/" + std::to_string(n) : "-"));
+    }
+    bins.push_back(cells);
+  }
+  std::cout << "### Power against the printed detection limit (hidden effect named; size over "
+               "the limit "
+               "discovery printed for that study in round 1)\n\n";
+  PrintTable(head, bins);
+}
+
+/// False naming on null studies and wrong names over all studies.
+void PrintNames(const std::vector<Row>& rows,
+                const std::vector<std::pair<std::string, double>>& combos) {
+  std::vector<std::vector<std::string>> table;
+  const auto add = [&](const std::string& label, const std::function<bool(const Row&)>& in) {
+    int null_k = 0, null_n = 0, wrong_k = 0, wrong_n = 0;
+    for (const Row& r : rows) {
+      if (!r.discovered || !in(r)) continue;
+      ++wrong_n;
+      wrong_k += WrongName(r) ? 1 : 0;
+      if (r.point.effect->key == "null") {
+        ++null_n;
+        null_k += r.named.empty() ? 0 : 1;
+      }
+    }
+    table.push_back({label, Rate(null_k, null_n), Rate(wrong_k, wrong_n)});
+  };
+  for (const auto& combo : combos)
+    add(combo.first + ", scatter " + Num(combo.second), [&combo](const Row& r) {
+      return r.point.design == combo.first && r.point.scatter == combo.second;
+    });
+  add("all", [](const Row&) { return true; });
+  std::cout << "### False and wrong names (rate, Wilson 95 %)\n\n"
+               "False naming: a null study in which anything is named. Wrong effect: a study "
+               "in which a key other than the hidden effect's is named.\n\n";
+  PrintTable({"studies", "false naming (null studies)", "wrong effect (all studies)"}, table);
+}
+
+/// Time per study and size of a cache entry, per design.
+void PrintTimes(const std::vector<Row>& rows, const std::vector<std::string>& designs) {
   std::vector<std::vector<std::string>> table;
   for (const auto& d : designs) {
     double render = 0, analyze = 0, discover = 0, bytes = 0;
@@ -239,7 +233,23 @@ void PrintReport(const std::vector<Row>& rows, const std::vector<std::string>& d
   PrintTable({"design", "trials", "render s", "analyze s", "discover s", "cache entry MB",
               "studies (made / discovered)"},
              table);
+}
 
+}  // namespace
+
+void PrintReport(const std::vector<Row>& rows, const std::vector<std::string>& designs,
+                 const std::vector<double>& scatters, bool only_render) {
+  std::cout << "# Discovery scorecard\n\n";
+  std::vector<std::pair<std::string, double>> combos;
+  for (const auto& d : designs)
+    for (double s : scatters) combos.push_back({d, s});
+  if (!only_render) {
+    for (const auto& [d, s] : combos) PrintConfusion(rows, d, s);
+    PrintPower(rows, combos);
+    PrintPowerAgainstLimit(rows);
+    PrintNames(rows, combos);
+  }
+  PrintTimes(rows, designs);
   int errors = 0;
   for (const Row& r : rows) errors += r.stage.empty() ? 0 : 1;
   std::cout << "Studies: " << rows.size() << ", errors: " << errors << "\n";
