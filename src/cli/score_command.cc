@@ -13,6 +13,68 @@
 
 namespace hoof::cli {
 
+namespace {
+
+/// One JSON object per trial (its errors, or its score) and the summary.
+void PrintScoreJson(const pipeline::StudyScore& score) {
+  const pipeline::StudyScoreSummary& sum = score.summary;
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& t : score.trials) {
+    nlohmann::json row = {{"dir", t.dir.string()}};
+    if (!t.id.empty()) row.update({{"id", t.id}, {"flags", t.flags}});
+    if (!t.scored()) {
+      row["error"] = t.error;
+    } else {
+      const auto& s = t.score;
+      row.update({{"marker_rms_px", s.marker_rms_px},
+                  {"marker_max_px", s.marker_max_px},
+                  {"v_before_rel", s.v_before_rel},
+                  {"v_after_rel", s.v_after_rel},
+                  {"w_before_abs", s.w_before_abs},
+                  {"w_after_abs", s.w_after_abs},
+                  {"e_abs", s.e_abs},
+                  {"mu_eff_abs", JsonNumber(s.mu_eff_abs)},
+                  {"impact_time_abs_s", s.impact_time_abs_s},
+                  {"truth_out_of_plane", t.truth_out_of_plane}});
+    }
+    rows.push_back(row);
+  }
+  const nlohmann::json summary = {{"trials", sum.trials},
+                                  {"succeeded", sum.scored},
+                                  {"marker_rms_px", sum.marker_rms_px},
+                                  {"marker_max_px", sum.marker_max_px},
+                                  {"v_SC_max_rel", sum.v_SC_max_rel},
+                                  {"w_max_abs_rad_s", sum.w_max_abs_rad_s},
+                                  {"e_max_abs", sum.e_max_abs},
+                                  {"mu_eff_max_abs", sum.mu_eff_max_abs}};
+  std::cout << nlohmann::json({{"trials", rows}, {"summary", summary}}).dump(2) << "\n";
+}
+
+/// One line per trial and the summary.
+void PrintScoreText(const pipeline::StudyScore& score) {
+  const pipeline::StudyScoreSummary& sum = score.summary;
+  for (const auto& t : score.trials) {
+    const std::string name = t.id.empty() ? t.dir.string() : t.id;
+    if (!t.scored()) {
+      std::cout << name << ": FAILED " << t.error << "\n";
+      continue;
+    }
+    const auto& s = t.score;
+    std::cout << std::left << std::setw(28) << name << std::right << std::fixed
+              << std::setprecision(4) << " marker rms " << s.marker_rms_px << " px  v "
+              << 100 * std::max(s.v_before_rel, s.v_after_rel) << " %  w "
+              << std::max(s.w_before_abs, s.w_after_abs) << "  e " << s.e_abs << "  mu "
+              << (std::isfinite(s.mu_eff_abs) ? s.mu_eff_abs : 0.0) << "\n";
+  }
+  std::cout << std::defaultfloat << std::setprecision(6) << "summary: " << sum.scored << " of "
+            << sum.trials << " trials scored; marker rms " << sum.marker_rms_px << " px (worst "
+            << sum.marker_max_px << "), v_SC " << sum.v_SC_max_rel << " rel, w "
+            << sum.w_max_abs_rad_s << " rad/s, e " << sum.e_max_abs << ", mu_eff "
+            << sum.mu_eff_max_abs << " (worst of each)\n";
+}
+
+}  // namespace
+
 void RegisterScore(CLI::App& app, RunState& state) {
   struct Args {
     std::string study_dir;
@@ -36,57 +98,10 @@ void RegisterScore(CLI::App& app, RunState& state) {
     ApplyMethod(a.method, a.options);
     const pipeline::StudyScore score = pipeline::ScoreStudy(a.study_dir, a.options, a.jobs);
     const pipeline::StudyScoreSummary& sum = score.summary;
-    if (a.json) {
-      nlohmann::json rows = nlohmann::json::array();
-      for (const auto& t : score.trials) {
-        nlohmann::json row = {{"dir", t.dir.string()}};
-        if (!t.id.empty()) row.update({{"id", t.id}, {"flags", t.flags}});
-        if (!t.scored()) {
-          row["error"] = t.error;
-        } else {
-          const auto& s = t.score;
-          row.update({{"marker_rms_px", s.marker_rms_px},
-                      {"marker_max_px", s.marker_max_px},
-                      {"v_before_rel", s.v_before_rel},
-                      {"v_after_rel", s.v_after_rel},
-                      {"w_before_abs", s.w_before_abs},
-                      {"w_after_abs", s.w_after_abs},
-                      {"e_abs", s.e_abs},
-                      {"mu_eff_abs", JsonNumber(s.mu_eff_abs)},
-                      {"impact_time_abs_s", s.impact_time_abs_s},
-                      {"truth_out_of_plane", t.truth_out_of_plane}});
-        }
-        rows.push_back(row);
-      }
-      const nlohmann::json summary = {{"trials", sum.trials},
-                                      {"succeeded", sum.scored},
-                                      {"marker_rms_px", sum.marker_rms_px},
-                                      {"marker_max_px", sum.marker_max_px},
-                                      {"v_SC_max_rel", sum.v_SC_max_rel},
-                                      {"w_max_abs_rad_s", sum.w_max_abs_rad_s},
-                                      {"e_max_abs", sum.e_max_abs},
-                                      {"mu_eff_max_abs", sum.mu_eff_max_abs}};
-      std::cout << nlohmann::json({{"trials", rows}, {"summary", summary}}).dump(2) << "\n";
-    } else {
-      for (const auto& t : score.trials) {
-        const std::string name = t.id.empty() ? t.dir.string() : t.id;
-        if (!t.scored()) {
-          std::cout << name << ": FAILED " << t.error << "\n";
-          continue;
-        }
-        const auto& s = t.score;
-        std::cout << std::left << std::setw(28) << name << std::right << std::fixed
-                  << std::setprecision(4) << " marker rms " << s.marker_rms_px << " px  v "
-                  << 100 * std::max(s.v_before_rel, s.v_after_rel) << " %  w "
-                  << std::max(s.w_before_abs, s.w_after_abs) << "  e " << s.e_abs << "  mu "
-                  << (std::isfinite(s.mu_eff_abs) ? s.mu_eff_abs : 0.0) << "\n";
-      }
-      std::cout << std::defaultfloat << std::setprecision(6) << "summary: " << sum.scored << " of "
-                << sum.trials << " trials scored; marker rms " << sum.marker_rms_px << " px (worst "
-                << sum.marker_max_px << "), v_SC " << sum.v_SC_max_rel << " rel, w "
-                << sum.w_max_abs_rad_s << " rad/s, e " << sum.e_max_abs << ", mu_eff "
-                << sum.mu_eff_max_abs << " (worst of each)\n";
-    }
+    if (a.json)
+      PrintScoreJson(score);
+    else
+      PrintScoreText(score);
     state.exit_code = sum.scored == sum.trials ? kExitOk : kExitPartial;
   });
 }

@@ -143,9 +143,10 @@ std::vector<FrameComparison> ReadFrames(const Table& table, const std::string& w
 
 }  // namespace
 
-std::vector<Table> ComparisonTables(const std::vector<pipeline::TrialAnalysis>& trials,
-                                    const StudyComparison& comparison) {
-  std::vector<Table> tables;
+namespace {
+
+/// The table `surfaces`: each surface's contact law (NaN where it could not be fitted).
+Table SurfacesTable(const StudyComparison& comparison) {
   std::vector<SurfaceModel> surfaces;
   for (const auto& [name, model] : comparison.surfaces) {
     SurfaceModel m = model;
@@ -155,12 +156,18 @@ std::vector<Table> ComparisonTables(const std::vector<pipeline::TrialAnalysis>& 
           m.k_N_m = m.b_N_s_m = m.mu = m.mu_se = kNaN;
     surfaces.push_back(std::move(m));
   }
-  tables.push_back(TableWriter::Of(
+  return TableWriter::Of(
       "surfaces",
       "Contact law per surface fitted to the measurements: zeta from the normal trials (k is "
       "not identified; the paper's k is used), mu from the oblique trials (least squares of "
       "tangential velocity and spin after impact)",
-      surfaces, [](auto& a, const SurfaceModel& m) { Serialize(a, m); }));
+      surfaces, [](auto& a, const SurfaceModel& m) { Serialize(a, m); });
+}
+
+/// The table `trials`: each trial's velocities after impact, measured and simulated, with z and
+/// energies (NaN for a trial not compared).
+Table TrialsTable(const std::vector<pipeline::TrialAnalysis>& trials,
+                  const StudyComparison& comparison) {
   std::vector<ComparedTrial> rows;
   for (std::size_t i = 0; i < trials.size(); ++i) {
     const TrialComparison& c = comparison.trials[i];
@@ -182,45 +189,54 @@ std::vector<Table> ComparisonTables(const std::vector<pipeline::TrialAnalysis>& 
     row.comparison.kinetic_energy_after_sim_J = v(c.kinetic_energy_after_sim_J);
     rows.push_back(std::move(row));
   }
-  tables.push_back(TableWriter::Of(
+  return TableWriter::Of(
       "trials",
       "Per trial: velocities of C in S and spin after the impact, measured and simulated from "
       "the measured state before (at the measured impact time), their z-scores, and kinetic "
       "energies",
-      rows, [](auto& a, const ComparedTrial& t) { Serialize(a, t); }));
-  for (std::size_t i = 0; i < trials.size(); ++i) {
-    const TrialComparison& c = comparison.trials[i];
-    if (!c.success) continue;
-    const std::vector<std::string> markers = MarkerNames(trials[i]);
-    std::vector<FrameRow> frames;
-    for (std::size_t f = 0; f < c.frames.size(); ++f) {
-      FrameRow row{static_cast<std::int64_t>(f), c.frames[f]};
-      if (!row.f.measured) {  // no measured pose: NaN, whatever the struct holds
-        row.f.p_WC_meas = {kNaN, kNaN};
-        row.f.theta_W_meas_rad = kNaN;
-      }
-      frames.push_back(std::move(row));
+      rows, [](auto& a, const ComparedTrial& t) { Serialize(a, t); });
+}
+
+/// The tables `frames/<id>` and `energy/<id>` of one compared trial.
+void TrialTables(const pipeline::TrialAnalysis& trial, const TrialComparison& c,
+                 std::vector<Table>& tables) {
+  const std::vector<std::string> markers = MarkerNames(trial);
+  std::vector<FrameRow> frames;
+  for (std::size_t f = 0; f < c.frames.size(); ++f) {
+    FrameRow row{static_cast<std::int64_t>(f), c.frames[f]};
+    if (!row.f.measured) {  // no measured pose: NaN, whatever the struct holds
+      row.f.p_WC_meas = {kNaN, kNaN};
+      row.f.theta_W_meas_rad = kNaN;
     }
-    // The column list of a frame names every marker, so the declaration visits a frame that has
-    // them all.
-    FrameRow declared;
-    declared.f.markers_W_sim.resize(markers.size());
-    declared.f.markers_px_sim.resize(markers.size());
-    declared.f.markers_px_meas.resize(markers.size());
-    declared.f.marker_residual_px.resize(markers.size());
-    tables.push_back(TableWriter::Of(
-        "frames/" + trials[i].spec.id,
-        "Per frame: the simulation (from the measured state before impact) against the "
-        "measurement, in W (m, rad) and in the image (px)",
-        frames, [&](auto& a, const FrameRow& row) { Serialize(a, row, markers); }, declared));
-    std::vector<EnergyRow> energy;
-    for (std::size_t k = 0; k < c.contact_t_s.size(); ++k)
-      energy.push_back({c.contact_t_s[k], c.contact_kinetic_energy_J[k]});
-    tables.push_back(
-        TableWriter::Of("energy/" + trials[i].spec.id,
-                        "Simulated kinetic energy through the contact (paper Figure 8)", energy,
-                        [](auto& a, const EnergyRow& e) { Serialize(a, e); }));
+    frames.push_back(std::move(row));
   }
+  // The column list of a frame names every marker, so the declaration visits a frame that has
+  // them all.
+  FrameRow declared;
+  declared.f.markers_W_sim.resize(markers.size());
+  declared.f.markers_px_sim.resize(markers.size());
+  declared.f.markers_px_meas.resize(markers.size());
+  declared.f.marker_residual_px.resize(markers.size());
+  tables.push_back(TableWriter::Of(
+      "frames/" + trial.spec.id,
+      "Per frame: the simulation (from the measured state before impact) against the "
+      "measurement, in W (m, rad) and in the image (px)",
+      frames, [&](auto& a, const FrameRow& row) { Serialize(a, row, markers); }, declared));
+  std::vector<EnergyRow> energy;
+  for (std::size_t k = 0; k < c.contact_t_s.size(); ++k)
+    energy.push_back({c.contact_t_s[k], c.contact_kinetic_energy_J[k]});
+  tables.push_back(TableWriter::Of("energy/" + trial.spec.id,
+                                   "Simulated kinetic energy through the contact (paper Figure 8)",
+                                   energy, [](auto& a, const EnergyRow& e) { Serialize(a, e); }));
+}
+
+}  // namespace
+
+std::vector<Table> ComparisonTables(const std::vector<pipeline::TrialAnalysis>& trials,
+                                    const StudyComparison& comparison) {
+  std::vector<Table> tables = {SurfacesTable(comparison), TrialsTable(trials, comparison)};
+  for (std::size_t i = 0; i < trials.size(); ++i)
+    if (comparison.trials[i].success) TrialTables(trials[i], comparison.trials[i], tables);
   return tables;
 }
 
