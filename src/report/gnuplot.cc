@@ -109,6 +109,43 @@ void PlotCommands(std::ostream& os, const Plot& plot, const std::string& prefix)
   os << "\nunset object\nunset arrow\nunset label\n";
 }
 
+/// Runs gnuplot on `script` without a shell (its only argument is the script's path), its error
+/// output into the file `err_path`. Returns its exit code (-1 when it did not exit) and whether
+/// gnuplot is missing.
+std::pair<int, bool> RunGnuplot(const std::string& script, const std::string& err_path) {
+  int rc = -1;
+  bool missing = false;
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  std::string arg0 = "gnuplot", arg1 = script;
+  char* argv[] = {arg0.data(), arg1.data(), nullptr};
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  io::ResetChildSignals(attributes);  // Ctrl-C reaches gnuplot too
+  pid_t pid = 0;
+  std::optional<io::CreatingTemporary> creating(std::in_place);  // an interrupt sees the child
+  const int spawned = posix_spawnp(&pid, "gnuplot", &actions, &attributes, argv, environ);
+  posix_spawn_file_actions_destroy(&actions);
+  posix_spawnattr_destroy(&attributes);
+  if (spawned == 0) io::TrackChild(pid);
+  creating.reset();
+  if (spawned == 0) {
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    io::UntrackChild(pid);
+    rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    missing = rc == 127;
+  } else {
+    missing = spawned == ENOENT;
+  }
+  return {rc, missing};
+}
+
 /// Runs gnuplot on the script that `make_script(temporary_output)` gives and commits the
 /// output; see RenderPlot.
 template <class MakeScript>
@@ -129,40 +166,7 @@ void Render(const std::filesystem::path& output, const MakeScript& make_script) 
   } catch (const std::exception& e) {
     throw std::runtime_error(output.string() + ": cannot write the gnuplot script: " + e.what());
   }
-  // gnuplot runs without a shell: its only argument is the script's path, its error output goes
-  // to a file.
-  int rc = -1;
-  bool missing = false;
-  {
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(),
-                                     O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    std::string arg0 = "gnuplot", arg1 = script;
-    char* argv[] = {arg0.data(), arg1.data(), nullptr};
-    posix_spawnattr_t attributes;
-    posix_spawnattr_init(&attributes);
-    io::ResetChildSignals(attributes);  // Ctrl-C reaches gnuplot too
-    pid_t pid = 0;
-    std::optional<io::CreatingTemporary> creating(std::in_place);  // an interrupt sees the child
-    const int spawned = posix_spawnp(&pid, "gnuplot", &actions, &attributes, argv, environ);
-    posix_spawn_file_actions_destroy(&actions);
-    posix_spawnattr_destroy(&attributes);
-    if (spawned == 0) io::TrackChild(pid);
-    creating.reset();
-    if (spawned == 0) {
-      int status = 0;
-      while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-      }
-      io::UntrackChild(pid);
-      rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-      missing = rc == 127;
-    } else {
-      missing = spawned == ENOENT;
-    }
-  }
+  const auto [rc, missing] = RunGnuplot(script, err_path);
   std::string err;
   {
     std::ifstream in(err_path);
