@@ -213,6 +213,54 @@ double EstimateNoise(const cv::Mat& unit_float) {
   return 1.4826 * Median(d) / std::sqrt(2.0);
 }
 
+namespace {
+
+/// A local maximum of the ring contrast, in full-resolution coordinates.
+struct Peak {
+  float v;
+  double x, y;
+};
+
+/// The best ring contrast over the detector's scales at each pixel of `search` (`best`), and
+/// the radius that gave it (`best_r`, full-resolution px; `search` is `to_full` times smaller).
+void BestRingContrast(const cv::Mat& search, const DotDetectorOptions& options, double to_full,
+                      cv::Mat& best, cv::Mat& best_r) {
+  cv::Mat integral;
+  cv::integral(search, integral, CV_64F);
+  best = cv::Mat(search.size(), CV_32F, cv::Scalar(-1.0f));
+  best_r = cv::Mat(search.size(), CV_32F, cv::Scalar(0));
+  for (double r = options.min_radius_px; r <= options.max_radius_px; r *= 1.5) {
+    const cv::Mat c = RingContrast(integral, search.cols, search.rows, r / to_full);
+    for (int y = 0; y < search.rows; ++y) {
+      const float* cr = c.ptr<float>(y);
+      float* br = best.ptr<float>(y);
+      float* rr = best_r.ptr<float>(y);
+      for (int x = 0; x < search.cols; ++x)
+        if (cr[x] > br[x]) {
+          br[x] = cr[x];
+          rr[x] = static_cast<float>(r);
+        }
+    }
+  }
+}
+
+/// The local maxima of `best` (over 5 x 5), strongest first, in full-resolution coordinates.
+std::vector<Peak> Peaks(const cv::Mat& best, double to_full, double offset) {
+  cv::Mat dilated;
+  cv::dilate(best, dilated, cv::Mat::ones(5, 5, CV_8U));
+  std::vector<Peak> peaks;
+  for (int y = 0; y < best.rows; ++y)
+    for (int x = 0; x < best.cols; ++x) {
+      const float v = best.at<float>(y, x);
+      if (v > 0 && v >= dilated.at<float>(y, x))
+        peaks.push_back({v, x * to_full + offset, y * to_full + offset});
+    }
+  std::sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) { return a.v > b.v; });
+  return peaks;
+}
+
+}  // namespace
+
 std::vector<Dot> FindDots(const cv::Mat& grey, int count, const DotDetectorOptions& options) {
   options.Validate();
   const cv::Mat img = ToUnitFloat(grey);
@@ -227,39 +275,10 @@ std::vector<Dot> FindDots(const cv::Mat& grey, int count, const DotDetectorOptio
     search = img;
   const double to_full = half ? 2.0 : 1.0;
   const double offset = half ? 0.5 : 0.0;
-  cv::Mat integral;
-  cv::integral(search, integral, CV_64F);
-  // Best contrast over scales at each pixel.
-  cv::Mat best(search.size(), CV_32F, cv::Scalar(-1.0f)),
-      best_r(search.size(), CV_32F, cv::Scalar(0));
-  for (double r = options.min_radius_px; r <= options.max_radius_px; r *= 1.5) {
-    const cv::Mat c = RingContrast(integral, search.cols, search.rows, r / to_full);
-    for (int y = 0; y < search.rows; ++y) {
-      const float* cr = c.ptr<float>(y);
-      float* br = best.ptr<float>(y);
-      float* rr = best_r.ptr<float>(y);
-      for (int x = 0; x < search.cols; ++x)
-        if (cr[x] > br[x]) {
-          br[x] = cr[x];
-          rr[x] = static_cast<float>(r);
-        }
-    }
-  }
-  // Local maxima, strongest first, in full-resolution coordinates.
-  cv::Mat dilated;
-  cv::dilate(best, dilated, cv::Mat::ones(5, 5, CV_8U));
-  struct Peak {
-    float v;
-    double x, y;
-  };
-  std::vector<Peak> peaks;
-  for (int y = 0; y < search.rows; ++y)
-    for (int x = 0; x < search.cols; ++x) {
-      const float v = best.at<float>(y, x);
-      if (v > 0 && v >= dilated.at<float>(y, x))
-        peaks.push_back({v, x * to_full + offset, y * to_full + offset});
-    }
-  std::sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) { return a.v > b.v; });
+  // Best contrast over scales at each pixel, and its radius (full-resolution px).
+  cv::Mat best, best_r;
+  BestRingContrast(search, options, to_full, best, best_r);
+  const std::vector<Peak> peaks = Peaks(best, to_full, offset);
   // Peaks far below the significance rule (judged against the image's own noise) cannot be
   // dots; stop there, and after a bounded number of refinements.
   const double floor = 0.5 * options.min_significance * std::max(EstimateNoise(img), 0.5 / 255.0);
