@@ -55,13 +55,7 @@ void CommitTemporary(const std::filesystem::path& temporary, const std::filesyst
 void WriteFileAtomically(const std::filesystem::path& path,
                          const std::function<void(std::ostream&)>& write) {
   std::optional<CreatingTemporary> creating(std::in_place);  // until the temporary is open
-  if (path.has_parent_path()) {
-    std::error_code ec;
-    std::filesystem::create_directories(path.parent_path(), ec);
-    if (ec)
-      throw std::runtime_error("cannot create directory " + path.parent_path().string() + ": " +
-                               ec.message());
-  }
+  if (path.has_parent_path()) CreateFolder(path.parent_path());
   const std::filesystem::path tmp = TemporaryPathFor(path);
   try {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);

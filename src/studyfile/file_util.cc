@@ -41,13 +41,7 @@ void AtomicHdf5(const std::filesystem::path& path,
   // Held while the temporary is made and written (HDF5 creates it inside `write`): an interrupt
   // waits for it rather than leave one made after its removal.
   const io::CreatingTemporary creating;
-  if (path.has_parent_path()) {
-    std::error_code ec;
-    std::filesystem::create_directories(path.parent_path(), ec);
-    if (ec)
-      throw std::runtime_error("cannot create directory " + path.parent_path().string() + ": " +
-                               ec.message());
-  }
+  if (path.has_parent_path()) io::CreateFolder(path.parent_path());
   const std::filesystem::path tmp = io::TemporaryPathFor(path);
   try {
     try {
