@@ -55,6 +55,39 @@ void MarkerRatioTrend(const pipeline::TrialAnalysis& t, Obs& o) {
   }
 }
 
+/// The index of the surface of the model `m` in the workspace, which gets its starts (k, zeta,
+/// mu) when it is new.
+int SurfaceIndex(const compare::SurfaceModel& m, std::map<std::string, int>& surface_index,
+                 Workspace& ws) {
+  const auto [it, added] =
+      surface_index.try_emplace(m.surface, static_cast<int>(ws.surfaces.size()));
+  if (added) {
+    ws.surfaces.push_back(m.surface);
+    ws.k.push_back(m.k_N_m);
+    ws.zeta_start.push_back(m.zeta_fit.zeta);
+    ws.mu_start.push_back(std::isfinite(m.mu) ? m.mu : 0.3);
+    ws.has_oblique.push_back(false);
+    ws.mu_eff_max.push_back(0.0);
+  }
+  return it->second;
+}
+
+/// What the simulation of trial `t` starts from (the specimen, the touch time under the surface
+/// model `m`, the measured state), and what it is compared with: the velocities after impact
+/// and their variance.
+void SimulationInputs(const pipeline::TrialAnalysis& t, const compare::SurfaceModel& m, Obs& o) {
+  o.specimen = compare::SpecimenOf(t);
+  dynamics::ContactParameters contact = m.Contact();
+  if (!std::isfinite(contact.mu)) contact.mu = 0.3;
+  o.t_touch_s = compare::SimulatedTouchTime(t, contact);
+  o.conditions = compare::MeasuredConditions(t, o.t_touch_s);
+  o.impact_time_s = t.impact.impact_time_s;
+  o.phi = core::DegToRad(o.angle_deg);
+  const auto& im = t.impact;
+  o.measured = {im.v_SC_after.x(), im.v_SC_after.y(), im.w_after_rad_s * o.specimen.d_EC_m};
+  o.measurement_var = MeasurementVariance(im, o.specimen.d_EC_m, o.scale);
+}
+
 /// Folds: trials in design order (surface, angle, speed, id) dealt round-robin, so that each
 /// fold holds a share of every surface, angle and speed range, replicated or not.
 void AssignFolds(int folds, Workspace& ws) {
@@ -191,17 +224,7 @@ void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOp
       ++*skipped;
       continue;
     }
-    const auto [it, added] =
-        surface_index.try_emplace(t->spec.surface, static_cast<int>(ws.surfaces.size()));
-    if (added) {
-      ws.surfaces.push_back(t->spec.surface);
-      ws.k.push_back(m.k_N_m);
-      ws.zeta_start.push_back(m.zeta_fit.zeta);
-      ws.mu_start.push_back(std::isfinite(m.mu) ? m.mu : 0.3);
-      ws.has_oblique.push_back(false);
-      ws.mu_eff_max.push_back(0.0);
-    }
-    o.surface = it->second;
+    o.surface = SurfaceIndex(m, surface_index, ws);
     o.angle_deg = t->spec.surface_angle_deg;
     o.normal = std::abs(o.angle_deg) < 1e-9;
     if (!o.normal) {
@@ -211,16 +234,7 @@ void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOp
     }
     // The measured impact speed (continuous speeds have no nominal level).
     o.speed_m_s = t->spec.nominal_speed_m_s.value_or(o.scale);
-    o.specimen = compare::SpecimenOf(*t);
-    dynamics::ContactParameters contact = m.Contact();
-    if (!std::isfinite(contact.mu)) contact.mu = 0.3;
-    o.t_touch_s = compare::SimulatedTouchTime(*t, contact);
-    o.conditions = compare::MeasuredConditions(*t, o.t_touch_s);
-    o.impact_time_s = t->impact.impact_time_s;
-    o.phi = core::DegToRad(o.angle_deg);
-    const auto& im = t->impact;
-    o.measured = {im.v_SC_after.x(), im.v_SC_after.y(), im.w_after_rad_s * o.specimen.d_EC_m};
-    o.measurement_var = MeasurementVariance(im, o.specimen.d_EC_m, o.scale);
+    SimulationInputs(*t, m, o);
     // Normal impacts carry no information about the contact law in v_x and w.
     o.used = {!o.normal, true, !o.normal};
     const std::string cell_key =
