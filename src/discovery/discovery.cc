@@ -207,6 +207,35 @@ void TrialResidualsOf(const Workspace& ws, const std::vector<Eigen::Vector3d>& b
   }
 }
 
+/// Round `round`: the structure tests of the current model's residuals, every candidate, and
+/// the one added, if any (adopted into `st` and `current`). Returns whether one was added.
+bool RunRound(int round, const std::vector<int>& all, const std::vector<std::string>& keys,
+              const DiscoveryOptions& options, const std::function<void(const std::string&)>& say,
+              RoundState& st, CurrentTrials& current, DiscoveryResult& out) {
+  Round rd;
+  rd.index = round;
+  const Workspace& cw = *current.ws;
+  const auto residuals = cw.Residuals(st.current.model, all);
+  const auto sens = cw.Sensitivities(st.current.model, all);
+  rd.tests = StructureTests(cw, residuals, sens, st.current.noise, st.tilt.tilt_rad, options);
+  say("round " + std::to_string(round) + ": " +
+      std::to_string(
+          std::count_if(rd.tests.begin(), rd.tests.end(), [](auto& t) { return t.significant; })) +
+      " significant trend(s) of " + std::to_string(rd.tests.size()) + " in the residuals");
+  const RoundOutcome o = RunCandidates(cw, st, residuals, sens, keys, options, say, rd);
+  st.profile_starts.insert(o.profile_starts.begin(), o.profile_starts.end());
+  KeepEarlierEvidence(out.rounds, st.accepted, rd);
+  if (!o.added) {
+    out.rounds.push_back(rd);
+    return false;
+  }
+  say("  added " + o.key);
+  AddFindings(rd, o, options.alpha, out.findings);
+  Adopt(o, options, all, st, current);
+  out.rounds.push_back(rd);
+  return true;
+}
+
 }  // namespace
 
 DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials,
@@ -243,29 +272,8 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials,
   out.baseline = SurfaceFits(ws, st.current);
   const Model baseline_model = st.current.model;
 
-  for (int round = 1; round <= options.max_rounds; ++round) {
-    Round rd;
-    rd.index = round;
-    const Workspace& cw = *current.ws;
-    const auto residuals = cw.Residuals(st.current.model, all);
-    const auto sens = cw.Sensitivities(st.current.model, all);
-    rd.tests = StructureTests(cw, residuals, sens, st.current.noise, st.tilt.tilt_rad, options);
-    say("round " + std::to_string(round) + ": " +
-        std::to_string(std::count_if(rd.tests.begin(), rd.tests.end(),
-                                     [](auto& t) { return t.significant; })) +
-        " significant trend(s) of " + std::to_string(rd.tests.size()) + " in the residuals");
-    const RoundOutcome o = RunCandidates(cw, st, residuals, sens, keys, options, say, rd);
-    st.profile_starts.insert(o.profile_starts.begin(), o.profile_starts.end());
-    KeepEarlierEvidence(out.rounds, st.accepted, rd);
-    if (!o.added) {
-      out.rounds.push_back(rd);
-      break;
-    }
-    say("  added " + o.key);
-    AddFindings(rd, o, options.alpha, out.findings);
-    Adopt(o, options, all, st, current);
-    out.rounds.push_back(rd);
-  }
+  for (int round = 1; round <= options.max_rounds; ++round)
+    if (!RunRound(round, all, keys, options, say, st, current, out)) break;
 
   const auto final_residuals = current.ws->Residuals(st.current.model, all);
   FinalStructure(*current.ws, st, all, final_residuals, options, out);
