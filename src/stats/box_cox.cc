@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <boost/math/tools/minima.hpp>
@@ -142,17 +143,12 @@ double BoxCoxLogLikelihood(const GroupedData& data, double lambda, double shift)
   return static_cast<double>(LogLikelihood(MakeLogData(data, shift), lambda));
 }
 
-BoxCoxResult EstimateBoxCox(const GroupedData& data, const BoxCoxOptions& options) {
-  options.Validate();
-  ValidateOneWay(data);
-  BoxCoxResult r;
-  r.shift = BoxCoxShift(data);
-  const LogData d = MakeLogData(data, r.shift);
-  if (!std::isfinite(LogLikelihood(d, 1.0L))) {
-    throw std::invalid_argument(
-        "every group is constant (zero within-group variance); Box-Cox lambda is undefined");
-  }
-  const long double lo = options.lambda_min, hi = options.lambda_max;
+namespace {
+
+/// The lambda of largest profile likelihood in [lo, hi] and that likelihood: a grid, then
+/// Brent about its best cell.
+std::pair<long double, long double> MaximumLikelihoodLambda(const LogData& d, long double lo,
+                                                            long double hi) {
   const long double step = (hi - lo) / kGridCells;
   int best = 0;
   long double best_l = -std::numeric_limits<long double>::infinity();
@@ -174,6 +170,50 @@ BoxCoxResult EstimateBoxCox(const GroupedData& data, const BoxCoxOptions& option
     lambda_ml = best == kGridCells ? hi : lo + step * best;
     l_ml = best_l;
   }
+  return {lambda_ml, l_ml};
+}
+
+/// Replaces lambda_ML by the simple lambda (kSimpleLambdas) nearest it inside its interval,
+/// where there is one, and says so in the rule.
+void PreferSimple(const LogData& d, const BoxCoxOptions& options, BoxCoxResult& r) {
+  double chosen = std::numeric_limits<double>::quiet_NaN();
+  long double chosen_l = 0.0L;
+  for (double s : kSimpleLambdas) {
+    if (s < r.ci_low || s > r.ci_high) continue;
+    const long double l = LogLikelihood(d, s);
+    const double dist = std::fabs(s - r.lambda_ml);
+    const double best_dist = std::fabs(chosen - r.lambda_ml);
+    if (std::isnan(chosen) || dist < best_dist || (dist == best_dist && l > chosen_l)) {
+      chosen = s;
+      chosen_l = l;
+    }
+  }
+  if (!std::isnan(chosen)) {
+    r.lambda = chosen;
+    r.rule += "; simple lambda " + FormatNumber(chosen) + " nearest lambda_ML inside the " +
+              FormatNumber(100.0 * options.confidence) + "% interval [" + FormatNumber(r.ci_low) +
+              ", " + FormatNumber(r.ci_high) + "]";
+  } else {
+    r.rule += "; no simple lambda inside the " + FormatNumber(100.0 * options.confidence) +
+              "% interval [" + FormatNumber(r.ci_low) + ", " + FormatNumber(r.ci_high) +
+              "], lambda_ML used";
+  }
+}
+
+}  // namespace
+
+BoxCoxResult EstimateBoxCox(const GroupedData& data, const BoxCoxOptions& options) {
+  options.Validate();
+  ValidateOneWay(data);
+  BoxCoxResult r;
+  r.shift = BoxCoxShift(data);
+  const LogData d = MakeLogData(data, r.shift);
+  if (!std::isfinite(LogLikelihood(d, 1.0L))) {
+    throw std::invalid_argument(
+        "every group is constant (zero within-group variance); Box-Cox lambda is undefined");
+  }
+  const long double lo = options.lambda_min, hi = options.lambda_max;
+  const auto [lambda_ml, l_ml] = MaximumLikelihoodLambda(d, lo, hi);
   r.lambda_ml = static_cast<double>(lambda_ml);
   r.log_likelihood_ml = static_cast<double>(l_ml);
   const long double target =
@@ -185,30 +225,7 @@ BoxCoxResult EstimateBoxCox(const GroupedData& data, const BoxCoxOptions& option
 
   r.lambda = r.lambda_ml;
   r.rule = "lambda_ML = " + FormatNumber(r.lambda_ml) + " (profile likelihood, one-way model)";
-  if (options.prefer_simple) {
-    double chosen = std::numeric_limits<double>::quiet_NaN();
-    long double chosen_l = 0.0L;
-    for (double s : kSimpleLambdas) {
-      if (s < r.ci_low || s > r.ci_high) continue;
-      const long double l = LogLikelihood(d, s);
-      const double dist = std::fabs(s - r.lambda_ml);
-      const double best_dist = std::fabs(chosen - r.lambda_ml);
-      if (std::isnan(chosen) || dist < best_dist || (dist == best_dist && l > chosen_l)) {
-        chosen = s;
-        chosen_l = l;
-      }
-    }
-    if (!std::isnan(chosen)) {
-      r.lambda = chosen;
-      r.rule += "; simple lambda " + FormatNumber(chosen) + " nearest lambda_ML inside the " +
-                FormatNumber(100.0 * options.confidence) + "% interval [" + FormatNumber(r.ci_low) +
-                ", " + FormatNumber(r.ci_high) + "]";
-    } else {
-      r.rule += "; no simple lambda inside the " + FormatNumber(100.0 * options.confidence) +
-                "% interval [" + FormatNumber(r.ci_low) + ", " + FormatNumber(r.ci_high) +
-                "], lambda_ML used";
-    }
-  }
+  if (options.prefer_simple) PreferSimple(d, options, r);
   if (r.shift != 0.0) r.rule += "; data shifted by " + FormatNumber(r.shift) + " first";
   return r;
 }
