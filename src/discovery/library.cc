@@ -108,6 +108,9 @@ std::string GapChangeText(double gap_shrink) {
 
 using internal::Fmt;
 
+// One declaration per effect, as data: the whole table is one function, long by design, so that
+// an effect's key, words, sizes and extension stand together (a new effect is a new entry here
+// and a field of dynamics::ContactExtensionFields() in dynamics/parameters.h).
 const std::vector<LibraryEntry>& Library() {
   static const std::vector<LibraryEntry> library = {
       {.key = "hunt_crossley",
