@@ -4,6 +4,7 @@
 // by surface, angle and speed, and surface x angle), stored back into the file under /stats.
 // Only arguments and reading live here; the statistics are in hoof::stats, the study's tables
 // in study/statistics.h, and their text, JSON and CSV in study/statistics_text.h.
+#include <cctype>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -44,19 +45,32 @@ struct StatsArgs {
   std::string out_csv;
 };
 
-/// The columns the analysis needs, read from the CSV table.
+/// The columns the analysis needs, read from the CSV table: the rows with a value of the
+/// response.
 struct StatsInput {
   std::string source;
   std::vector<double> response;
   std::vector<std::string> factor;
   std::vector<std::string> factor2;
+  /// The lines of the rows left out: the response is empty or NaN there (not measured, or not
+  /// defined, as mu_eff of a normal impact in results.csv).
+  std::vector<std::size_t> left_out_lines;
 };
 
-/// A factor column as labels; an empty field is an error naming file, line and column.
-std::vector<std::string> ReadLabels(const io::CsvTable& table, const std::string& column) {
+/// Whether `text` says "no value": empty, or NaN in any case.
+bool NoValue(const std::string& text) {
+  std::string lower = text;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return lower.empty() || lower == "nan";
+}
+
+/// A factor column as labels, for the rows `rows`; an empty field is an error naming file, line
+/// and column.
+std::vector<std::string> ReadLabels(const io::CsvTable& table, const std::string& column,
+                                    const std::vector<std::size_t>& rows) {
   const std::size_t c = table.Column(column);
   std::vector<std::string> labels;
-  for (std::size_t r = 0; r < table.rows(); ++r) {
+  for (std::size_t r : rows) {
     const std::string& text = table.Text(r, c);
     if (text.empty()) {
       std::ostringstream os;
@@ -73,11 +87,36 @@ StatsInput ReadInput(const StatsArgs& a) {
   const io::CsvTable table = io::CsvTable::Read(a.csv_path);
   StatsInput in;
   in.source = table.source();
-  in.response = table.Numbers(a.response);
-  in.factor = ReadLabels(table, a.factor);
-  if (!a.factor2.empty()) in.factor2 = ReadLabels(table, a.factor2);
+  const std::size_t response = table.Column(a.response);
+  std::vector<std::size_t> rows;
+  for (std::size_t r = 0; r < table.rows(); ++r) {
+    if (NoValue(table.Text(r, response))) {
+      in.left_out_lines.push_back(table.LineOf(r));
+      continue;
+    }
+    in.response.push_back(table.Number(r, response));  // other text is an error naming the line
+    rows.push_back(r);
+  }
+  in.factor = ReadLabels(table, a.factor, rows);
+  if (!a.factor2.empty()) in.factor2 = ReadLabels(table, a.factor2, rows);
   if (table.rows() == 0) throw std::runtime_error(in.source + ": the table has no data rows");
+  if (rows.empty())
+    throw std::runtime_error(in.source + ": no row has a value of \"" + a.response +
+                             "\" (every one is empty or nan)");
   return in;
+}
+
+/// "Left out: 2 rows without a value of mu_eff (lines 2, 5)\n", or nothing.
+std::string LeftOutText(const StatsInput& in, const std::string& response) {
+  if (in.left_out_lines.empty()) return "";
+  std::ostringstream os;
+  os << "Left out: " << in.left_out_lines.size() << " row(s) without a value of " << response
+     << " (empty or nan), on line(s) ";
+  for (std::size_t i = 0; i < in.left_out_lines.size() && i < 10; ++i)
+    os << (i ? ", " : "") << in.left_out_lines[i];
+  if (in.left_out_lines.size() > 10) os << ", ...";
+  os << "\n";
+  return os.str();
 }
 
 // ----------------------------------------------------------------------------------------
@@ -116,12 +155,14 @@ void RunCsv(const StatsArgs& a) {
                 {"factor", a.factor},
                 {"factor2", a.factor2.empty() ? json(nullptr) : json(a.factor2)},
                 {"observations", in.response.size()},
+                {"left_out_lines", in.left_out_lines},
                 {"alpha", a.alpha}}}};
     j.update(study::OneWayJson(analysis.original, analysis.alpha));
     j["transform"] = study::TransformJson(analysis.transform, analysis.alpha);
     j["two_way"] = two_way ? study::TwoWayJson(*two_way) : json(nullptr);
     std::cout << j.dump(2) << "\n";
   } else {
+    std::cout << LeftOutText(in, a.response);
     study::WriteOneWayAnalysisText(std::cout, a.response, a.factor, in.source, in.response.size(),
                                    analysis, two_way);
     if (!a.out_csv.empty()) std::cout << "Tables written to " << a.out_csv << "\n";

@@ -321,6 +321,12 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
   k.impact_frame = static_cast<int>(std::floor(k.impact_time_s * fps));
   VelocitiesInS(S, body, k);
   RestitutionAndFriction(S, body, options.confidence, k);
+  // On a level surface (a normal impact) nothing drives the body along it: the change of v_x
+  // is the tracker's noise, and their ratio measures no friction. mu_eff is not defined there,
+  // and is NaN with its s.e. and interval, as every quantity not measured (the paper measures it
+  // on oblique impacts only).
+  if (surface_angle_deg == 0.0)
+    k.mu_eff = k.mu_eff_se = k.mu_eff_ci_low = k.mu_eff_ci_high = core::kNaN;
   k.success = true;
   return k;
 }

@@ -70,6 +70,8 @@ struct ImpactKinematics {
   double w_before_rad_s = 0.0, w_after_rad_s = 0.0;
   double w_before_se_rad_s = 0.0, w_after_se_rad_s = 0.0;
   double e = 0.0, e_se = 0.0, e_ci_low = 0.0, e_ci_high = 0.0;
+  /// |dv_x / dv_y| over the impact; NaN on a level surface (a normal impact), where it is not
+  /// defined.
   double mu_eff = 0.0, mu_eff_se = 0.0, mu_eff_ci_low = 0.0, mu_eff_ci_high = 0.0;
   double kinetic_energy_before_J = 0.0, kinetic_energy_after_J = 0.0;
 };

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/frames.h"
 #include "dynamics/impact_simulator.h"
 
 namespace hoof::kinematics {
@@ -34,23 +35,40 @@ Sequence MakeSequence(dynamics::Surface surface, double phi_deg, double speed, d
   std::vector<double> t;
   for (int i = 0; i < 60; ++i) t.push_back(i / 8000.0 - s.touch_s);
   s.truth = sim.Simulate(ic, t);
-  const double phi = ic.surface_angle_rad;
+  const core::SurfaceRotation S(ic.surface_angle_rad);
   std::mt19937 rng(seed);
   std::normal_distribution<double> gauss(0.0, 1.0);
   for (int i = 0; i < 60; ++i) {
     const auto& smp = s.truth.samples[static_cast<std::size_t>(i)];
-    // S -> W: x_S = (cos phi, -sin phi), y_S = (sin phi, cos phi).
-    const Eigen::Vector2d e = smp.p_SE;
-    const Eigen::Vector2d p_WE{std::cos(phi) * e.x() + std::sin(phi) * e.y(),
-                               -std::sin(phi) * e.x() + std::cos(phi) * e.y()};
+    const Eigen::Vector2d p_WE = S.ToW(smp.p_SE);
     PoseSample p;
     p.t_s = i / 8000.0;
     p.valid = true;
     p.p_WE = p_WE + noise_m * Eigen::Vector2d(gauss(rng), gauss(rng));
-    p.theta_W_rad = smp.body.theta_S_rad - phi + noise_rad * gauss(rng);
+    p.theta_W_rad = S.AngleToW(smp.body.theta_S_rad) + noise_rad * gauss(rng);
     s.poses.push_back(p);
   }
   return s;
+}
+
+// On a level surface nothing drives the body along it: mu_eff is not defined, and it is NaN with
+// its s.e. and interval (not the ratio of the tracker's noise in v_x to dv_y), while e is
+// measured as on any surface.
+TEST(ImpactKinematicsTest, ANormalImpactHasNoEffectiveFriction) {
+  const Sequence s = MakeSequence(dynamics::Surface::kSteel, 0, 3.0, 0.12, 0.37, 2e-6, 1e-4, 5);
+  const ImpactKinematics k = MeasureImpact(s.poses, 8000, 0, core::SpecimenParameters{});
+  ASSERT_TRUE(k.success) << k.message;
+  EXPECT_NEAR(k.e, s.truth.e, 5e-3);
+  EXPECT_TRUE(std::isnan(k.mu_eff)) << k.mu_eff;
+  EXPECT_TRUE(std::isnan(k.mu_eff_se));
+  EXPECT_TRUE(std::isnan(k.mu_eff_ci_low));
+  EXPECT_TRUE(std::isnan(k.mu_eff_ci_high));
+  // At a small angle it is measured.
+  const Sequence tilted =
+      MakeSequence(dynamics::Surface::kSteel, 5, 3.0, 0.12, 0.37, 2e-6, 1e-4, 5);
+  const ImpactKinematics kt = MeasureImpact(tilted.poses, 8000, 5, core::SpecimenParameters{});
+  ASSERT_TRUE(kt.success) << kt.message;
+  EXPECT_TRUE(std::isfinite(kt.mu_eff));
 }
 
 TEST(ImpactKinematicsTest, ExactPosesGiveTheSimulatedImpact) {

@@ -149,6 +149,46 @@ TEST(StatsCommandTest, BadValuesAndGroupsAreNamed) {
   EXPECT_NE(r.err.find("bad.csv:3: column \"g\" is empty"), std::string::npos) << r.err;
 }
 
+// Rows whose response has no value (empty, or nan as results.csv writes what was not measured
+// or is not defined, such as mu_eff of a normal impact) are left out, and the output names
+// their lines; the analysis is that of the other rows. Every row without a value is an error.
+TEST(StatsCommandTest, RowsWithoutAValueAreLeftOutAndNamed) {
+  const std::string path = Dir() + "/no_value.csv";
+  {
+    std::ofstream out(path);
+    out << "group,weight\n";
+    const char* groups[] = {"ctrl", "trt1", "trt2"};
+    const double w[3][10] = {{4.17, 5.58, 5.18, 6.11, 4.50, 4.61, 5.17, 4.53, 5.33, 5.14},
+                             {4.81, 4.17, 4.41, 3.59, 5.87, 3.83, 6.03, 4.89, 4.32, 4.69},
+                             {6.31, 5.12, 5.54, 5.50, 5.37, 5.29, 4.92, 6.15, 5.80, 5.26}};
+    for (int g = 0; g < 3; ++g) {
+      for (int i = 0; i < 10; ++i) out << groups[g] << "," << w[g][i] << "\n";
+      out << groups[g] << (g == 1 ? ",\n" : ",nan\n");  // lines 12, 23, 34
+    }
+  }
+  auto r = RunHoofimpact("stats --csv " + path + " --response weight --factor group --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["input"]["observations"].get<int>(), 30);
+  EXPECT_EQ(j["input"]["left_out_lines"], nlohmann::json({12, 23, 34}));
+  // PlantGrowth's R results, as without the three rows.
+  EXPECT_NEAR(j["anova"]["between"]["f"].get<double>(), 4.8461, 0.5e-4);
+  EXPECT_EQ(j["anova"]["within"]["df"].get<int>(), 27);
+  r = RunHoofimpact("stats --csv " + path + " --response weight --factor group");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("Left out: 3 row(s) without a value of weight (empty or nan), on line(s) "
+                       "12, 23, 34"),
+            std::string::npos)
+      << r.out;
+  {
+    std::ofstream out(path);
+    out << "group,weight\na,nan\nb,\n";
+  }
+  r = RunHoofimpact("stats --csv " + path + " --response weight --factor group");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("no row has a value of \"weight\""), std::string::npos) << r.err;
+}
+
 TEST(StatsCommandTest, UsageErrorsExitWithTwo) {
   EXPECT_EQ(RunHoofimpact("stats --response y --factor g").exit_code, 2);
   EXPECT_EQ(RunHoofimpact("stats --csv x.csv --response y").exit_code, 2);
