@@ -343,7 +343,9 @@ void RegisterSynth(CLI::App& app, RunState& state) {
       "synth", "Render synthetic 8000 fps trials with ground truth (trial or study folders)");
   cmd->add_option("-o,--output", a.output, "Trial folder to write (a study folder with --study)")
       ->required();
-  cmd->add_flag("--overwrite", a.overwrite, "Replace existing trial folders");
+  cmd->add_flag("--overwrite", a.overwrite,
+                "Replace existing trial folders; with --study, render into a folder that holds a "
+                "study already (its other trials stay listed in study.json)");
   cmd->add_option("--surface", a.surface, "steel, concrete or asphalt")->capture_default_str();
   cmd->add_option("--angle-deg", a.angle_deg, "Surface angle phi, in [0, 60] (deg)")
       ->capture_default_str();

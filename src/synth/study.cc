@@ -4,12 +4,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <mutex>
 #include <random>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 
+#include <nlohmann/json.hpp>
 #include <opencv2/core/utility.hpp>
 
 #include "core/parallel.h"
@@ -70,6 +72,31 @@ std::vector<TrialSpec> StudyDesign::Trials() const {
   return trials;
 }
 
+namespace {
+
+/// The trials that the study.json already in `study_dir` lists (none when there is none). A
+/// study there is an error unless `overwrite`: its trials would fail one by one, and study.json
+/// would be rewritten without them. Throws std::runtime_error naming the file.
+std::vector<std::string> ListedTrials(const fs::path& study_dir, bool overwrite) {
+  const fs::path file = study_dir / "study.json";
+  if (!fs::exists(file)) return {};
+  if (!overwrite)
+    throw std::runtime_error(file.string() +
+                             " exists: the folder holds a study already; render into another "
+                             "folder, or add --overwrite to replace the trials of this design "
+                             "(the study's other trials stay listed)");
+  try {
+    std::ifstream in(file);
+    const nlohmann::json j = nlohmann::json::parse(in);
+    return j.at("trials").get<std::vector<std::string>>();
+  } catch (const std::exception& e) {
+    throw std::runtime_error(file.string() + ": cannot read the trials it lists (" + e.what() +
+                             "); move it away to render a new study here");
+  }
+}
+
+}  // namespace
+
 StudyResult RenderStudy(const StudyDesign& design, const SpecimenGeometry& geometry,
                         const RenderOptions& options, const fs::path& study_dir, int threads,
                         bool overwrite,
@@ -78,6 +105,9 @@ StudyResult RenderStudy(const StudyDesign& design, const SpecimenGeometry& geome
   design.Validate();
   geometry.Validate();
   options.Validate();
+  // Trials an earlier study in this folder lists: refused without overwrite (before anything is
+  // rendered or written), kept in the list with it.
+  const std::vector<std::string> listed = ListedTrials(study_dir, overwrite);
   std::error_code ec;
   fs::create_directories(study_dir, ec);
   if (ec || !fs::is_directory(study_dir))
@@ -113,12 +143,15 @@ StudyResult RenderStudy(const StudyDesign& design, const SpecimenGeometry& geome
   });
   cv::setNumThreads(cv_threads);
 
+  // The earlier study's trials whose folders are still there stay listed, then this design's.
   std::vector<std::string> ids;
+  for (const std::string& id : listed)
+    if (fs::is_directory(study_dir / id)) ids.push_back(id);
   for (const StudyTrial& t : result.trials) {
-    if (t.ok)
-      ids.push_back(t.spec.id);
-    else
+    if (!t.ok)
       ++result.failed;
+    else if (std::find(ids.begin(), ids.end(), t.spec.id) == ids.end())
+      ids.push_back(t.spec.id);
   }
   io::WriteTextAtomically(study_dir / "study.json",
                           StudyJson(design.name, geometry, ids).dump(2) + "\n");

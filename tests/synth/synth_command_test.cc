@@ -1,8 +1,10 @@
 // End-to-end tests of `hoofimpact synth`: a small trial and study, and clear errors for bad
 // input naming the option.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -51,6 +53,40 @@ TEST(SynthCommandTest, WritesASmallStudy) {
   EXPECT_EQ(j["trials"].size(), 2u);
   EXPECT_TRUE(fs::exists(out / "study.json"));
   EXPECT_TRUE(fs::exists(out / "asphalt_0deg_v3.00_r1" / "frames" / "000005.png"));
+}
+
+// A study rendered into a folder that holds one already: refused at once without --overwrite,
+// with nothing rendered and study.json as it was; with it, the design's trials are replaced and
+// the earlier study's other trials stay listed (study.json once listed only the new ones).
+TEST(SynthCommandTest, AStudyIntoAnExistingStudyIsRefusedOrKeepsItsTrialsListed) {
+  const fs::path out = Fresh("existing-study");
+  const std::string small =
+      " --angles-deg 0 --speeds 3 --trials-per-cell 1 --frames-before 3 "
+      "--frames-after 3 --json";
+  auto r = RunHoofimpact("synth --study -o " + out.string() + " --surfaces steel,asphalt" + small);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto read_list = [&] {
+    std::ifstream in(out / "study.json");
+    return nlohmann::json::parse(in).at("trials").get<std::vector<std::string>>();
+  };
+  const std::vector<std::string> first = read_list();
+  ASSERT_EQ(first.size(), 2u);
+
+  r = RunHoofimpact("synth --study -o " + out.string() + " --surfaces concrete" + small);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find((out / "study.json").string() + " exists"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--overwrite"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out / "concrete_0deg_v3.00_r1"));
+  EXPECT_EQ(read_list(), first);
+
+  r = RunHoofimpact("synth --study --overwrite -o " + out.string() + " --surfaces concrete,steel" +
+                    small);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<std::string> both = read_list();
+  EXPECT_EQ(both.size(), 3u);
+  for (const std::string id :
+       {"steel_0deg_v3.00_r1", "asphalt_0deg_v3.00_r1", "concrete_0deg_v3.00_r1"})
+    EXPECT_NE(std::find(both.begin(), both.end(), id), both.end()) << id;
 }
 
 TEST(SynthCommandTest, SpeedDependentFrictionIsHiddenAndRecordedInTruth) {
