@@ -398,7 +398,8 @@ void RegisterSynth(CLI::App& app, RunState& state) {
       ->capture_default_str();
   cmd->add_option("--out-of-plane-random-deg", a.out_of_plane_random_deg,
                   "Study: per-trial random tilt and roll within +- this (deg)");
-  cmd->add_option("--threads", a.threads, "Worker threads for a study (0 = all cores)")
+  // --jobs, as in every other command; --threads, its earlier name, still works.
+  cmd->add_option("--jobs,--threads", a.threads, "Worker threads for a study (0 = all cores)")
       ->check(CLI::Range(0, 4096))
       ->capture_default_str();
   cmd->add_flag("--json", a.json, "Print a JSON summary");

@@ -104,7 +104,8 @@ TEST(CommandLineLimitsTest, NegativeSeedsAndThreadCountsAreRefused) {
   const std::string sample = std::string(HOOF_SOURCE_DIR) + "/sample_frames";
   for (const auto& [args, option] :
        {std::pair<std::string, std::string>{"synth --seed -1 -o /nonexistent/x", "--seed"},
-        {"synth --study --threads -1 -o /nonexistent/x", "--threads"},
+        {"synth --study --jobs -1 -o /nonexistent/x", "--jobs"},
+        {"synth --study --threads -1 -o /nonexistent/x", "--jobs"},  // its earlier name
         {"run " + sample + " --jobs -1 -o /nonexistent/x", "--jobs"},
         {"score " + sample + " --jobs -5", "--jobs"}}) {
     const auto r = RunHoofimpact(args);
