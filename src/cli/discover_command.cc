@@ -3,7 +3,10 @@
 // (docs/discovery.md). Only arguments, reading, storing and printing live here; the workflow is
 // in hoof::discovery, its text and JSON in discovery/discovery_text.h and discovery_json.h, its
 // tables in discovery/discovery_tables.h, its figures in hoof::report.
+#include <unistd.h>
+
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <stdexcept>
@@ -27,6 +30,15 @@
 
 namespace hoof::cli {
 namespace {
+
+/// Progress lines ("  discover: round 1: ...") on stderr, only when it is a terminal, as every
+/// command shows its progress: a log or a pipe gets the results and the errors, not the progress.
+std::function<void(const std::string&)> ProgressLines(const std::string& prefix) {
+  if (::isatty(STDERR_FILENO) == 0) return {};
+  return [prefix](const std::string& line) {
+    std::cerr << "  " << prefix << ": " << line << std::endl;
+  };
+}
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -87,9 +99,7 @@ void PrintPlans(const DiscoverArgs& a, const std::vector<pipeline::TrialAnalysis
     const auto [key, size] = ParsePlan(text);
     discovery::Plan p;
     try {
-      p = discovery::PlanDetection(
-          trials, key, size, options, a.plan_draws,
-          [](const std::string& line) { std::cerr << "  plan: " << line << std::endl; });
+      p = discovery::PlanDetection(trials, key, size, options, a.plan_draws, ProgressLines("plan"));
     } catch (const std::invalid_argument& e) {
       throw CLI::ValidationError("--plan", e.what());
     }
@@ -235,9 +245,8 @@ bool RunStudyDiscovery(const std::string& study_h5,
                        const DiscoverSettings& s) {
   study::DiscoveryStep step;
   try {
-    step = study::DiscoverAndStore(
-        study_h5, trials, DiscoveryOptionsOf(s), s.figures_dir,
-        [](const std::string& line) { std::cerr << "  discover: " << line << std::endl; });
+    step = study::DiscoverAndStore(study_h5, trials, DiscoveryOptionsOf(s), s.figures_dir,
+                                   ProgressLines("discover"));
   } catch (const std::invalid_argument& e) {  // options out of range, an unknown candidate key
     throw CLI::ValidationError("discover", e.what());
   }
