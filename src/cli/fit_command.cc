@@ -86,7 +86,7 @@ void PrintText(const std::string& group, const ContactFitSummary& s, double mass
   os << "\n  e (normal, closed form) = " << s.e_normal << "; mean |error| of rebound speed "
      << s.mpe_percent << " %, rms " << s.rms_percent << " %\n\n";
   os << "  The valley (best b for each k; every row fits the data about equally well):\n";
-  os << "        k (N/m)      b (N s/m)     zeta     MPE (%)   contact (us)  in paper's box\n";
+  os << "        k (N/m)      b (N s/m)     zeta     MPE (%)   contact (µs)  in paper's box\n";
   for (const auto& p : s.valley) {
     os << "    " << std::scientific << std::setprecision(3) << std::setw(11) << p.k_N_m << "  "
        << std::fixed << std::setprecision(2) << std::setw(11) << p.b_N_s_m << "  "

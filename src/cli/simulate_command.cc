@@ -152,10 +152,10 @@ void PrintText(const SimulateArgs& a, const dynamics::ContactParameters& contact
   os << "  mu_eff        " << r.mu_eff << "\n";
   os << "  energy loss   " << r.energy_loss_J * 1e3 << " mJ (of " << r.kinetic_energy_before_J * 1e3
      << " mJ)\n";
-  os << "  contact       " << r.t_separation_s * 1e6 << " us (max compression at "
-     << r.t_max_compression_s * 1e6 << " us, " << r.max_penetration_m * 1e6 << " um)\n";
+  os << "  contact       " << r.t_separation_s * 1e6 << " µs (max compression at "
+     << r.t_max_compression_s * 1e6 << " µs, " << r.max_penetration_m * 1e6 << " µm)\n";
   os << "  events:";
-  for (const auto& e : r.events) os << " " << e.what << "@" << e.t_s * 1e6 << "us";
+  for (const auto& e : r.events) os << " " << e.what << "@" << e.t_s * 1e6 << " µs";
   os << "\n";
   std::cout << os.str();
 }

@@ -113,7 +113,7 @@ std::string TrialText(const pipeline::TrialAnalysis& r) {
        << " .. " << k.mu_eff_ci_high << ")\n";
     os << "  fits    frames " << k.before.first_frame << "-" << k.before.last_frame << " and "
        << k.after.first_frame << "-" << k.after.last_frame << ", rms residual "
-       << k.before.rms_residual_m * 1e6 << " / " << k.after.rms_residual_m * 1e6 << " um\n";
+       << k.before.rms_residual_m * 1e6 << " / " << k.after.rms_residual_m * 1e6 << " µm\n";
   }
   if (r.surface_angle_measured_deg)
     os << "  surface angle measured " << *r.surface_angle_measured_deg << " deg\n";

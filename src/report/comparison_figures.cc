@@ -117,7 +117,7 @@ void EnergyFigures(const std::filesystem::path& study_h5, const studyfile::Study
     done.insert(t.surface);
     Plot p;
     p.title = t.id + ": kinetic energy through the impact";
-    p.x_label = "time since first touch (us)";
+    p.x_label = "time since first touch (µs)";
     p.y_label = "kinetic energy (mJ)";
     p.key = "outside right top";
     Series sim{"simulated", {}, {}, {}, "lines", ""};

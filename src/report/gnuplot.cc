@@ -44,6 +44,7 @@ std::string Quote(const std::string& s) {
 std::string Number(double v) { return std::isfinite(v) ? io::CsvNumber(v) : "NaN"; }
 
 void Terminal(std::ostream& os, const std::filesystem::path& output, int width_px, int height_px) {
+  os << "set encoding utf8\n";  // labels carry units such as µs
   if (output.extension() == ".svg")
     os << "set terminal svg size " << width_px << "," << height_px
        << " dynamic enhanced font 'Sans,12' background '#ffffff'\n";

@@ -2,6 +2,8 @@
 // fitted model is the truth and every trial must agree with its simulation.
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -47,6 +49,13 @@ TEST(RunCommandTest, TheWholeStudyEndToEnd) {
     energy +=
         e.path().filename().string().rfind("energy_", 0) == 0 && e.path().extension() == ".png";
   EXPECT_EQ(energy, 2);  // one oblique trial per surface
+  // Units written properly: the energy figures' time axis is in µs (the SVG holds the UTF-8 text).
+  for (const auto& e : fs::directory_iterator(base / "out" / "figures"))
+    if (e.path().filename().string().rfind("energy_", 0) == 0 && e.path().extension() == ".svg") {
+      std::ifstream in(e.path());
+      const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      EXPECT_NE(svg.find("time since first touch (µs)"), std::string::npos) << e.path();
+    }
   EXPECT_NE(r.out.find("report.html"), std::string::npos);
   fs::remove_all(base);
 }
