@@ -216,12 +216,21 @@ std::string RenderRows(const studyfile::StoredTable<Row>& t, const std::string& 
                      caption);
 }
 
-std::string StatsSection(const fs::path& h5) {
+/// The statistics of /stats. Tables that cannot be read leave the section saying so (and the
+/// summary's notes naming the file and the table); the rest of the report is written.
+std::string StatsSection(const fs::path& h5, HtmlReportSummary& summary) {
   std::ostringstream h;
   h << "<section id=\"statistics\"><h2>Statistics</h2>";
   bool any = false;
-  const auto stored =
-      studyfile::HasStatistics(h5) ? std::optional(studyfile::ReadStatistics(h5)) : std::nullopt;
+  std::optional<studyfile::StoredStatistics> stored;
+  try {
+    if (studyfile::HasStatistics(h5)) stored = studyfile::ReadStatistics(h5);
+  } catch (const std::exception& e) {
+    h << "<p class=\"bad\">The statistics tables cannot be read: " << HtmlEscape(e.what())
+      << "</p></section>";
+    summary.notes += std::string("statistics: ") + e.what() + "\n";
+    return h.str();
+  }
   for (const studyfile::StoredResponse& r :
        stored ? stored->responses : std::vector<studyfile::StoredResponse>{}) {
     const std::string label =
@@ -585,7 +594,7 @@ HtmlReportSummary WriteHtmlReport(const fs::path& study_h5, const fs::path& outp
     << SummarySection(study, study_h5) << ModelSection(surfaces)
     << ReplaySection(study, study_h5, options, summary)
     << FiguresSection(study, study_h5, summary.figures) << discovery_section
-    << TrialsSection(study, compared) << StatsSection(study_h5) << "</main><script>"
+    << TrialsSection(study, compared) << StatsSection(study_h5, summary) << "</main><script>"
     << assets::kReplayJs << "</script></body></html>\n";
   summary.figures += discovery_figures;
   const std::string page = h.str();

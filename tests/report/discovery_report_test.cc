@@ -217,6 +217,32 @@ TEST(HtmlReportDiscoveryTest, TheSectionShowsVerdictEvidenceAndFigures) {
             std::string::npos);
 }
 
+// A /stats group the report cannot read (a table without a column it needs) does not sink the
+// report: the page and the summary's notes name the file, the table and the column, and the rest
+// of the page is written.
+TEST(HtmlReportStatisticsTest, AStatisticsTableThatCannotBeReadIsNamedAndThePageWritten) {
+  const fs::path dir = FreshDir("discovery_report_test/bad_stats");
+  const fs::path h5 = StudyFile(dir);
+  using studyfile::Column;
+  studyfile::WriteTables(
+      h5, "/stats", "test",
+      {{"excluded", "", {Column::Texts("id", "", {}), Column::Texts("reason", "", {})}},
+       {"e/cells",
+        "",
+        {Column::Texts("cell", "", {"steel|0"}), Column::Texts("surface", "", {"steel"}),
+         Column::Texts("angle_deg", "", {"0"}), Column::Numbers("n", "1", "", {2.0})}}});
+  HtmlReportOptions no_replay;
+  no_replay.replay_trials = 0;
+  const auto summary = WriteHtmlReport(h5, dir / "report.html", no_replay);
+  const std::string html = ReadAll(dir / "report.html");
+  EXPECT_NE(html.find("The statistics tables cannot be read"), std::string::npos);
+  EXPECT_NE(html.find("/stats/e/cells"), std::string::npos);
+  EXPECT_NE(summary.notes.find(h5.string() + ":/stats/e/cells"), std::string::npos)
+      << summary.notes;
+  EXPECT_NE(summary.notes.find("column \"mean\""), std::string::npos) << summary.notes;
+  EXPECT_NE(html.find("id=\"trials\""), std::string::npos);  // the rest of the page is there
+}
+
 TEST(HtmlReportDiscoveryTest, AWorkflowThatCouldNotRunSaysWhy) {
   const fs::path dir = FreshDir("discovery_report_test/failed");
   const fs::path h5 = StudyFile(dir);
