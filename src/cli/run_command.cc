@@ -132,10 +132,17 @@ class RunPrinter : public study::StudyJobObserver {
         std::cout << " +- " << m.mu_se;
       std::cout << " (" << m.oblique_trials << " oblique trials); k not identified\n";
     }
-    std::cout << "  " << s.compared << " trial(s) compared; largest |measured - simulated| / s.e. "
-              << "after impact: " << s.worst_z
-              << (s.worst_z_id.empty() ? "" : " (" + s.worst_z_id + ")")
-              << "; largest marker residual over the 20 frames after impact: " << s.worst_marker_px
+    std::cout << "  " << s.compared << " trial(s) compared; ";
+    if (s.predictions.success)
+      std::cout << s.prediction_z_over_3 << " of " << s.prediction_components
+                << " trial components beyond 3 on the scale of their prediction interval "
+                   "(largest |z| "
+                << s.worst_prediction_z
+                << (s.worst_prediction_z_id.empty() ? "" : " (" + s.worst_prediction_z_id + ")")
+                << ")";
+    else
+      std::cout << "no prediction intervals (" << s.predictions.message << ")";
+    std::cout << "; largest marker residual over the 20 frames after impact: " << s.worst_marker_px
               << " px\n";
   }
 

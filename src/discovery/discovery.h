@@ -397,6 +397,38 @@ struct TrialResiduals {
   double marker_ratio = 0.0;  ///< mean projected / layout marker distance after impact
 };
 
+/// One trial against the baseline model on the scale of its prediction interval
+/// (docs/discovery.md, "Prediction intervals"). Components v_x, v_y, w d_EC after the impact,
+/// in S, as fractions of the impact speed; NaN for a component the trial does not use.
+struct TrialPrediction {
+  std::string id, surface;
+  double angle_deg = 0.0, speed_m_s = 0.0;
+  Eigen::Vector3d residual = Eigen::Vector3d::Constant(core::kNaN);  ///< measured - predicted
+  /// The s.d. of a new trial's residual under the noise model: its own measurement error, the
+  /// trial-to-trial scatter of its surface's zeta and mu carried through the model, and the
+  /// systematic measurement error (the diagonal of the covariance discovery uses).
+  Eigen::Vector3d prediction_sd = Eigen::Vector3d::Constant(core::kNaN);
+  Eigen::Vector3d z = Eigen::Vector3d::Constant(core::kNaN);  ///< residual / prediction_sd
+};
+
+/// Every measured trial's prediction z under the baseline model and its noise model, fitted to
+/// all the trials as discovery fits its baseline (the same fit: the Discovery section's tests
+/// and these z use one noise model).
+struct BaselinePredictions {
+  bool success = false;
+  std::string message;     ///< why there are none
+  int trials_skipped = 0;  ///< not measured, or on a surface without normal trials
+  std::vector<SurfaceFit> surfaces;
+  std::vector<TrialPrediction> trials;
+};
+
+/// Fits the baseline model and its noise model to `trials` (FitBaseline of the discovery
+/// workflow, with `options`' simulator tolerance, measurement floor and jobs) and returns each
+/// trial's prediction z. Needs at least 6 trials with a fitted surface model (else success =
+/// false with the reason). Throws std::invalid_argument for options out of range.
+BaselinePredictions PredictBaseline(const std::vector<pipeline::TrialAnalysis>& trials,
+                                    const DiscoveryOptions& options = {});
+
 /// Everything the workflow found.
 struct DiscoveryResult {
   bool success = false;

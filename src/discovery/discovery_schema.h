@@ -356,6 +356,29 @@ void Serialize(Archive& a, T& t) {
            "mean projected / layout marker distance after impact");
 }
 
+/// A trial's prediction z under the baseline model (group /prediction).
+template <class Archive, class T>
+requires std::is_same_v<std::remove_const_t<T>, TrialPrediction>
+void Serialize(Archive& a, T& t) {
+  a.Text("id", t.id, "trial id");
+  a.Text("surface", t.surface, "surface");
+  a.Number("angle_deg", t.angle_deg, "deg", "surface angle");
+  a.Number("speed_m_s", t.speed_m_s, "m/s", "impact speed");
+  const char* suffix[3] = {"v_x", "v_y", "w"};
+  const char* what[3] = {"v_x (along the surface)", "v_y (normal)", "w d_EC"};
+  for (int k = 0; k < 3; ++k)
+    a.Number(std::string("residual_") + suffix[k], t.residual[k], "1",
+             std::string("measured - predicted ") + what[k] +
+                 " after impact, baseline model, fraction of the impact speed");
+  for (int k = 0; k < 3; ++k)
+    a.Number(std::string("prediction_sd_") + suffix[k], t.prediction_sd[k], "1",
+             std::string("s.d. of a new trial's residual of ") + what[k] +
+                 ": measurement error, trial-to-trial scatter of zeta and mu, systematic error");
+  for (int k = 0; k < 3; ++k)
+    a.Number(std::string("z_") + suffix[k], t.z[k], "1",
+             std::string("residual / prediction s.d. of ") + what[k]);
+}
+
 /// Parameter name and unit of an effect key, from the candidates and findings that name it.
 /// A row of a values table (candidate_values, finding_values): one value of an effect, the row
 /// of its owner (a candidate or a finding) in the owner's table, and the owner's unit.

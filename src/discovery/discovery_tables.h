@@ -56,6 +56,18 @@ DiscoveryResult ReadDiscovery(const std::filesystem::path& h5);
 /// when the table is malformed.
 std::optional<DiscoveryOptions> ReadDiscoveryOptions(const std::filesystem::path& h5);
 
+/// The study-file group of the baseline's prediction z (PredictBaseline): tables `summary` (one
+/// row: success, message, trials_skipped), `surfaces` (the baseline fit and its noise model, the
+/// columns of /discovery/surfaces) and `trials` (TrialPrediction's fields).
+inline constexpr const char* kPredictionGroup = "/prediction";
+
+/// The predictions as tables for studyfile::WriteTables(path, kPredictionGroup, ...).
+std::vector<studyfile::Table> PredictionTables(const BaselinePredictions& predictions);
+
+/// Reads /prediction back, or nothing when the file has no such group. Throws
+/// std::runtime_error naming the file and the table when a table is missing or malformed.
+std::optional<BaselinePredictions> ReadPredictions(const std::filesystem::path& h5);
+
 /// True when the study file `h5` has a `/discovery/summary` table (no exception for a file
 /// without one; a missing or unreadable file is false too).
 bool HasDiscovery(const std::filesystem::path& h5);

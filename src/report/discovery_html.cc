@@ -338,7 +338,8 @@ std::string DiscoverySection(const fs::path& h5, HtmlReportSummary& summary) {
        "disagree, which candidate effect explains it, and how much it shrinks the gap on "
        "trials the fit never saw (<code>/discovery</code>, written by <code>hoofimpact "
        "discover</code>; residuals are measured &minus; simulated after impact, in % of the "
-       "impact speed).</p>"
+       "impact speed). The <a href=\"#trials\">Trials</a> table shows each trial's residuals "
+       "on the scale of the same noise model (prediction z).</p>"
     << "<div class=\"verdict" << (r.unexplained ? " unexplained" : "")
     << "\" id=\"discovery-verdict\"><p class=\"headline\">" << HtmlEscape(Headline(r)) << "</p>"
     << VerdictHtml(r.verdict) << "</div>" << FactsHtml(r, h5);

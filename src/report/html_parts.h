@@ -7,7 +7,9 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "compare/comparison_tables.h"
 #include "report/html_report.h"
 #include "studyfile/study_file.h"
 
@@ -36,6 +38,13 @@ class TemporaryFigureFolder {
 };
 /// A PNG figure embedded as a data URI, captioned with its file stem.
 std::string FigureHtml(const std::filesystem::path& png);
+
+/// The Trials section: each trial's measurement, its prediction z (/prediction) and its
+/// precision-only z (`compared`, /comparison) (trials_html.cc). A /prediction that cannot be
+/// read is said in the section and in `summary`'s notes.
+std::string TrialsSection(const studyfile::StudyResults& study,
+                          const std::vector<compare::ComparedTrial>& compared,
+                          const std::filesystem::path& h5, HtmlReportSummary& summary);
 
 /// The Discovery section of the study file's /discovery, or nothing without one
 /// (discovery_html.cc).

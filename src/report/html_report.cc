@@ -305,48 +305,6 @@ std::string FiguresSection(const studyfile::StudyResults& study, const fs::path&
   return h.str();
 }
 
-std::string TrialsSection(const studyfile::StudyResults& study,
-                          const std::vector<compare::ComparedTrial>& compared) {
-  std::map<std::string, const compare::TrialComparison*> row_of;
-  for (const compare::ComparedTrial& t : compared) row_of[t.id] = &t.comparison;
-  std::ostringstream h;
-  h << "<section id=\"trials\"><h2>Trials</h2><p class=\"note\">z = (measured &minus; "
-       "simulated) / combined standard error of the velocity after impact (along the surface, "
-       "normal) and of the spin; |z| &gt; 3 is marked.</p><table class=\"data\" "
-       "id=\"trial-table\"><thead><tr><th>trial</th><th>surface</th><th>angle (deg)</th>"
-       "<th>speed (m/s)</th><th>e</th><th>mu_eff</th><th>flags</th><th>z v<sub>x</sub></th>"
-       "<th>z v<sub>y</sub></th><th>z w</th><th>note</th></tr></thead><tbody>";
-  for (const auto& t : study.trials) {
-    h << "<tr class=\"" << (t.success ? "trial" : "trial failed") << "\"><td>" << HtmlEscape(t.id)
-      << "</td><td>" << HtmlEscape(t.surface) << "</td><td class=\"num\">"
-      << Fmt(t.surface_angle_deg) << "</td><td class=\"num\">" << Fmt(t.nominal_speed_m_s)
-      << "</td>";
-    if (!t.success) {
-      h << "<td colspan=\"6\" class=\"bad\">failed</td><td>" << HtmlEscape(t.error) << "</td></tr>";
-      continue;
-    }
-    h << "<td class=\"num\">" << Fmt(t.e) << " &plusmn; " << Fmt(t.e_se, 2)
-      << "</td><td class=\"num\">"
-      // mu_eff is an oblique-impact measure (as in the paper): none for normal impacts.
-      << (std::isfinite(t.mu_eff) && std::abs(t.surface_angle_deg) > 0
-              ? Fmt(t.mu_eff) + " &plusmn; " + Fmt(t.mu_eff_se, 2)
-              : "&ndash;")
-      << "</td><td>";
-    for (const auto& f : t.flags) h << "<span class=\"flag\">" << HtmlEscape(f) << "</span> ";
-    h << "</td>";
-    const auto it = row_of.find(t.id);
-    std::string note;
-    const compare::TrialComparison* c = it == row_of.end() ? nullptr : it->second;
-    for (const double v : {c ? c->v_SC_after_z.x() : core::kNaN,
-                           c ? c->v_SC_after_z.y() : core::kNaN, c ? c->w_after_z : core::kNaN})
-      h << "<td class=\"num" << (std::abs(v) > 3.0 ? " bad" : "") << "\">" << Fmt(v, 3) << "</td>";
-    if (c && !c->success) note = c->message;
-    h << "<td>" << HtmlEscape(note) << "</td></tr>";
-  }
-  h << "</tbody></table></section>";
-  return h.str();
-}
-
 // ---- replay ------------------------------------------------------------------------------
 
 /// The trials to replay: successful ones, one per surface first, then in file order.
@@ -594,8 +552,8 @@ HtmlReportSummary WriteHtmlReport(const fs::path& study_h5, const fs::path& outp
     << SummarySection(study, study_h5) << ModelSection(surfaces)
     << ReplaySection(study, study_h5, options, summary)
     << FiguresSection(study, study_h5, summary.figures) << discovery_section
-    << TrialsSection(study, compared) << StatsSection(study_h5, summary) << "</main><script>"
-    << assets::kReplayJs << "</script></body></html>\n";
+    << TrialsSection(study, compared, study_h5, summary) << StatsSection(study_h5, summary)
+    << "</main><script>" << assets::kReplayJs << "</script></body></html>\n";
   summary.figures += discovery_figures;
   const std::string page = h.str();
   io::WriteTextAtomically(output, page);

@@ -7,6 +7,7 @@
 
 #include "compare/comparison_tables.h"
 #include "core/parallel.h"
+#include "discovery/discovery_tables.h"
 #include "io/atomic_file.h"
 #include "pipeline/study_analysis.h"
 #include "report/comparison_figures.h"
@@ -54,6 +55,21 @@ void SummarizeComparison(StudyJobSummary& s) {
       for (double r : c.frames[static_cast<std::size_t>(f)].marker_residual_px)
         if (std::isfinite(r)) s.worst_marker_px = std::max(s.worst_marker_px, r);
   }
+}
+
+/// The prediction z's headline numbers: how many trial components lie beyond 3 and the largest.
+void SummarizePredictions(StudyJobSummary& s) {
+  for (const discovery::TrialPrediction& t : s.predictions.trials)
+    for (int c = 0; c < 3; ++c) {
+      const double z = std::abs(t.z[c]);
+      if (!std::isfinite(z)) continue;
+      ++s.prediction_components;
+      s.prediction_z_over_3 += z > 3.0 ? 1 : 0;
+      if (z > s.worst_prediction_z) {
+        s.worst_prediction_z = z;
+        s.worst_prediction_z_id = t.id;
+      }
+    }
 }
 
 /// The job's summary before its first step: the study read, the outputs' paths, the figures'
@@ -137,6 +153,18 @@ StudyJobSummary RunStudyJob(const StudyJobOptions& options, StudyJobObserver* ob
                          compare::ComparisonTables(s.trials, s.comparison), {},
                          compare::ComparisonLinks(s.trials, s.comparison));
   SummarizeComparison(s);
+  // Each trial on the scale of its prediction interval: the baseline fitted with the noise model
+  // discovery uses (trial-to-trial scatter of zeta and mu, measurement error).
+  {
+    discovery::DiscoveryOptions d = options.discovery.value_or(discovery::DiscoveryOptions{});
+    d.jobs = s.jobs;
+    s.predictions = discovery::PredictBaseline(s.trials, d);
+    studyfile::WriteTables(h5, discovery::kPredictionGroup,
+                           "each trial's residual after impact on the scale of its prediction "
+                           "interval under the baseline model (hoofimpact run)",
+                           discovery::PredictionTables(s.predictions));
+    SummarizePredictions(s);
+  }
   tell.StepDone(StudyJobStep::kCompare, s);
 
   // 3. Statistics.

@@ -4,7 +4,9 @@
 /// shape of COLMAP's AutomaticReconstructionController. The steps, in order:
 ///   1. measure every trial (hoof::pipeline), write the study file and results.csv;
 ///   2. fit the contact law per surface and simulate every trial from its measured state
-///      against its measurement (hoof::compare), stored under /comparison;
+///      against its measurement (hoof::compare), stored under /comparison; and each trial's
+///      residual on the scale of its prediction interval (discovery::PredictBaseline: the
+///      baseline with the noise model of discovery), stored under /prediction;
 ///   3. the statistics (study/statistics.h), stored under /stats and in stats.csv;
 ///   4. optionally discovery (study/discovery_step.h), stored under /discovery;
 ///   then the study file is committed, once and complete, and the figures and the report
@@ -56,6 +58,12 @@ struct StudyJobSummary {
   double worst_z = 0;          ///< largest |measured - simulated| / s.e. after impact
   std::string worst_z_id;      ///< of that trial
   double worst_marker_px = 0;  ///< largest marker residual over the 20 frames after impact
+  /// Each trial on the scale of its prediction interval (stored under /prediction).
+  discovery::BaselinePredictions predictions;
+  int prediction_components = 0;  ///< trial components with a prediction z
+  int prediction_z_over_3 = 0;    ///< of them, with |z| > 3
+  double worst_prediction_z = 0;  ///< largest |prediction z|
+  std::string worst_prediction_z_id;
   StudyStatistics statistics;
   std::optional<DiscoveryStep> discovery;
   std::vector<std::filesystem::path> figures;

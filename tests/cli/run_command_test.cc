@@ -34,6 +34,26 @@ TEST(RunCommandTest, TheWholeStudyEndToEnd) {
   for (const char* z : {"z_v_x", "z_v_y", "z_w"})
     for (double v : std::get<std::vector<double>>(trials.Get(z).values))
       EXPECT_LT(std::abs(v), 3.0) << z;
+  // Each trial on the scale of its prediction interval (/prediction): 16 trials, none beyond 3
+  // where the model is the truth, and the report's Trials table says how many are.
+  const auto predicted = studyfile::ReadTable(h5, "/prediction/trials");
+  EXPECT_EQ(predicted.Get("id").size(), 16u);
+  int prediction_components = 0;
+  for (const char* z : {"z_v_x", "z_v_y", "z_w"})
+    for (double v : std::get<std::vector<double>>(predicted.Get(z).values))
+      if (std::isfinite(v)) {
+        ++prediction_components;
+        EXPECT_LT(std::abs(v), 3.0) << z;
+      }
+  EXPECT_EQ(prediction_components, 8 * 1 + 8 * 3);  // v_y of the normal trials; all of the oblique
+  {
+    std::ifstream in(base / "out" / "report.html");
+    const std::string page((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(page.find("<p id=\"prediction-z-count\">0 of " +
+                        std::to_string(prediction_components) + " trial components"),
+              std::string::npos);
+    EXPECT_NE(page.find("precision-only z"), std::string::npos);
+  }
   // Statistics stored, CSVs and figures written.
   EXPECT_NO_THROW(studyfile::ReadTable(h5, "/stats/e/by_surface/anova"));
   EXPECT_TRUE(fs::exists(base / "out" / "results.csv"));

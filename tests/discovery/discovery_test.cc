@@ -204,6 +204,17 @@ TEST(DiscoveryUnderScatterTest, NamesNothingInUnreplicatedStudiesWithoutAHiddenE
     EXPECT_EQ(r.trials_used, 36);
     EXPECT_EQ(Confident(r), 0) << "seed " << seed << "\n" << r.verdict;
     EXPECT_FALSE(r.unexplained) << "seed " << seed << "\n" << r.verdict;
+    // The report's prediction z (/prediction) come from the baseline and noise model that this
+    // workflow fitted: one noise model for the Trials table and the Discovery section.
+    const auto predicted = hoof::discovery::PredictBaseline(trials);
+    ASSERT_TRUE(predicted.success) << predicted.message;
+    ASSERT_EQ(predicted.surfaces.size(), r.baseline.size());
+    for (std::size_t i = 0; i < r.baseline.size(); ++i) {
+      EXPECT_EQ(predicted.surfaces[i].surface, r.baseline[i].surface);
+      EXPECT_DOUBLE_EQ(predicted.surfaces[i].zeta, r.baseline[i].zeta);
+      EXPECT_DOUBLE_EQ(predicted.surfaces[i].zeta_sd, r.baseline[i].zeta_sd);
+      EXPECT_DOUBLE_EQ(predicted.surfaces[i].mu_sd, r.baseline[i].mu_sd);
+    }
     // No contact candidate is "not tested by these data" beside a likelihood ratio that the
     // data answered (beyond chi^2_1(0.95) = 3.84): its p would contradict the status.
     for (const auto& round : r.rounds)
