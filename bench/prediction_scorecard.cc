@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> designs = kDesigns;
   std::vector<double> scatters = {1.0};
   int seeds = 10, jobs = 0;
+  bool verbose = false;
   std::string cache_dir = std::string(HOOF_BINARY_DIR) + "/scorecard-cache";
   app.add_option("--designs", designs, "paper, unreplicated, one_surface (comma-separated)")
       ->delimiter(',')
@@ -41,6 +42,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--jobs", jobs, "Threads (0 = all cores)")->capture_default_str();
   app.add_option("--cache", cache_dir, "Folder of analysed studies")->capture_default_str();
+  app.add_flag("--verbose", verbose, "Also print every trial beyond 3 (residuals, s.d.s, z)");
   CLI11_PARSE(app, argc, argv);
   fs::create_directories(cache_dir);
   RemoveLeftovers(cache_dir);
@@ -81,6 +83,12 @@ int main(int argc, char** argv) {
             if (z > 3.0) ++over, any = true;
           }
           trials_over += any ? 1 : 0;
+          if (any && verbose)
+            std::printf("    %s: residual %.4g %.4g %.4g  prediction s.d. %.4g %.4g %.4g  z %.3g "
+                        "%.3g %.3g\n",
+                        t.id.c_str(), t.residual[0], t.residual[1], t.residual[2],
+                        t.prediction_sd[0], t.prediction_sd[1], t.prediction_sd[2], t.z[0], t.z[1],
+                        t.z[2]);
         }
         total_components += components;
         total_over += over;

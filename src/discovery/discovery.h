@@ -404,12 +404,23 @@ struct TrialPrediction {
   std::string id, surface;
   double angle_deg = 0.0, speed_m_s = 0.0;
   Eigen::Vector3d residual = Eigen::Vector3d::Constant(core::kNaN);  ///< measured - predicted
-  /// The s.d. of a new trial's residual under the noise model: its own measurement error, the
-  /// trial-to-trial scatter of its surface's zeta and mu carried through the model, and the
-  /// systematic measurement error (the diagonal of the covariance discovery uses).
+  /// The s.d. of a new trial's residual: under the noise model refitted without the trial, its
+  /// own measurement error, the trial-to-trial scatter of its surface's zeta and mu carried
+  /// through the model and the systematic measurement error (the diagonal of the covariance
+  /// discovery uses); and the error of the fitted zeta and mu.
   Eigen::Vector3d prediction_sd = Eigen::Vector3d::Constant(core::kNaN);
-  Eigen::Vector3d z = Eigen::Vector3d::Constant(core::kNaN);  ///< residual / prediction_sd
+  Eigen::Vector3d t = Eigen::Vector3d::Constant(core::kNaN);  ///< residual / prediction_sd
+  /// Degrees of freedom of t: the surface's other trials less its mean parameters (zeta, and mu
+  /// where the surface has oblique trials).
+  int dof = 0;
+  /// The standard normal z with the two-sided tail probability of t on `dof` (NormalEquivalent):
+  /// |z| > 3 has probability 0.27 % under the model, as for a known variance.
+  Eigen::Vector3d z = Eigen::Vector3d::Constant(core::kNaN);
 };
+
+/// The standard normal z whose two-sided tail probability equals that of `t` under Student's t
+/// on `dof` degrees of freedom, with t's sign; NaN when t is not finite or dof < 1.
+double NormalEquivalent(double t, int dof);
 
 /// Every measured trial's prediction z under the baseline model and its noise model, fitted to
 /// all the trials as discovery fits its baseline (the same fit: the Discovery section's tests

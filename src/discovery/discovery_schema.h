@@ -373,10 +373,16 @@ void Serialize(Archive& a, T& t) {
   for (int k = 0; k < 3; ++k)
     a.Number(std::string("prediction_sd_") + suffix[k], t.prediction_sd[k], "1",
              std::string("s.d. of a new trial's residual of ") + what[k] +
-                 ": measurement error, trial-to-trial scatter of zeta and mu, systematic error");
+                 ": measurement error, trial-to-trial scatter of zeta and mu, systematic error, "
+                 "error of the fitted zeta and mu");
+  for (int k = 0; k < 3; ++k)
+    a.Number(std::string("t_") + suffix[k], t.t[k], "1",
+             std::string("residual / prediction s.d. of ") + what[k]);
+  a.Integer("dof", t.dof, "1", "degrees of freedom of t: the surface's other trials less its "
+                               "mean parameters");
   for (int k = 0; k < 3; ++k)
     a.Number(std::string("z_") + suffix[k], t.z[k], "1",
-             std::string("residual / prediction s.d. of ") + what[k]);
+             std::string("normal z with the tail probability of t on dof, of ") + what[k]);
 }
 
 /// Parameter name and unit of an effect key, from the candidates and findings that name it.

@@ -43,8 +43,10 @@ Count CountBeyond3(const BaselinePredictions& p) {
     for (int c = 0; c < 3; ++c) {
       if (!std::isfinite(t.z[c])) continue;
       ++n.components;
-      // z is the residual over the prediction s.d., as stored.
-      EXPECT_NEAR(t.z[c], t.residual[c] / t.prediction_sd[c], 1e-12) << t.id;
+      // t is the residual over the prediction s.d.; z is its normal equivalent on dof.
+      EXPECT_NEAR(t.t[c], t.residual[c] / t.prediction_sd[c], 1e-12) << t.id;
+      EXPECT_GE(t.dof, 1) << t.id;
+      EXPECT_LE(std::abs(t.z[c]), std::abs(t.t[c]) + 1e-12) << t.id;
       if (std::abs(t.z[c]) > 3.0) ++n.over, any = true;
     }
     n.trials_over += any ? 1 : 0;
@@ -124,6 +126,26 @@ TEST(PredictionTest, MarksAnOutlyingTrial) {
   EXPECT_LE(others_over, 1);
 }
 
+// The normal equivalent of a t: closed forms of Student's t. On 1 degree of freedom (Cauchy)
+// P(|T| > t) = 1 - 2 atan(t) / pi; on 2, P(|T| > t) = 1 - t / sqrt(2 + t^2). The z with the
+// same two-sided tail: P(|Z| > z) = erfc(z / sqrt(2)).
+TEST(PredictionTest, NormalEquivalentOfStudentsT) {
+  using hoof::discovery::NormalEquivalent;
+  const double pi = 3.14159265358979323846;
+  for (double t : {0.5, 1.0, 3.0, 10.0, 100.0}) {
+    const double z1 = NormalEquivalent(t, 1);
+    EXPECT_NEAR(std::erfc(z1 / std::sqrt(2.0)), 1.0 - 2.0 * std::atan(t) / pi, 1e-12) << t;
+    const double z2 = NormalEquivalent(-t, 2);
+    EXPECT_LT(z2, 0.0);
+    EXPECT_NEAR(std::erfc(-z2 / std::sqrt(2.0)), 1.0 - t / std::sqrt(2.0 + t * t), 1e-12) << t;
+  }
+  // Many degrees of freedom: t tends to z.
+  EXPECT_NEAR(NormalEquivalent(3.0, 100000), 3.0, 1e-3);
+  EXPECT_DOUBLE_EQ(NormalEquivalent(0.0, 5), 0.0);
+  EXPECT_TRUE(std::isnan(NormalEquivalent(2.0, 0)));
+  EXPECT_TRUE(std::isnan(NormalEquivalent(std::numeric_limits<double>::quiet_NaN(), 5)));
+}
+
 // The study file's /prediction: written and read back field for field.
 TEST(PredictionTest, TablesRoundTrip) {
   BaselinePredictions p;
@@ -145,7 +167,9 @@ TEST(PredictionTest, TablesRoundTrip) {
   t.speed_m_s = 3;
   t.residual = Eigen::Vector3d(0.01, -0.02, std::numeric_limits<double>::quiet_NaN());
   t.prediction_sd = Eigen::Vector3d(0.005, 0.01, std::numeric_limits<double>::quiet_NaN());
-  t.z = Eigen::Vector3d(2, -2, std::numeric_limits<double>::quiet_NaN());
+  t.t = Eigen::Vector3d(2, -2, std::numeric_limits<double>::quiet_NaN());
+  t.dof = 9;
+  t.z = Eigen::Vector3d(1.9, -1.9, std::numeric_limits<double>::quiet_NaN());
   p.trials.push_back(t);
 
   const fs::path dir = fs::path(HOOF_BINARY_DIR) / "test-output" / "prediction_tables";
@@ -173,8 +197,10 @@ TEST(PredictionTest, TablesRoundTrip) {
   for (int c = 0; c < 2; ++c) {
     EXPECT_DOUBLE_EQ(back->trials[0].residual[c], t.residual[c]);
     EXPECT_DOUBLE_EQ(back->trials[0].prediction_sd[c], t.prediction_sd[c]);
+    EXPECT_DOUBLE_EQ(back->trials[0].t[c], t.t[c]);
     EXPECT_DOUBLE_EQ(back->trials[0].z[c], t.z[c]);
   }
+  EXPECT_EQ(back->trials[0].dof, 9);
   EXPECT_TRUE(std::isnan(back->trials[0].z[2]));
 }
 
