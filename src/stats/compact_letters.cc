@@ -87,7 +87,10 @@ void Check(const std::vector<double>& means, const std::vector<std::vector<bool>
 std::string LetterName(std::size_t index) {
   if (index < 26) return std::string(1, static_cast<char>('a' + index));
   if (index < 52) return std::string(1, static_cast<char>('A' + (index - 26)));
-  return "{" + std::to_string(index + 1) + "}";
+  std::string name(1, '{');  // built by appending: GCC 12 misreads "{" + std::string (-Wrestrict)
+  name += std::to_string(index + 1);
+  name += '}';
+  return name;
 }
 
 LetterDisplay CompactLetters(const std::vector<double>& means,
