@@ -45,10 +45,11 @@ std::string Td(const std::string& text, bool sig = false) {
 /// The response in words, with its unit.
 std::string ResponseTitle(const std::string& response) {
   if (response == "e")
-    return "e, the coefficient of restitution (normal speed after / before impact; "
+    return "e, the coefficient of restitution (normal velocity after over before impact; "
            "dimensionless)";
   if (response == "mu_eff")
-    return "mu_eff, the effective friction coefficient (oblique trials only; dimensionless)";
+    return "mu_eff, the effective friction coefficient (tangential over normal impulse; oblique "
+           "trials only; dimensionless)";
   return response;
 }
 
