@@ -1,7 +1,7 @@
 #pragma once
 /// @file
-/// Parts of the HTML report (html_report.cc) that its Discovery section (discovery_html.cc)
-/// shares. Internal to hoof::report.
+/// Parts of the HTML report (html_report.cc) that its Discovery section (discovery_html.cc) and
+/// its Statistics section (stats_html.cc) share. Internal to hoof::report.
 
 #include <cstddef>
 #include <filesystem>
@@ -11,6 +11,7 @@
 
 #include "compare/comparison_tables.h"
 #include "report/html_report.h"
+#include "studyfile/stats_tables.h"
 #include "studyfile/study_file.h"
 
 namespace hoof::report::internal {
@@ -49,5 +50,15 @@ std::string TrialsSection(const studyfile::StudyResults& study,
 /// The Discovery section of the study file's /discovery, or nothing without one
 /// (discovery_html.cc).
 std::string DiscoverySection(const std::filesystem::path& h5, HtmlReportSummary& summary);
+
+/// The Statistics section of the study file's /stats (stats_html.cc): per response and factor
+/// the test chain (Bartlett, the Box-Cox transform where Bartlett rejects, the ANOVA on the
+/// analysed scale with Welch beside it, Fisher's LSD groups as letters), the cells and the
+/// two-way table. Tables that cannot be read leave the section saying so and the summary's
+/// notes naming the file and the table; the rest of the report is written.
+std::string StatsSection(const std::filesystem::path& h5, HtmlReportSummary& summary);
+/// The body of that section for tables already read (no <section> around it). Throws
+/// std::invalid_argument when an LSD pair names a group the groups table lacks.
+std::string StatsHtml(const studyfile::StoredStatistics& statistics);
 
 }  // namespace hoof::report::internal

@@ -32,7 +32,6 @@
 #include "report/figures.h"
 #include "report/html_parts.h"
 #include "report/report_assets.h"
-#include "studyfile/stats_tables.h"
 #include "studyfile/study_file.h"
 #include "tracking/frame_source.h"
 
@@ -121,32 +120,6 @@ double Num(const Table& t, const std::string& name, std::size_t row) {
 
 std::size_t Rows(const Table& t) { return t.columns.empty() ? 0 : t.columns.front().size(); }
 
-/// Any table as an HTML table: numbers to 4 significant digits, p-values to 3.
-std::string RenderTable(const Table& t, const std::string& caption) {
-  std::ostringstream h;
-  h << "<table class=\"data\"><caption>" << HtmlEscape(caption) << "</caption><thead><tr>";
-  for (const auto& c : t.columns)
-    h << "<th title=\"" << HtmlEscape(c.description) << "\">" << HtmlEscape(c.name) << "</th>";
-  h << "</tr></thead><tbody>";
-  for (std::size_t r = 0; r < Rows(t); ++r) {
-    h << "<tr>";
-    for (const auto& c : t.columns) {
-      if (const auto* s = std::get_if<std::vector<std::string>>(&c.values)) {
-        h << "<td>" << HtmlEscape((*s)[r]) << "</td>";
-      } else {
-        const double v = Num(t, c.name, r);
-        const bool small_p = c.name == "p" && std::isfinite(v) && v < 0.05;
-        h << "<td class=\"num" << (small_p ? " sig" : "") << "\">" << Fmt(v, c.name == "p" ? 3 : 4)
-          << "</td>";
-      }
-    }
-    h << "</tr>";
-  }
-  if (Rows(t) == 0) h << "<tr><td colspan=\"" << t.columns.size() << "\">(no rows)</td></tr>";
-  h << "</tbody></table>";
-  return h.str();
-}
-
 // ---- sections ----------------------------------------------------------------------------
 
 std::string SummarySection(const studyfile::StudyResults& study, const fs::path& h5) {
@@ -203,53 +176,6 @@ std::string ModelSection(const std::vector<compare::SurfaceModel>& surfaces) {
     h << "</td><td>k not identified</td><td>" << HtmlEscape(m.message) << "</td></tr>";
   }
   h << "</tbody></table></section>";
-  return h.str();
-}
-
-/// `t` as an HTML table, its columns as their Serialize declares them (studyfile/stats_tables.h).
-template <class Row>
-std::string RenderRows(const studyfile::StoredTable<Row>& t, const std::string& caption,
-                       const Row& declared = Row{}) {
-  return RenderTable(studyfile::TableWriter::Of(
-                         "", t.description, t.rows,
-                         [](auto& a, const auto& row) { studyfile::Serialize(a, row); }, declared),
-                     caption);
-}
-
-/// The statistics of /stats. Tables that cannot be read leave the section saying so (and the
-/// summary's notes naming the file and the table); the rest of the report is written.
-std::string StatsSection(const fs::path& h5, HtmlReportSummary& summary) {
-  std::ostringstream h;
-  h << "<section id=\"statistics\"><h2>Statistics</h2>";
-  bool any = false;
-  std::optional<studyfile::StoredStatistics> stored;
-  try {
-    if (studyfile::HasStatistics(h5)) stored = studyfile::ReadStatistics(h5);
-  } catch (const std::exception& e) {
-    h << "<p class=\"bad\">The statistics tables cannot be read: " << HtmlEscape(e.what())
-      << "</p></section>";
-    summary.notes += std::string("statistics: ") + e.what() + "\n";
-    return h.str();
-  }
-  for (const studyfile::StoredResponse& r :
-       stored ? stored->responses : std::vector<studyfile::StoredResponse>{}) {
-    const std::string label =
-        r.response == "e" ? "e (restitution)" : "mu_eff (effective friction, oblique trials)";
-    std::ostringstream part;
-    studyfile::CellRow cell;
-    cell.response = r.response;
-    part << RenderRows(r.cells, "Mean (s.d., n) per surface x angle", cell);
-    for (const studyfile::StoredFactor& f : r.factors)
-      part << RenderRows(f.original.anova, "One-way ANOVA by " + f.factor);
-    if (r.two_way) part << RenderRows(*r.two_way, "Two-way ANOVA, surface x angle");
-    if (!r.notes.empty())
-      part << RenderRows(studyfile::StoredTable<studyfile::NoteRow>{"", r.notes}, "Notes");
-    h << "<h3>" << HtmlEscape(label) << "</h3><div class=\"tables\">" << part.str() << "</div>";
-    any = true;
-  }
-  if (!any)
-    h << "<p class=\"bad\">No statistics in the study file: run <code>hoofimpact stats</code>.</p>";
-  h << "</section>";
   return h.str();
 }
 

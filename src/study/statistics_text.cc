@@ -7,9 +7,14 @@
 #include <cmath>
 #include <iomanip>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
+#include "format/number_format.h"
 #include "io/atomic_file.h"
 #include "io/csv.h"
+#include "stats/compact_letters.h"
 
 namespace hoof::study {
 namespace {
@@ -144,12 +149,12 @@ void WriteCells(std::ostream& os, const ResponseAnalysis& r) {
       cell << std::setprecision(4);
       for (const auto& c : r.cells)
         if (c.label == surface + "|" + angle) {
-          // The s.d. of a one-trial cell is undefined: print "-", not 0.
+          // The s.d. of a one-trial cell is undefined: "n/a" (as the report prints it), not 0.
           cell << c.mean << " (";
           if (c.n > 1)
             cell << c.sd;
           else
-            cell << "-";
+            cell << format::kUndefined;
           cell << ", " << c.n << ")";
         }
       os << std::setw(26) << (cell.str().empty() ? "-" : cell.str());
@@ -271,18 +276,34 @@ json StudyStatisticsJson(const StudyStatistics& s) {
 }
 
 void WriteOneWayText(std::ostream& os, const stats::OneWayScaleResults& s, double alpha) {
-  os << "  Groups (order of first appearance)\n";
+  // Fisher's LSD groups as letters (groups sharing a letter do not differ; every group "a"
+  // when the LSD did not run).
+  std::vector<std::string> labels;
+  std::vector<double> means;
+  for (const auto& g : s.groups) {
+    labels.push_back(g.label);
+    means.push_back(g.mean);
+  }
+  std::vector<std::pair<std::string, std::string>> different;
+  for (const auto& c : s.lsd)
+    if (c.significant) different.emplace_back(c.group_a, c.group_b);
+  const stats::LetterDisplay letters = stats::CompactLetters(labels, means, different);
+  os << "  Groups (order of first appearance; LSD: groups sharing a letter do not differ)\n";
   os << "    " << std::left << std::setw(20) << "group" << std::right;
   Col(os, "n", 5);
   Col(os, "mean", 13);
   Col(os, "sd", 13);
-  os << "\n";
-  for (const auto& g : s.groups) {
+  os << "  LSD\n";
+  for (std::size_t i = 0; i < s.groups.size(); ++i) {
+    const auto& g = s.groups[i];
     os << "    " << std::left << std::setw(20) << g.label << std::right;
     Col(os, g.n, 5);
     Col(os, g.mean, 13);
-    Col(os, g.sd, 13);
-    os << "\n";
+    if (g.n > 1)
+      Col(os, g.sd, 13);
+    else
+      Col(os, format::kUndefined, 13);  // one observation has no s.d.
+    os << "  " << letters.letters[i] << "\n";
   }
   const auto& a = s.anova;
   os << "  ANOVA\n";

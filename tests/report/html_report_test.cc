@@ -125,8 +125,8 @@ TEST_F(HtmlReportPageTest, ScriptsRunWithoutErrorAndDrawTheReplay) {
   EXPECT_EQ(Count(dom, "<option value="), 4);
   EXPECT_EQ(Count(dom, "<tr class=\"trial\">"), 4);  // the synthetic trials all measure
   for (const char* text :
-       {"k not identified", "One-way ANOVA by surface", "One-way ANOVA by angle",
-        "Mean (s.d., n) per surface x angle", "steel", "asphalt", "mu_eff_by_angle"})
+       {"k not identified", "<h4>e by surface</h4>", "One-way ANOVA of e by angle",
+        "e per surface and angle", "steel", "asphalt", "mu_eff_by_angle"})
     EXPECT_NE(dom.find(text), std::string::npos) << text;
 }
 

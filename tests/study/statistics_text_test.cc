@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -65,6 +66,49 @@ TEST(StatisticsTextTest, TheTextNamesTheResponseTheFactorAndTheSource) {
   EXPECT_EQ(text.rfind("One-way analysis of e by surface (table.csv, 6 observations", 0), 0U)
       << text;
   EXPECT_NE(text.find("13.5"), std::string::npos);
+}
+
+// F = 13.5 on (1, 4) df gives p = 0.021 < 0.05, so the LSD runs and separates the groups:
+// b (mean 5) gets the letter a, a (mean 2) the letter b.
+TEST(StatisticsTextTest, TheGroupTableCarriesTheLsdLetters) {
+  const auto s = TwoGroups();
+  ASSERT_TRUE(s.original.lsd_performed);
+  std::ostringstream os;
+  WriteOneWayText(os, s.original, s.alpha);
+  const std::string text = os.str();
+  EXPECT_NE(text.find("  LSD\n"), std::string::npos) << text;
+  std::istringstream lines(text);
+  int found = 0;
+  for (std::string line; std::getline(lines, line);) {
+    for (const auto& [group, letter] : {std::pair{"a", "  b"}, std::pair{"b", "  a"}})
+      if (line.rfind(std::string("    ") + group + std::string(19, ' '), 0) == 0) {  // setw(20)
+        EXPECT_EQ(line.substr(line.size() - 3), letter) << line;
+        ++found;
+      }
+  }
+  EXPECT_EQ(found, 2) << text;
+}
+
+// The s.d. of a cell of one trial is undefined: "n/a", as the report prints it (it read "-").
+TEST(StatisticsTextTest, AOneTrialCellHasNoStandardDeviation) {
+  StudyStatistics st;
+  st.path = "study.h5";
+  ResponseAnalysis r;
+  r.response = "e";
+  r.selection = "every measured trial";
+  r.values = {0.80, 0.85, 0.90};
+  r.surface = {"steel", "steel", "asphalt"};
+  r.angle = {"0", "0", "20"};
+  r.speed = {"3", "3", "3"};
+  r.cells = {{"steel|0", 2, 0.825, 0.00125, 0.0353553}, {"asphalt|20", 1, 0.9, 0.0, 0.0}};
+  r.two_way_note = "too few trials";
+  st.responses = {r};
+  std::ostringstream os;
+  WriteStudyStatisticsText(os, st);
+  const std::string text = os.str();
+  EXPECT_NE(text.find("0.9 (n/a, 1)"), std::string::npos) << text;
+  EXPECT_NE(text.find("0.825 (0.03536, 2)"), std::string::npos) << text;
+  EXPECT_EQ(text.find("(-, 1)"), std::string::npos) << text;
 }
 
 }  // namespace
