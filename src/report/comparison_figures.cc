@@ -49,14 +49,14 @@ VelocityPlots MakeVelocityPlots(const studyfile::StudyResults& study, const Comp
   Plot& normal = plots.normal;
   Plot& oblique = plots.oblique;
   normal.title =
-      "Velocity of C after normal impacts: measured and simulated\nerror bars ±1 s.e. "
-      "(measured: flight fits; simulated: propagated from the measured state before)";
+      "Velocity of C after normal impacts: measured and simulated\n"
+      "bars ±1 s.e. (measured: flight fits; simulated: propagated)";
   normal.x_label = "normal impact speed of C before (m/s)";
   normal.y_label = "normal velocity of C after (m/s)";
   normal.key = "outside right top";
   oblique.title =
-      "Velocity of C after oblique impacts: measured against simulated\nerror bars ±1 s.e. "
-      "(measured: flight fits; simulated: propagated from the measured state before)";
+      "Velocity of C after oblique impacts: measured against simulated\n"
+      "bars ±1 s.e. (measured: flight fits; simulated: propagated)";
   oblique.x_label = "simulated velocity of C after (m/s)";
   oblique.y_label = "measured velocity of C after (m/s)";
   oblique.key = "outside right top";
@@ -66,9 +66,9 @@ VelocityPlots MakeVelocityPlots(const studyfile::StudyResults& study, const Comp
                                            "#9467bd", "#ff7f0e", "#8c564b"};
     const std::string colour = kColours[s % 6];
     Series nm =
-        Styled(surfaces[s] + " measured", {}, {}, "points", "pt 7 ps 1.2 lc rgb '" + colour + "'");
+        Styled(surfaces[s] + " measured", {}, {}, "points", "pt 7 ps 1.0 lc rgb '" + colour + "'");
     Series ns =
-        Styled(surfaces[s] + " simulated", {}, {}, "points", "pt 6 ps 1.6 lc rgb '" + colour + "'");
+        Styled(surfaces[s] + " simulated", {}, {}, "points", "pt 6 ps 2.0 lc rgb '" + colour + "'");
     Series ox = Styled(surfaces[s] + " along the surface", {}, {}, "points",
                        "pt 5 ps 1.0 lc rgb '" + colour + "'");
     Series oy =

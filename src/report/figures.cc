@@ -310,12 +310,12 @@ std::vector<std::filesystem::path> WriteStudyFigure(const studyfile::StudyResult
   const bool angle = factor == StudyFactor::kImpactAngle;
   std::string title = std::string(e ? "Coefficient of restitution"
                                     : "Effective coefficient of friction (oblique impacts)") +
-                      " by " + (angle ? "impact angle" : "nominal speed") +
-                      "\nmean ± 1 s.e. of the mean (s.d./√n), n = " + std::to_string(n_min);
+                      " by " + (angle ? "impact angle" : "nominal speed");
+  if (!study.name.empty()) title += " (" + study.name + ")";
+  title += "\nmean ± 1 s.e. of the mean (s.d./√n), n = " + std::to_string(n_min);
   if (n_max != n_min) title += "–" + std::to_string(n_max);
   title += " trials per point";
-  if (n_min == 1) title += "; a cell of one trial: its own s.e.";
-  if (!study.name.empty()) title += " (" + study.name + ")";
+  if (n_min == 1) title += "\na cell of one trial: that trial's own s.e.";
   Plot plot;
   plot.title = title;
   plot.x_label = angle ? "impact angle φ (°)" : "nominal impact speed (m/s)";
