@@ -237,15 +237,12 @@ void PlotCommands(std::ostream& os, const Panel& panel, const std::string& inden
     const std::string at = std::to_string(c.x) + ":" + std::to_string(c.y);
     os << (first ? "" : more) << "data skip 1 using " << at << " with " << s.style << look
        << " title " << Quote(s.title);
-    // Error bars as a second plot of the same points: rows whose error is undefined are
-    // skipped there only, so their point is still drawn.
-    if (c.y_error && c.x_error)
-      os << more << "data skip 1 using " << at << ":" << c.x_error << ":" << c.y_error
-         << " with xyerrorbars" << look << " notitle";
-    else if (c.y_error)
+    // Error bars as further plots of the same points, one per axis: rows whose error is
+    // undefined are skipped there only, so their point (and its other bar) is still drawn.
+    if (c.y_error)
       os << more << "data skip 1 using " << at << ":" << c.y_error << " with yerrorbars" << look
          << " notitle";
-    else if (c.x_error)
+    if (c.x_error)
       os << more << "data skip 1 using " << at << ":" << c.x_error << " with xerrorbars" << look
          << " notitle";
     first = false;

@@ -272,6 +272,40 @@ TEST(FigureFilesTest, GnuplotRemakesAFigureFromItsShippedScriptAndData) {
   ExpectRemade(dir, "panels", "7.25", "7.75");
 }
 
+// The bars are drawn, not only written to the CSV: gnuplot draws them as line segments in the
+// series' colour (points are placed symbols, axes and grid are black and grey), a vertical and
+// a horizontal bar with their end caps per point.
+std::size_t ColouredSegments(const std::string& svg) {
+  static const std::regex coloured(R"re(<path stroke='rgb\([^']*\)'\s+d='([^']*)')re");
+  std::size_t n = 0;
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), coloured);
+       it != std::sregex_iterator(); ++it) {
+    const std::string d = (*it)[1].str();
+    n += static_cast<std::size_t>(std::count(d.begin(), d.end(), 'M'));
+  }
+  return n;
+}
+
+TEST(FigureFilesTest, ErrorBarsAreDrawn) {
+  const fs::path dir = FreshDir("figure_files/bars");
+  Plot p;
+  p.series = {Points("s", {1, 2, 3}, {1, 2, 1.5})};
+  WriteFigure(p, dir, "plain");
+  EXPECT_EQ(ColouredSegments(ReadAll(dir / "plain.svg")), 0u);
+  p.series[0].y_error = {0.1, 0.2, 0.1};
+  p.series[0].x_error = {0.05, 0.05, 0.05};
+  WriteFigure(p, dir, "bars");
+  EXPECT_EQ(ColouredSegments(ReadAll(dir / "bars.svg")), 3u * 6u);
+  // A bar whose error is undefined is left out; the point's other bar and the other points'
+  // bars stay (a vertical bar and its caps are 3 segments, a horizontal one 3).
+  p.series[0].y_error = {0.1, NAN, 0.1};
+  WriteFigure(p, dir, "no_middle_y_bar");
+  EXPECT_EQ(ColouredSegments(ReadAll(dir / "no_middle_y_bar.svg")), 2u * 3u + 3u * 3u);
+  p.series[0].x_error.clear();
+  WriteFigure(p, dir, "two_bars");
+  EXPECT_EQ(ColouredSegments(ReadAll(dir / "two_bars.svg")), 2u * 3u);
+}
+
 // ---- Figures 6 and 7: error bars from the standard errors -----------------------------------
 
 studyfile::TrialResult Trial(const std::string& id, const std::string& surface, double angle_deg,
@@ -354,8 +388,9 @@ TEST(VelocityPlotsTest, EveryPointCarriesItsStandardErrors) {
             "asphalt simulated: s.e. of normal velocity of C after (m/s),"
             "asphalt simulated: s.e. of normal impact speed of C before (m/s)");
   EXPECT_NE(csv.find("\n2.5,1.9,0.003,0.004,"), std::string::npos) << csv;
-  EXPECT_NE(ReadAll(dir / "velocity_normal.gp").find("using 1:2:4:3 with xyerrorbars"),
-            std::string::npos);
+  const std::string script = ReadAll(dir / "velocity_normal.gp");
+  EXPECT_NE(script.find("using 1:2:3 with yerrorbars"), std::string::npos) << script;
+  EXPECT_NE(script.find("using 1:2:4 with xerrorbars"), std::string::npos) << script;
 }
 
 }  // namespace
