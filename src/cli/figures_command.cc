@@ -1,5 +1,8 @@
 // hoofimpact figures: a study file -> the study figures (the paper's Figures 4 and 5: mean e
-// and mu_eff per surface against impact angle and nominal speed, error bars = s.d.).
+// and mu_eff per surface against impact angle and nominal speed, error bars = ±1 s.e.), and,
+// when `run` has compared the study with the model (/comparison), Figures 6-8 (velocities after
+// normal and oblique impacts, kinetic energy through an impact). Each figure is written as
+// PNG, SVG, its data (CSV) and the gnuplot script that remakes the images from the data.
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -7,7 +10,11 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "compare/comparison_tables.h"
+#include "io/atomic_file.h"
+#include "report/comparison_figures.h"
 #include "report/figures.h"
+#include "report/gnuplot.h"
 #include "studyfile/study_file.h"
 
 namespace hoof::cli {
@@ -20,9 +27,12 @@ void RegisterFigures(CLI::App& app, RunState& state) {
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
       "figures",
-      "Draw the study figures (PNG and SVG) from a study file: e_by_angle, e_by_speed, "
-      "mu_eff_by_angle, mu_eff_by_speed (mean per surface, error bars = s.d.)");
-  cmd->add_option("study_h5", args->study_file, "HDF5 study file written by `analyze`")->required();
+      "Draw the study figures from a study file: e_by_angle, e_by_speed, mu_eff_by_angle, "
+      "mu_eff_by_speed (mean per surface, error bars = ±1 s.e.), and velocity_normal, "
+      "velocity_oblique and energy_<id> when the file holds `run`'s comparison. Each as .png, "
+      ".svg, its data .csv and the gnuplot script .gp that remakes it");
+  cmd->add_option("study_h5", args->study_file, "HDF5 study file written by `analyze` or `run`")
+      ->required();
   cmd->add_option("-o,--output", args->output_dir, "Folder for the figures (created when missing)")
       ->required();
   cmd->callback([args, &state] {
@@ -30,7 +40,12 @@ void RegisterFigures(CLI::App& app, RunState& state) {
     if (!std::filesystem::is_regular_file(args->study_file))
       throw std::runtime_error(args->study_file + ": no such study file");
     const studyfile::StudyResults study = studyfile::ReadStudyResults(args->study_file);
-    const auto written = report::WriteStudyFigures(study, args->output_dir);
+    if (std::filesystem::is_directory(args->output_dir))  // what a killed run left
+      io::RemoveStaleTemporaries(args->output_dir, report::IsFigureTemporary);
+    auto written = report::WriteStudyFigures(study, args->output_dir);
+    if (compare::HasComparison(args->study_file))
+      for (auto& f : report::WriteComparisonFigures(args->study_file, args->output_dir))
+        written.push_back(std::move(f));
     for (const auto& f : written) std::cout << "figure: " << f.string() << "\n";
     if (written.empty()) {
       std::cerr << "hoofimpact: error: " << args->study_file << ": no successful trial to draw\n";

@@ -5,8 +5,10 @@
 #include <sstream>
 #include <string>
 #include <tuple>
+#include <utility>
 
 #include "core/frames.h"
+#include "format/number_format.h"
 #include "io/atomic_file.h"
 #include "report/gnuplot.h"
 
@@ -18,30 +20,15 @@ namespace fs = std::filesystem;
 constexpr const char* kBefore = "#d62728";  // current / baseline model
 constexpr const char* kAfter = "#1f77b4";   // with the effect / final model
 
-void Render(const Plot& plot, const fs::path& dir, const std::string& name,
+template <class Figure>
+void Render(const Figure& figure, const fs::path& dir, const std::string& name,
             std::vector<fs::path>& written) {
-  for (const char* ext : {".png", ".svg"}) {
-    const auto path = dir / (name + ext);
-    RenderPlot(plot, path);
-    written.push_back(path);
-  }
-}
-
-void Render(const MultiPlot& figure, const fs::path& dir, const std::string& name,
-            std::vector<fs::path>& written) {
-  for (const char* ext : {".png", ".svg"}) {
-    const auto path = dir / (name + ext);
-    RenderPlot(figure, path);
-    written.push_back(path);
-  }
+  for (auto& path : WriteFigure(figure, dir, name)) written.push_back(std::move(path));
 }
 
 std::string Percent(double fraction) {
-  if (!std::isfinite(fraction)) return "n/a";
-  std::ostringstream s;
-  s.precision(3);
-  s << 100.0 * fraction << " %";
-  return s.str();
+  if (!std::isfinite(fraction)) return format::kUndefined;
+  return format::Number(100.0 * fraction) + " %";
 }
 
 /// Root mean square of the finite values; NaN when none.
@@ -54,6 +41,15 @@ double Rms(const std::vector<double>& v) {
       ++n;
     }
   return n > 0 ? std::sqrt(sum / n) : core::kNaN;
+}
+
+/// An empty series of points in the given look.
+Series PointSeries(std::string title, const std::string& options) {
+  Series s;
+  s.title = std::move(title);
+  s.style = "points";
+  s.options = options;
+  return s;
 }
 
 /// Adds the finite (x, y) points of `s` to `plot`, when there is one.
@@ -80,7 +76,7 @@ void GapFigure(const discovery::Round& round, int n, const fs::path& dir,
   Plot p;
   std::ostringstream title;
   title << "Round " << n << ": " << round.accepted << " added. Held-out gap "
-        << Percent(round.gap_before) << " -> " << Percent(round.gap_after);
+        << Percent(round.gap_before) << " → " << Percent(round.gap_after);
   if (std::isfinite(round.gap_shrink))
     title << " (" << discovery::GapChangeText(round.gap_shrink) << ")";
   title << "\n" << trials.size() << " held-out trials, each fitted without its fold";
@@ -93,14 +89,9 @@ void GapFigure(const discovery::Round& round, int n, const fs::path& dir,
   p.y_label = "gap after impact (% of impact speed)";
   p.key = "outside right top";
   p.width_px = 1000;
-  Series before{
-      "current model", {}, {}, {}, "points", std::string("pt 6 ps 1.3 lc rgb '") + kBefore + "'"};
-  Series after{"with " + round.accepted,
-               {},
-               {},
-               {},
-               "points",
-               std::string("pt 7 ps 1.1 lc rgb '") + kAfter + "'"};
+  Series before = PointSeries("current model", std::string("pt 6 ps 1.3 lc rgb '") + kBefore + "'");
+  Series after =
+      PointSeries("with " + round.accepted, std::string("pt 7 ps 1.1 lc rgb '") + kAfter + "'");
   for (std::size_t i = 0; i < trials.size(); ++i) {
     const double x = static_cast<double>(i + 1);
     before.x.push_back(x);
@@ -136,8 +127,8 @@ void ResidualFigure(const discovery::DiscoveryResult& r, const fs::path& dir,
     p.x_label = "impact speed (m/s)";
     p.y_label = "residual (% of impact speed)";
     p.key = "outside right top";
-    Series b{"", {}, {}, {}, "points", std::string("pt 6 ps 1.2 lc rgb '") + kBefore + "'"};
-    Series f{"", {}, {}, {}, "points", std::string("pt 7 ps 0.9 lc rgb '") + kAfter + "'"};
+    Series b = PointSeries("", std::string("pt 6 ps 1.2 lc rgb '") + kBefore + "'");
+    Series f = PointSeries("", std::string("pt 7 ps 0.9 lc rgb '") + kAfter + "'");
     for (const auto& t : r.residuals) {
       b.x.push_back(t.speed_m_s);
       b.y.push_back(100.0 * t.baseline[panel.component]);

@@ -4,17 +4,19 @@
 #include <cmath>
 #include <map>
 #include <numbers>
-#include <sstream>
 #include <stdexcept>
 #include <utility>
 
 #include "core/frames.h"
+#include "format/number_format.h"
 #include "report/gnuplot.h"
 
 namespace hoof::report {
 
-void WriteOutOfPlaneFigure(const pipeline::TrialAnalysis& trial, double threshold,
-                           const std::filesystem::path& output) {
+std::vector<std::filesystem::path> WriteOutOfPlaneFigure(const pipeline::TrialAnalysis& trial,
+                                                         double threshold,
+                                                         const std::filesystem::path& dir,
+                                                         const std::string& name) {
   Series s;
   s.title = "projected / layout marker distance";
   std::vector<double> finite;
@@ -27,14 +29,11 @@ void WriteOutOfPlaneFigure(const pipeline::TrialAnalysis& trial, double threshol
   Plot plot;
   const bool flagged =
       std::find(trial.flags.begin(), trial.flags.end(), "out_of_plane") != trial.flags.end();
-  std::ostringstream title;
-  title.precision(3);
-  title << trial.spec.id << ": out-of-plane check " << (flagged ? "FLAGGED" : "passed")
-        << " (change " << 100 * trial.out_of_plane_change << " %, noise "
-        << 100 * trial.out_of_plane_noise << " %)";
-  plot.title = title.str();
-  plot.x_label = "frame";
+  plot.title = trial.spec.id + ": out-of-plane check " + (flagged ? "FLAGGED" : "passed") +
+               " (change " + format::Number(100 * trial.out_of_plane_change) + " %, noise " +
+               format::Number(100 * trial.out_of_plane_noise) + " %)";
   plot.y_label = "marker distance (% of the layout's)";
+  plot.x_label = "frame number";
   plot.series.reserve(1);
   plot.series.push_back(s);
   if (trial.impact.success) {
@@ -51,7 +50,7 @@ void WriteOutOfPlaneFigure(const pipeline::TrialAnalysis& trial, double threshol
     plot.horizontal_lines = {median - limit / 2, median + limit / 2};
     plot.horizontal_lines_title = "flag threshold (a change wider than the band)";
   }
-  RenderPlot(plot, output);
+  return WriteFigure(plot, dir, name);
 }
 
 // ---- Figure 3 -------------------------------------------------------------------------------
@@ -143,11 +142,12 @@ constexpr const char* kLineY = "lc rgb '#7a1010' lw 2";
 
 }  // namespace
 
-void WriteDisplacementFigure(const pipeline::TrialAnalysis& trial,
-                             const std::filesystem::path& output) {
+std::vector<std::filesystem::path> WriteDisplacementFigure(const pipeline::TrialAnalysis& trial,
+                                                           const std::filesystem::path& dir,
+                                                           const std::string& name) {
   const DisplacementCurves c = ComputeDisplacementCurves(trial);
   if (c.measured.t_ms.empty())
-    throw std::runtime_error(output.string() + ": trial " + trial.spec.id +
+    throw std::runtime_error((dir / name).string() + ": trial " + trial.spec.id +
                              " has no valid pose to plot");
   Plot a, b;
   a.title = "(a) displacement of the centre of mass C in the surface frame S";
@@ -156,7 +156,7 @@ void WriteDisplacementFigure(const pipeline::TrialAnalysis& trial,
   a.key = "inside bottom right";
   b.title = "(b) angle of the hoof wall";
   b.x_label = "time t (ms)";
-  b.y_label = "angle {/Symbol q} of x_B from x_W (deg)";
+  b.y_label = "angle θ of x_B from x_W (°)";
   b.key = "inside top left";
   const auto& m = c.measured;
   a.series.push_back(Curve("x_S (along the surface)", m.t_ms, m.x_S_mm, "points", kPointsX));
@@ -171,26 +171,27 @@ void WriteDisplacementFigure(const pipeline::TrialAnalysis& trial,
           Curve(first ? "y_S fit (parabola)" : "", f->t_ms, f->y_S_mm, "lines", kLineY));
       b.series.push_back(Curve(first ? "fit (line)" : "", f->t_ms, f->theta_deg, "lines", kLineX));
     }
-    std::ostringstream label;
-    label.precision(4);
-    label << "impact, t* = " << c.impact_time_ms << " ms";
-    a.vertical_lines.emplace_back(c.impact_time_ms, label.str());
-    b.vertical_lines.emplace_back(c.impact_time_ms, label.str());
+    const std::string label = "impact, t* = " + format::Number(c.impact_time_ms) + " ms";
+    a.vertical_lines.emplace_back(c.impact_time_ms, label);
+    b.vertical_lines.emplace_back(c.impact_time_ms, label);
   }
-  std::ostringstream title;
-  title.precision(3);
-  title << trial.spec.id << ": " << trial.spec.surface << ", surface angle "
-        << trial.spec.surface_angle_deg << " deg";
+  // Nominal settings to 3 significant digits; e with its standard error.
+  std::string title = trial.spec.id + ": " + trial.spec.surface + ", surface angle " +
+                      format::Significant(trial.spec.surface_angle_deg, 3) + "°";
   if (trial.spec.nominal_speed_m_s)
-    title << ", nominal speed " << *trial.spec.nominal_speed_m_s << " m/s";
-  if (trial.impact.success) title << " (e = " << trial.impact.e << ")";
+    title += ", nominal speed " + format::Significant(*trial.spec.nominal_speed_m_s, 3) + " m/s";
+  if (trial.impact.success) {
+    const double se = trial.impact.e_se;
+    title += " (e = " + format::WithError(trial.impact.e, se, format::Kind::kCoefficient) +
+             (std::isfinite(se) && se > 0 ? ", ±1 s.e.)" : ")");
+  }
   MultiPlot fig;
-  fig.title = title.str();
+  fig.title = title;
   fig.panels = {a, b};
   fig.rows = 2;
   fig.width_px = 900;
   fig.height_px = 900;
-  RenderPlot(fig, output);
+  return WriteFigure(fig, dir, name);
 }
 
 // ---- Figures 4 and 5 ------------------------------------------------------------------------
@@ -199,6 +200,10 @@ namespace {
 
 double Value(const studyfile::TrialResult& t, StudyQuantity q) {
   return q == StudyQuantity::kRestitution ? t.e : t.mu_eff;
+}
+
+double StandardError(const studyfile::TrialResult& t, StudyQuantity q) {
+  return q == StudyQuantity::kRestitution ? t.e_se : t.mu_eff_se;
 }
 
 double Level(const studyfile::TrialResult& t, StudyFactor f) {
@@ -210,14 +215,16 @@ double Level(const studyfile::TrialResult& t, StudyFactor f) {
 std::vector<CellSummary> SummarizeByCell(const std::vector<studyfile::TrialResult>& trials,
                                          StudyQuantity quantity, StudyFactor factor) {
   std::vector<std::string> surfaces;  // in order of first appearance
-  std::map<std::pair<std::size_t, double>, std::vector<double>> cells;
+  // Per cell: the values and the trials' own standard errors.
+  std::map<std::pair<std::size_t, double>, std::vector<std::pair<double, double>>> cells;
   for (const auto& t : trials) {
     const double v = Value(t, quantity), level = Level(t, factor);
     if (!t.success || !std::isfinite(v) || !std::isfinite(level)) continue;
     if (quantity == StudyQuantity::kEffectiveFriction && !(t.surface_angle_deg > 0)) continue;
     auto it = std::find(surfaces.begin(), surfaces.end(), t.surface);
     if (it == surfaces.end()) it = surfaces.insert(surfaces.end(), t.surface);
-    cells[{static_cast<std::size_t>(it - surfaces.begin()), level}].push_back(v);
+    cells[{static_cast<std::size_t>(it - surfaces.begin()), level}].emplace_back(
+        v, StandardError(t, quantity));
   }
   std::vector<CellSummary> out;
   for (const auto& [key, values] : cells) {
@@ -226,11 +233,14 @@ std::vector<CellSummary> SummarizeByCell(const std::vector<studyfile::TrialResul
     s.level = key.second;
     s.n = values.size();
     double sum = 0.0;
-    for (double v : values) sum += v;
+    for (const auto& [v, se] : values) sum += v;
     s.mean = sum / static_cast<double>(s.n);
     double ss = 0.0;
-    for (double v : values) ss += (v - s.mean) * (v - s.mean);
+    for (const auto& [v, se] : values) ss += (v - s.mean) * (v - s.mean);
     s.sd = s.n > 1 ? std::sqrt(ss / static_cast<double>(s.n - 1)) : NAN;
+    const double own_se = values.front().second;
+    s.se = s.n > 1 ? s.sd / std::sqrt(static_cast<double>(s.n))
+                   : (std::isfinite(own_se) && own_se > 0 ? own_se : NAN);
     out.push_back(s);
   }
   return out;
@@ -239,7 +249,8 @@ std::vector<CellSummary> SummarizeByCell(const std::vector<studyfile::TrialResul
 namespace {
 
 /// One series per surface, nudged sideways (see WriteStudyFigure).
-std::vector<Series> SurfaceSeries(const std::vector<CellSummary>& cells) {
+std::vector<Series> SurfaceSeries(const std::vector<CellSummary>& cells,
+                                  const std::string& level_name) {
   std::vector<double> levels;
   std::vector<std::string> surfaces;
   for (const auto& c : cells) {
@@ -264,12 +275,19 @@ std::vector<Series> SurfaceSeries(const std::vector<CellSummary>& cells) {
                 std::to_string(kPointTypes[k % 6]);
     const double shift =
         0.05 * spacing * (static_cast<double>(k) - 0.5 * static_cast<double>(surfaces.size() - 1));
+    std::vector<double> level, n, sd;
     for (const auto& c : cells)
       if (c.surface == surfaces[k]) {
         s.x.push_back(c.level + shift);
         s.y.push_back(c.mean);
-        s.y_error.push_back(c.sd);
+        s.y_error.push_back(c.se);
+        level.push_back(c.level);
+        n.push_back(static_cast<double>(c.n));
+        sd.push_back(c.sd);
       }
+    s.extra_columns = {{level_name + " without the sideways nudge", level},
+                       {"trials in the cell (1)", n},
+                       {"s.d. of the trials (1)", sd}};
     out.push_back(std::move(s));
   }
   return out;
@@ -277,10 +295,12 @@ std::vector<Series> SurfaceSeries(const std::vector<CellSummary>& cells) {
 
 }  // namespace
 
-bool WriteStudyFigure(const studyfile::StudyResults& study, StudyQuantity quantity,
-                      StudyFactor factor, const std::filesystem::path& output) {
+std::vector<std::filesystem::path> WriteStudyFigure(const studyfile::StudyResults& study,
+                                                    StudyQuantity quantity, StudyFactor factor,
+                                                    const std::filesystem::path& dir,
+                                                    const std::string& name) {
   const std::vector<CellSummary> cells = SummarizeByCell(study.trials, quantity, factor);
-  if (cells.empty()) return false;
+  if (cells.empty()) return {};
   std::size_t n_min = cells.front().n, n_max = cells.front().n;
   for (const auto& c : cells) {
     n_min = std::min(n_min, c.n);
@@ -288,24 +308,23 @@ bool WriteStudyFigure(const studyfile::StudyResults& study, StudyQuantity quanti
   }
   const bool e = quantity == StudyQuantity::kRestitution;
   const bool angle = factor == StudyFactor::kImpactAngle;
-  std::ostringstream title;
-  title << (e ? "Coefficient of restitution"
-              : "Effective coefficient of friction (oblique impacts)")
-        << " by " << (angle ? "impact angle" : "nominal speed") << "\nmean ± s.d., n = " << n_min;
-  if (n_max != n_min) title << "–" << n_max;
-  title << " trials per point";
-  if (!study.name.empty()) title << " (" << study.name << ")";
+  std::string title = std::string(e ? "Coefficient of restitution"
+                                    : "Effective coefficient of friction (oblique impacts)") +
+                      " by " + (angle ? "impact angle" : "nominal speed");
+  if (!study.name.empty()) title += " (" + study.name + ")";
+  title += "\nmean ± 1 s.e. of the mean (s.d./√n), n = " + std::to_string(n_min);
+  if (n_max != n_min) title += "–" + std::to_string(n_max);
+  title += " trials per point";
+  if (n_min == 1) title += "\na cell of one trial: that trial's own s.e.";
   Plot plot;
-  plot.title = title.str();
-  plot.x_label = angle ? "impact angle {/Symbol f} (deg)" : "nominal impact speed (m/s)";
-  plot.y_label =
-      e ? "coefficient of restitution e" : "effective coefficient of friction {/Symbol m}_{eff}";
+  plot.title = title;
+  plot.x_label = angle ? "impact angle φ (°)" : "nominal impact speed (m/s)";
+  plot.y_label = e ? "coefficient of restitution e" : "effective coefficient of friction μ_{eff}";
   plot.key = "outside right top";
-  plot.series = SurfaceSeries(cells);
+  plot.series = SurfaceSeries(cells, plot.x_label);
   plot.width_px = 900;
   plot.height_px = 550;
-  RenderPlot(plot, output);
-  return true;
+  return WriteFigure(plot, dir, name);
 }
 
 std::vector<std::filesystem::path> WriteStudyFigures(const studyfile::StudyResults& study,
@@ -322,10 +341,8 @@ std::vector<std::filesystem::path> WriteStudyFigures(const studyfile::StudyResul
       {"mu_eff_by_speed", StudyQuantity::kEffectiveFriction, StudyFactor::kSpeed}};
   std::vector<std::filesystem::path> written;
   for (const Item& item : items)
-    for (const char* ext : {".png", ".svg"}) {
-      const std::filesystem::path path = dir / (std::string(item.name) + ext);
-      if (WriteStudyFigure(study, item.quantity, item.factor, path)) written.push_back(path);
-    }
+    for (auto& path : WriteStudyFigure(study, item.quantity, item.factor, dir, item.name))
+      written.push_back(std::move(path));
   return written;
 }
 
@@ -337,19 +354,13 @@ std::vector<std::string> WriteTrialFigures(const pipeline::TrialAnalysis& r,
   const bool flagged = std::find(r.flags.begin(), r.flags.end(), "out_of_plane") != r.flags.end();
   const bool any_pose = std::any_of(r.poses.begin(), r.poses.end(),
                                     [](const tracking::BodyPose& p) { return p.valid; });
-  for (const char* ext : {".png", ".svg"}) {
-    const std::filesystem::path base(dir);
-    if (!r.marker_distance_ratio.empty() && (flagged || always)) {
-      const std::string path = (base / (r.spec.id + "_out_of_plane" + ext)).string();
-      WriteOutOfPlaneFigure(r, options.out_of_plane_threshold, path);
-      written.push_back(path);
-    }
-    if (displacement && any_pose) {
-      const std::string path = (base / (r.spec.id + "_displacement" + ext)).string();
-      WriteDisplacementFigure(r, path);
-      written.push_back(path);
-    }
-  }
+  if (!r.marker_distance_ratio.empty() && (flagged || always))
+    for (const auto& path :
+         WriteOutOfPlaneFigure(r, options.out_of_plane_threshold, dir, r.spec.id + "_out_of_plane"))
+      written.push_back(path.string());
+  if (displacement && any_pose)
+    for (const auto& path : WriteDisplacementFigure(r, dir, r.spec.id + "_displacement"))
+      written.push_back(path.string());
   return written;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 /// @file
 /// Figures of a trial's measurement and of a study (the paper's Figures 3, 4 and 5, and the
-/// out-of-plane check). Each is written as PNG or SVG by the output file's extension.
+/// out-of-plane check). Each figure NAME is written as NAME.png, NAME.svg, its data NAME.csv and
+/// the gnuplot script NAME.gp that remakes the images from the data (report/gnuplot.h).
 
 #include <cstddef>
 #include <filesystem>
@@ -15,10 +16,12 @@
 namespace hoof::report {
 
 /// The out-of-plane check as a figure: the projected marker distance over the layout distance,
-/// per frame, with the fit windows shaded and the flag threshold drawn around the median. The
-/// format follows the extension (.png or .svg).
-void WriteOutOfPlaneFigure(const pipeline::TrialAnalysis& trial, double threshold,
-                           const std::filesystem::path& output);
+/// per frame, with the fit windows shaded and the flag threshold drawn around the median, as
+/// figure `name` in `dir`. Returns the files written (WriteFigure).
+std::vector<std::filesystem::path> WriteOutOfPlaneFigure(const pipeline::TrialAnalysis& trial,
+                                                         double threshold,
+                                                         const std::filesystem::path& dir,
+                                                         const std::string& name);
 
 // ---- Figure 3: displacement and angle of one trial against time ---------------------------
 
@@ -50,10 +53,13 @@ DisplacementCurves ComputeDisplacementCurves(const pipeline::TrialAnalysis& tria
                                              double gravity_m_s2 = core::kStandardGravity_m_s2);
 
 /// Figure 3 for one trial: (a) the displacement of C in S and (b) the angle against time, the
-/// measured points with the fitted curves and the impact time, as two panels of one image.
-/// Throws std::runtime_error naming `output` when the trial has no valid pose or gnuplot fails.
-void WriteDisplacementFigure(const pipeline::TrialAnalysis& trial,
-                             const std::filesystem::path& output);
+/// measured points with the fitted curves and the impact time, as two panels of one image
+/// (figure `name` in `dir`; no error bars: a pose carries no standard error). Returns the files
+/// written. Throws std::runtime_error naming the figure when the trial has no valid pose or
+/// gnuplot fails.
+std::vector<std::filesystem::path> WriteDisplacementFigure(const pipeline::TrialAnalysis& trial,
+                                                           const std::filesystem::path& dir,
+                                                           const std::string& name);
 
 // ---- Figures 4 and 5: e and mu_eff by surface, impact angle and speed ---------------------
 
@@ -64,45 +70,52 @@ enum class StudyQuantity {
 };
 /// The factor on a study figure's horizontal axis.
 enum class StudyFactor {
-  kImpactAngle,  ///< surface angle phi (deg)
+  kImpactAngle,  ///< surface angle phi (°)
   kSpeed,        ///< nominal impact speed (m/s); trials without one are left out
 };
 
-/// Mean and standard deviation of one cell (surface x factor level).
+/// Mean, standard deviation and standard error of one cell (surface x factor level).
 struct CellSummary {
   std::string surface;
-  double level = 0.0;  ///< the factor's value (deg or m/s)
+  double level = 0.0;  ///< the factor's value (° or m/s)
   std::size_t n = 0;   ///< trials in the cell
   double mean = 0.0;
   /// Sample standard deviation (divisor n - 1); NaN for a cell of one trial, where it is
-  /// undefined: the figure then draws the mean without an error bar.
+  /// undefined.
   double sd = 0.0;
+  /// Standard error of the mean, the figure's error bar: s.d. / sqrt(n); for a cell of one
+  /// trial, that trial's own standard error (e_se or mu_eff_se), NaN when it has none (the
+  /// figure then draws the mean without a bar).
+  double se = 0.0;
 };
 
 /// Groups the trials that count for `quantity` (successful, finite value; for mu_eff also
 /// surface angle > 0) by surface and by the exact value of `factor`, and returns each cell's
-/// mean and s.d.: surfaces in order of first appearance, levels ascending within a surface.
+/// mean, s.d. and s.e.: surfaces in order of first appearance, levels ascending within a surface.
 std::vector<CellSummary> SummarizeByCell(const std::vector<studyfile::TrialResult>& trials,
                                          StudyQuantity quantity, StudyFactor factor);
 
-/// One study figure: the cell means of `quantity` against `factor`, one series per surface
-/// (nudged sideways by a few per cent of the level spacing so their error bars do not
-/// overlap), error bars = s.d. Returns false, writing nothing, when no trial counts. Throws
-/// std::runtime_error naming `output` when gnuplot fails.
-bool WriteStudyFigure(const studyfile::StudyResults& study, StudyQuantity quantity,
-                      StudyFactor factor, const std::filesystem::path& output);
+/// One study figure, `name` in `dir`: the cell means of `quantity` against `factor`, one series
+/// per surface (nudged sideways by a few per cent of the level spacing so their error bars do
+/// not overlap), error bars = ±1 s.e. of the mean (CellSummary::se); the CSV adds each cell's
+/// level, n and s.d. Returns the files written, none when no trial counts. Throws
+/// std::runtime_error naming the figure when gnuplot fails.
+std::vector<std::filesystem::path> WriteStudyFigure(const studyfile::StudyResults& study,
+                                                    StudyQuantity quantity, StudyFactor factor,
+                                                    const std::filesystem::path& dir,
+                                                    const std::string& name);
 
-/// Writes `e_by_angle`, `e_by_speed`, `mu_eff_by_angle` and `mu_eff_by_speed` (.png and .svg)
-/// into `dir` (created when missing); returns the files written (a figure without data, such
-/// as mu_eff in a study of normal impacts only, is skipped).
+/// Writes `e_by_angle`, `e_by_speed`, `mu_eff_by_angle` and `mu_eff_by_speed` (.png, .svg,
+/// .csv, .gp) into `dir` (created when missing); returns the files written (a figure without
+/// data, such as mu_eff in a study of normal impacts only, is skipped).
 std::vector<std::filesystem::path> WriteStudyFigures(const studyfile::StudyResults& study,
                                                      const std::filesystem::path& dir);
 
-/// Writes into `dir` (nothing when `dir` is empty): `<id>_out_of_plane.png` and `.svg` (the
+/// Writes into `dir` (nothing when `dir` is empty): the figure `<id>_out_of_plane` (the
 /// out-of-plane check) when the trial is flagged, or always with `always`; and, with
-/// `displacement`, `<id>_displacement.png` and `.svg` (the paper's Figure 3: C's displacement
-/// in S and the angle against time with the fits) when the trial has a valid pose. Returns the
-/// files written.
+/// `displacement`, `<id>_displacement` (the paper's Figure 3: C's displacement in S and the
+/// angle against time with the fits) when the trial has a valid pose; each as .png, .svg,
+/// .csv and .gp. Returns the files written.
 std::vector<std::string> WriteTrialFigures(const pipeline::TrialAnalysis& r,
                                            const pipeline::TrialAnalysisOptions& options,
                                            const std::string& dir, bool always, bool displacement);

@@ -36,14 +36,18 @@ TEST(DiscoveryFiguresTest, GapPerAcceptedRoundAndResiduals) {
   std::vector<std::string> names;
   for (const auto& p : written) {
     names.push_back(p.filename().string());
-    EXPECT_GT(fs::file_size(p), 1000u) << p;
+    // An image with content; the data and the script, not empty.
+    EXPECT_GT(fs::file_size(p), p.extension() == ".png" || p.extension() == ".svg" ? 1000u : 0u)
+        << p;
   }
   // Round 2 added nothing: no gap figure for it.
-  EXPECT_EQ(names,
-            (std::vector<std::string>{"discovery_gap_round1.png", "discovery_gap_round1.svg",
-                                      "discovery_residuals.png", "discovery_residuals.svg"}));
-  // The aggregate gaps are in the gap figure's title.
-  EXPECT_NE(ReadAll(dir / "discovery_gap_round1.svg").find("3.1 %"), std::string::npos);
+  // Each figure with its data and gnuplot script (report/gnuplot.h).
+  EXPECT_EQ(names, (std::vector<std::string>{"discovery_gap_round1.png", "discovery_gap_round1.svg",
+                                             "discovery_gap_round1.csv", "discovery_gap_round1.gp",
+                                             "discovery_residuals.png", "discovery_residuals.svg",
+                                             "discovery_residuals.csv", "discovery_residuals.gp"}));
+  // The aggregate gaps are in the gap figure's title (hoof::format, 4 significant digits).
+  EXPECT_NE(ReadAll(dir / "discovery_gap_round1.svg").find("3.100 %"), std::string::npos);
   // And which way it moved: 1 - 0.005 / 0.031 = 0.84 of it.
   EXPECT_NE(ReadAll(dir / "discovery_gap_round1.svg").find("84 % smaller"), std::string::npos);
   // A result that could not run has nothing to draw.

@@ -1,7 +1,10 @@
 // End-to-end tests of the figure commands: a tiny study is rendered with `hoofimpact synth
 // --study`, analysed with `analyze --figures`, and drawn again from the study file alone with
-// `hoofimpact figures`; `track --figures` draws one trial's Figure 3.
+// `hoofimpact figures`, each figure with its data and gnuplot script, which gnuplot runs
+// elsewhere to remake it; `track --figures` draws one trial's Figure 3.
+#include <cstdlib>
 #include <filesystem>
+#include <set>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -65,9 +68,12 @@ TEST_F(FiguresCommandTest, FiguresDrawsTheStudyFiguresFromTheFileAlone) {
   const fs::path dir = Root() / "figures";
   const auto r = RunHoofimpact("figures " + StudyFile().string() + " -o " + dir.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  int files = 0;
-  for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
-  EXPECT_EQ(files, 8);  // four figures, PNG and SVG, nothing temporary
+  std::set<std::string> files;
+  for (const auto& e : fs::directory_iterator(dir)) files.insert(e.path().filename().string());
+  std::set<std::string> want;  // four figures, each PNG, SVG, CSV and script; nothing temporary
+  for (const char* name : kStudyFigures)
+    for (const char* ext : {".png", ".svg", ".csv", ".gp"}) want.insert(name + std::string(ext));
+  EXPECT_EQ(files, want);
   for (const char* name : kStudyFigures) {
     ExpectFigure(dir / (std::string(name) + ".png"));
     EXPECT_NE(r.out.find(name), std::string::npos) << r.out;
@@ -75,6 +81,24 @@ TEST_F(FiguresCommandTest, FiguresDrawsTheStudyFiguresFromTheFileAlone) {
   EXPECT_NE(ReadAll(dir / "e_by_speed.svg").find("Coefficient of restitution by nominal speed"),
             std::string::npos);
   EXPECT_NE(ReadAll(dir / "mu_eff_by_angle.svg").find("steel"), std::string::npos);
+}
+
+// The check: `gnuplot` remakes a figure from its shipped script and data, in a folder of
+// its own (the script names its files relative to where it runs).
+TEST_F(FiguresCommandTest, GnuplotRemakesAShippedFigureElsewhere) {
+  const fs::path dir = Root() / "shipped";
+  ASSERT_EQ(RunHoofimpact("figures " + StudyFile().string() + " -o " + dir.string()).exit_code, 0);
+  const fs::path again = Root() / "remade";
+  fs::create_directories(again);
+  for (const char* ext : {".gp", ".csv"})
+    fs::copy_file(dir / ("e_by_angle" + std::string(ext)),
+                  again / ("e_by_angle" + std::string(ext)));
+  const std::string command = "cd '" + again.string() + "' && gnuplot e_by_angle.gp";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  EXPECT_EQ(ReadAll(again / "e_by_angle.svg"), ReadAll(dir / "e_by_angle.svg"));
+  ExpectFigure(again / "e_by_angle.png");
+  // The bars are ±1 s.e., and the caption says so.
+  EXPECT_NE(ReadAll(dir / "e_by_angle.svg").find("mean ± 1 s.e. of the mean"), std::string::npos);
 }
 
 TEST_F(FiguresCommandTest, MissingStudyFileFailsNamingIt) {
@@ -93,7 +117,7 @@ TEST_F(FiguresCommandTest, TrackWritesFigureThree) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ExpectFigure(dir / (trial + "_displacement.png"));
   EXPECT_NE(
-      ReadAll(dir / (trial + "_displacement.svg")).find(trial + ": steel, surface angle 20 deg"),
+      ReadAll(dir / (trial + "_displacement.svg")).find(trial + ": steel, surface angle 20.0°"),
       std::string::npos);
 }
 

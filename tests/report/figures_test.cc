@@ -1,12 +1,15 @@
 // Tests of the figures: the cell statistics behind Figures 4 and 5 against hand-computed
-// means and standard deviations, Figure 3's fitted curves against the flight formulas and the
-// measured points of a constructed trial, and that every figure renders (PNG of the requested
-// size with content, SVG with its title, nothing temporary left, errors naming the file).
+// means, standard deviations and standard errors, Figure 3's fitted curves against the flight
+// formulas and the measured points of a constructed trial, and that every figure renders (PNG
+// of the requested size with content, SVG with its title, its CSV and gnuplot script beside
+// it, nothing temporary left, errors naming the figure). The shipped files themselves are
+// tested in figure_files_test.cc.
 #include "report/figures.h"
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -59,29 +62,26 @@ pipeline::TrialAnalysis FlaggedTrial() {
 TEST(FiguresTest, OutOfPlaneFigureIsWrittenAsPngAndSvg) {
   const fs::path dir = FreshDir("figures");
   const pipeline::TrialAnalysis t = FlaggedTrial();
-  WriteOutOfPlaneFigure(t, 0.003, dir / "oop.png");
-  WriteOutOfPlaneFigure(t, 0.003, dir / "oop.svg");
+  EXPECT_EQ(WriteOutOfPlaneFigure(t, 0.003, dir, "oop").size(), 4u);
   ExpectPng(dir / "oop.png", 900, 500);
   const std::string svg = ReadAll(dir / "oop.svg");
   EXPECT_NE(svg.find("<svg"), std::string::npos);
-  EXPECT_NE(svg.find("concrete_20deg_tilted: out-of-plane check FLAGGED"), std::string::npos);
-  EXPECT_EQ(RegularFiles(dir), 2);  // no temporary files left behind
+  // hoof::format's 4 significant digits: change 1 % and noise 0.005 %.
+  EXPECT_NE(svg.find("concrete_20deg_tilted: out-of-plane check FLAGGED (change 1.000 %, noise "
+                     "0.005000 %)"),
+            std::string::npos);
+  // The frame without both markers is undefined in the data, not a number.
+  EXPECT_NE(ReadAll(dir / "oop.csv").find("\n30,nan\n"), std::string::npos);
+  EXPECT_EQ(RegularFiles(dir), 4);  // PNG, SVG, CSV, script; no temporary file left behind
 }
 
-TEST(FiguresTest, ScriptCarriesTheDataInline) {
-  Plot p;
-  p.title = "t";
-  Series s;
-  s.title = "a";
-  s.x = {1, 2};
-  s.y = {3, NAN};
-  s.style = "lines";
-  p.series.push_back(s);
-  const std::string script = GnuplotScript(p, "x.png");
-  EXPECT_NE(script.find("$d0 << EOD\n1 3\n2 NaN\nEOD"), std::string::npos) << script;
-  EXPECT_NE(script.find("set terminal pngcairo"), std::string::npos);
-  EXPECT_NE(GnuplotScript(p, "x.svg").find("set terminal svg"), std::string::npos);
-  EXPECT_THROW(RenderPlot(Plot{}, "empty.png"), std::runtime_error);
+TEST(FiguresTest, AFigureNeedsASeries) {
+  const fs::path dir = FreshDir("figures_empty");
+  ExpectErrorContaining([&] { WriteFigure(Plot{}, dir, "empty"); }, (dir / "empty").string());
+  MultiPlot m;
+  m.panels = {Plot{}};
+  ExpectErrorContaining([&] { WriteFigure(m, dir, "empty"); }, "needs at least one data series");
+  EXPECT_TRUE(fs::is_empty(dir));
 }
 
 // Text from a study (ids, surfaces, titles) reaches gnuplot as data, never as a command: neither
@@ -100,12 +100,13 @@ TEST(FiguresTest, TextFromTheStudyRunsNoCommand) {
   s.y = {0, 1};
   p.series.push_back(s);
   // The output's own name may hold the same.
-  const fs::path out = dir / ("plot$(touch " + std::string("RAN6") + ")`touch RAN7`.svg");
-  RenderPlot(p, out);
+  const std::string name = "plot$(touch " + std::string("RAN6") + ")`touch RAN7`'";
+  const fs::path out = dir / (name + ".svg");
+  WriteFigure(p, dir, name);
   MultiPlot m;
   m.title = p.title;
   m.panels = {p};
-  RenderPlot(m, dir / "multi.svg");
+  WriteFigure(m, dir, "multi");
   for (int i = 1; i <= 7; ++i) {
     EXPECT_FALSE(fs::exists(mark + std::to_string(i))) << i;
     EXPECT_FALSE(fs::exists(fs::path("RAN" + std::to_string(i)))) << i;
@@ -122,16 +123,18 @@ TEST(FiguresTest, UndefinedErrorBarIsLeftOutNotTheMean) {
   Series s;
   s.x = {0, 10};
   s.y = {0.8, 0.9};
-  s.y_error = {0.04, NAN};  // the second mean is of a single trial
+  s.y_error = {0.04, NAN};  // the second mean is of a single trial without an s.e.
   p.series.push_back(s);
-  const std::string script = GnuplotScript(p, "x.png");
-  EXPECT_NE(script.find("0 0.8 0.04\n10 0.9 NaN\n"), std::string::npos) << script;
-  // The means are drawn from columns 1:2 (the NaN row included); only the bars use column 3.
-  EXPECT_NE(script.find("$d0 using 1:2 with linespoints"), std::string::npos) << script;
-  EXPECT_NE(script.find("$d0 using 1:2:3 with yerrorbars"), std::string::npos) << script;
+  EXPECT_NE(FigureCsv(p).find("\n0,0.8,0.04\n10,0.9,nan\n"), std::string::npos) << FigureCsv(p);
+  // The means are drawn from columns 1:2 (the undefined row included); only the bars use
+  // column 3.
+  const std::string script = FigureScript(p, "x");
+  EXPECT_NE(script.find("data skip 1 using 1:2 with linespoints"), std::string::npos) << script;
+  EXPECT_NE(script.find("data skip 1 using 1:2:3 with yerrorbars"), std::string::npos) << script;
+  EXPECT_NE(script.find("set datafile missing 'nan'"), std::string::npos) << script;
 }
 
-TEST(FiguresTest, FailingRenderNamesTheOutputAndLeavesNothing) {
+TEST(FiguresTest, FailingRenderNamesTheFigureAndLeavesNothing) {
   const fs::path dir = FreshDir("figures_fail");
   std::ofstream(dir / "not_a_folder") << "x";
   Plot p;
@@ -139,18 +142,20 @@ TEST(FiguresTest, FailingRenderNamesTheOutputAndLeavesNothing) {
   s.x = {0, 1};
   s.y = {0, 1};
   p.series.push_back(s);
-  const fs::path out = dir / "not_a_folder" / "plot.png";
-  ExpectErrorContaining([&] { RenderPlot(p, out); }, out.string());
-  // gnuplot itself failing (a style it does not know) also names the file.
+  ExpectErrorContaining([&] { WriteFigure(p, dir / "not_a_folder", "plot"); },
+                        (dir / "not_a_folder" / "plot").string());
+  // gnuplot itself failing (a style it does not know) also names the figure.
   p.series[0].style = "no_such_style";
-  ExpectErrorContaining([&] { RenderPlot(p, dir / "bad.png"); }, (dir / "bad.png").string());
-  EXPECT_EQ(RegularFiles(dir), 1);  // only not_a_folder
+  ExpectErrorContaining([&] { WriteFigure(p, dir, "bad"); }, (dir / "bad").string());
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()),
+            1);  // only not_a_folder: no figure file, no temporary folder
 }
 
 // ---- Figures 4 and 5: cell statistics ----------------------------------------------------
 
 studyfile::TrialResult Trial(const std::string& surface, double angle_deg, double speed_m_s,
-                             double e, double mu_eff, bool success = true) {
+                             double e, double mu_eff, bool success = true, double e_se = 0.0,
+                             double mu_eff_se = 0.0) {
   studyfile::TrialResult t;
   t.id = surface + "_" + std::to_string(static_cast<int>(angle_deg)) + "deg";
   t.surface = surface;
@@ -158,6 +163,8 @@ studyfile::TrialResult Trial(const std::string& surface, double angle_deg, doubl
   t.nominal_speed_m_s = speed_m_s;
   t.e = e;
   t.mu_eff = mu_eff;
+  t.e_se = e_se;
+  t.mu_eff_se = mu_eff_se;
   t.success = success;
   return t;
 }
@@ -168,7 +175,7 @@ std::vector<studyfile::TrialResult> SmallTable() {
       Trial("steel", 0, 2, 0.80, 0.5),  // mu_eff of normal impacts must be left out
       Trial("steel", 0, 2, 0.84, 0.5),
       Trial("steel", 0, 3, 0.88, 0.5),
-      Trial("steel", 20, 3, 0.90, 0.15),
+      Trial("steel", 20, 3, 0.90, 0.15, true, /*e_se=*/0.012, /*mu_eff_se=*/0.03),
       Trial("steel", 20, 3, 0.10, 0.90, /*success=*/false),  // failed: left out everywhere
       Trial("asphalt", 0, 2, 0.50, 0.5),
       Trial("asphalt", 0, 3, 0.60, 0.5),
@@ -184,6 +191,7 @@ struct Expected {
   double level;
   std::size_t n;
   double mean, sd;  // sd NaN = undefined
+  double se;        // s.e. of the mean: sd / sqrt(n), or a lone trial's own s.e. (NaN: none)
 };
 
 void ExpectCells(const std::vector<CellSummary>& got, const std::vector<Expected>& want) {
@@ -198,29 +206,34 @@ void ExpectCells(const std::vector<CellSummary>& got, const std::vector<Expected
       EXPECT_TRUE(std::isnan(got[i].sd)) << got[i].sd;
     else
       EXPECT_NEAR(got[i].sd, want[i].sd, 1e-12);
+    if (std::isnan(want[i].se))
+      EXPECT_TRUE(std::isnan(got[i].se)) << got[i].se;
+    else
+      EXPECT_NEAR(got[i].se, want[i].se, 1e-12);
   }
 }
 
 TEST(StudySummaryTest, RestitutionByAngleMatchesHandComputedValues) {
   // steel 0: 0.80 0.84 0.88 -> mean 0.84, s.d. sqrt((0.0016 + 0 + 0.0016) / 2) = 0.04.
-  // steel 20: 0.90 alone (the failed 0.10 is out) -> s.d. undefined.
+  // steel 20: 0.90 alone (the failed 0.10 is out) -> s.d. undefined, s.e. its own 0.012.
+  // The s.e. of the others: s.d. / sqrt(n).
   // asphalt 0: 0.50 0.60 -> 0.55, sqrt(0.005). asphalt 20: 0.55 0.57 0.62 0.58 -> 0.58,
   // deviations -0.03 -0.01 0.04 0 -> sqrt(0.0026 / 3).
   ExpectCells(SummarizeByCell(SmallTable(), StudyQuantity::kRestitution, StudyFactor::kImpactAngle),
-              {{"steel", 0, 3, 0.84, 0.04},
-               {"steel", 20, 1, 0.90, NAN},
-               {"asphalt", 0, 2, 0.55, std::sqrt(0.005)},
-               {"asphalt", 20, 4, 0.58, std::sqrt(0.0026 / 3)}});
+              {{"steel", 0, 3, 0.84, 0.04, 0.04 / std::sqrt(3.0)},
+               {"steel", 20, 1, 0.90, NAN, 0.012},
+               {"asphalt", 0, 2, 0.55, std::sqrt(0.005), std::sqrt(0.005 / 2)},
+               {"asphalt", 20, 4, 0.58, std::sqrt(0.0026 / 3), std::sqrt(0.0026 / 3) / 2}});
 }
 
 TEST(StudySummaryTest, RestitutionBySpeedMatchesHandComputedValues) {
   // steel 2: 0.80 0.84 -> 0.82, sqrt(0.0008); steel 3: 0.88 0.90 -> 0.89, sqrt(0.0002);
   // asphalt 2: 0.50 0.55 0.57 -> 0.54, sqrt(0.0026 / 2); asphalt 3: 0.60 0.62 0.58 -> 0.60, 0.02.
   ExpectCells(SummarizeByCell(SmallTable(), StudyQuantity::kRestitution, StudyFactor::kSpeed),
-              {{"steel", 2, 2, 0.82, std::sqrt(0.0008)},
-               {"steel", 3, 2, 0.89, std::sqrt(0.0002)},
-               {"asphalt", 2, 3, 0.54, std::sqrt(0.0013)},
-               {"asphalt", 3, 3, 0.60, 0.02}});
+              {{"steel", 2, 2, 0.82, std::sqrt(0.0008), 0.02},
+               {"steel", 3, 2, 0.89, std::sqrt(0.0002), 0.01},
+               {"asphalt", 2, 3, 0.54, std::sqrt(0.0013), std::sqrt(0.0013 / 3)},
+               {"asphalt", 3, 3, 0.60, 0.02, 0.02 / std::sqrt(3.0)}});
 }
 
 TEST(StudySummaryTest, FrictionUsesObliqueSuccessfulTrialsOnly) {
@@ -229,11 +242,12 @@ TEST(StudySummaryTest, FrictionUsesObliqueSuccessfulTrialsOnly) {
   // sqrt(0.005); asphalt 3: 0.25 0.29 -> 0.27, sqrt(0.0008).
   ExpectCells(
       SummarizeByCell(SmallTable(), StudyQuantity::kEffectiveFriction, StudyFactor::kImpactAngle),
-      {{"steel", 20, 1, 0.15, NAN}, {"asphalt", 20, 4, 0.26, std::sqrt(0.0062 / 3)}});
+      {{"steel", 20, 1, 0.15, NAN, 0.03},
+       {"asphalt", 20, 4, 0.26, std::sqrt(0.0062 / 3), std::sqrt(0.0062 / 3) / 2}});
   ExpectCells(SummarizeByCell(SmallTable(), StudyQuantity::kEffectiveFriction, StudyFactor::kSpeed),
-              {{"steel", 3, 1, 0.15, NAN},
-               {"asphalt", 2, 2, 0.25, std::sqrt(0.005)},
-               {"asphalt", 3, 2, 0.27, std::sqrt(0.0008)}});
+              {{"steel", 3, 1, 0.15, NAN, 0.03},
+               {"asphalt", 2, 2, 0.25, std::sqrt(0.005), 0.05},
+               {"asphalt", 3, 2, 0.27, std::sqrt(0.0008), 0.02}});
 }
 
 TEST(StudySummaryTest, TrialsWithoutSpeedOrValueAreLeftOut) {
@@ -241,7 +255,7 @@ TEST(StudySummaryTest, TrialsWithoutSpeedOrValueAreLeftOut) {
                                            Trial("steel", 10, 2, NAN, NAN)};
   EXPECT_TRUE(SummarizeByCell(t, StudyQuantity::kRestitution, StudyFactor::kSpeed).empty());
   ExpectCells(SummarizeByCell(t, StudyQuantity::kRestitution, StudyFactor::kImpactAngle),
-              {{"steel", 0, 1, 0.8, NAN}});
+              {{"steel", 0, 1, 0.8, NAN, NAN}});  // no s.e. of its own: no bar
   EXPECT_TRUE(
       SummarizeByCell(t, StudyQuantity::kEffectiveFriction, StudyFactor::kImpactAngle).empty());
 }
@@ -252,7 +266,7 @@ TEST(StudyFiguresTest, AllFourStudyFiguresRender) {
   study.name = "small-table";
   study.trials = SmallTable();
   const auto written = WriteStudyFigures(study, dir);
-  ASSERT_EQ(written.size(), 8u);
+  ASSERT_EQ(written.size(), 16u);
   const std::pair<const char*, const char*> figures[] = {
       {"e_by_angle", "Coefficient of restitution by impact angle"},
       {"e_by_speed", "Coefficient of restitution by nominal speed"},
@@ -262,11 +276,34 @@ TEST(StudyFiguresTest, AllFourStudyFiguresRender) {
     ExpectPng(dir / (std::string(name) + ".png"), 900, 550);
     const std::string svg = ReadAll(dir / (std::string(name) + ".svg"));
     EXPECT_NE(svg.find(title), std::string::npos) << name;
+    EXPECT_NE(svg.find("mean ± 1 s.e. of the mean (s.d./√n)"), std::string::npos) << name;
   }
-  EXPECT_EQ(RegularFiles(dir), 8);
+  EXPECT_EQ(RegularFiles(dir), 16);
+  // e by angle's data: per surface the nudged level, mean, s.e., then the level itself, n and
+  // s.d. Steel at 0°: mean 0.84, s.e. 0.04 / sqrt(3), n 3, s.d. 0.04.
+  const std::string csv = ReadAll(dir / "e_by_angle.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "steel: impact angle φ (°),steel: coefficient of restitution e (1),"
+            "steel: s.e. of coefficient of restitution e (1),"
+            "steel: impact angle φ (°) without the sideways nudge,"
+            "steel: trials in the cell (1),steel: s.d. of the trials (1),"
+            "asphalt: impact angle φ (°),asphalt: coefficient of restitution e (1),"
+            "asphalt: s.e. of coefficient of restitution e (1),"
+            "asphalt: impact angle φ (°) without the sideways nudge,"
+            "asphalt: trials in the cell (1),asphalt: s.d. of the trials (1)");
+  const std::size_t row = csv.find('\n') + 1;
+  std::vector<double> first;
+  std::stringstream cells(csv.substr(row, csv.find('\n', row) - row));
+  for (std::string cell; std::getline(cells, cell, ',');) first.push_back(std::stod(cell));
+  ASSERT_EQ(first.size(), 12u);
+  EXPECT_NEAR(first[1], 0.84, 1e-12);
+  EXPECT_NEAR(first[2], 0.04 / std::sqrt(3.0), 1e-12);
+  EXPECT_EQ(first[3], 0.0);
+  EXPECT_EQ(first[4], 3.0);
+  EXPECT_NEAR(first[5], 0.04, 1e-12);
   // A study of normal impacts only has no friction figures.
   study.trials = {Trial("steel", 0, 2, 0.8, NAN), Trial("steel", 0, 2, 0.82, NAN)};
-  EXPECT_EQ(WriteStudyFigures(study, FreshDir("study_figures_normal")).size(), 4u);
+  EXPECT_EQ(WriteStudyFigures(study, FreshDir("study_figures_normal")).size(), 8u);
 }
 
 // ---- Figure 3 ------------------------------------------------------------------------------
@@ -389,17 +426,24 @@ TEST(DisplacementFigureTest, WithoutFitOnlyTheMeasuredPoints) {
 TEST(DisplacementFigureTest, RendersAsPngAndSvg) {
   const fs::path dir = FreshDir("displacement_figure");
   const pipeline::TrialAnalysis t = ConstructedTrial();
-  WriteDisplacementFigure(t, dir / "d.png");
-  WriteDisplacementFigure(t, dir / "d.svg");
+  WriteDisplacementFigure(t, dir, "d");
   ExpectPng(dir / "d.png", 900, 900);
   const std::string svg = ReadAll(dir / "d.svg");
-  EXPECT_NE(svg.find("steel_20deg_constructed: steel, surface angle 20 deg"), std::string::npos);
+  EXPECT_NE(svg.find("steel_20deg_constructed: steel, surface angle 20.0°"), std::string::npos);
   EXPECT_NE(svg.find("(a) displacement of the centre of mass C"), std::string::npos);
-  EXPECT_EQ(RegularFiles(dir), 2);
+  EXPECT_NE(svg.find("angle θ of x"), std::string::npos);
+  EXPECT_EQ(RegularFiles(dir), 4);
+  // The panels' columns carry their units.
+  const std::string csv = ReadAll(dir / "d.csv");
+  EXPECT_EQ(csv.find("(a) displacement of the centre of mass C in the surface frame S: x_S (along "
+                     "the surface): time t (ms),"),
+            0u)
+      << csv.substr(0, 200);
+  EXPECT_NE(csv.find("(b) angle of the hoof wall: measured: angle θ of x_B from x_W (°)"),
+            std::string::npos);
   pipeline::TrialAnalysis empty;
   empty.spec.id = "no_poses";
-  ExpectErrorContaining([&] { WriteDisplacementFigure(empty, dir / "e.png"); },
-                        (dir / "e.png").string());
+  ExpectErrorContaining([&] { WriteDisplacementFigure(empty, dir, "e"); }, (dir / "e").string());
 }
 
 }  // namespace
