@@ -36,7 +36,10 @@ std::string Explanation(const std::optional<discovery::BaselinePredictions>& p,
        "The s.d. is that of a 95&nbsp;% prediction interval: the trial's own measurement error, "
        "the trial-to-trial scatter of its surface's &zeta; and &mu; carried through the model, "
        "and a systematic measurement error, fitted as the discovery workflow fits its baseline, "
-       "to the study's other trials (<code>/prediction</code>). |z| &gt; 3 is marked.</p>";
+       "to the study's other trials, and the error of the fitted &zeta; and &mu; "
+       "(<code>/prediction</code>). As the scatter is estimated from the surface's few trials, "
+       "the ratio is read as Student's t on the surface's degrees of freedom and shown as the "
+       "normal z of the same tail probability. |z| &gt; 3 is marked.</p>";
   if (!read_error.empty()) {
     h << "<p class=\"bad\">The prediction tables cannot be read: " << HtmlEscape(read_error)
       << "</p>";
