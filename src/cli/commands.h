@@ -32,6 +32,9 @@ enum ExitCode : int {
 /// Holds the exit code a subcommand's callback sets.
 struct RunState {
   int exit_code = kExitOk;
+  /// The command as typed (argv, each word shell-quoted where it needs it), for the record a
+  /// study file and a report keep of how they were made.
+  std::string command_line;
 };
 
 void RegisterSimulate(CLI::App& app, RunState& state);

@@ -1,6 +1,7 @@
 // hoofimpact: one program for the whole study. See README.md and docs/cli.md.
 #include <exception>
 #include <iostream>
+#include <string>
 
 #include <CLI/CLI.hpp>
 #include <opencv2/core/utils/logger.hpp>
@@ -21,6 +22,17 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "hoofimpact 0.1.0");
   hoof::cli::RunState state;
+  for (int i = 0; i < argc; ++i) {  // the command line as typed, for provenance
+    std::string word = i == 0 ? std::string("hoofimpact") : std::string(argv[i]);
+    if (word.empty() ||
+        word.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                               "0123456789_-+=.,/:@%") != std::string::npos) {
+      std::string quoted = "'";
+      for (char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+      word = quoted + "'";
+    }
+    state.command_line += (i ? " " : "") + word;
+  }
   hoof::cli::RegisterSimulate(app, state);
   hoof::cli::RegisterFit(app, state);
   hoof::cli::RegisterStats(app, state);

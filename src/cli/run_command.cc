@@ -110,6 +110,8 @@ class RunPrinter : public study::StudyJobObserver {
         std::cout << "\n== " << step_++ << ". Report: " << s.report.output.string() << " ("
                   << s.report.bytes / 1024 << " KiB, " << s.report.replays
                   << " replay(s); open it in a browser, no network needed)\n";
+        // What the report left out (a replay whose frames were not found), as `report` says it.
+        if (!s.report.notes.empty()) std::cerr << s.report.notes;
         break;
     }
   }
@@ -166,7 +168,9 @@ void Run(RunArgs& a, RunState& state) {
   options.statistics.alpha = a.alpha;
   options.trial_figures = a.trial_figures;
   if (a.discover) options.discovery = DiscoveryOptionsOf(discover);
-  options.command_line = "hoofimpact run " + a.study_dir + " -o " + a.output_dir;
+  options.command_line = state.command_line.empty()
+                             ? "hoofimpact run " + a.study_dir + " -o " + a.output_dir
+                             : state.command_line;
   RunPrinter printer(a, discover);
   const study::StudyJobSummary s = study::RunStudyJob(options, &printer);
   std::cout

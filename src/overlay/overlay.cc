@@ -14,7 +14,9 @@
 #include <opencv2/videoio.hpp>
 
 #include "compare/comparison_tables.h"
+#include "compare/replay_convention.h"
 #include "core/frames.h"
+#include "format/number_format.h"
 #include "io/atomic_file.h"
 #include "io/interrupt.h"
 #include "studyfile/study_file.h"
@@ -42,16 +44,15 @@ void AddArc(std::vector<Eigen::Vector2d>& out, double r, double a0, double a1, d
   for (int i = 0; i < n; ++i) out.push_back(r * Dir(a0 + (a1 - a0) * i / n));
 }
 
-/// The trial folder recorded in the study file: as written, or, when the study was run from
-/// another working directory, the folder of that name in the study folder.
+/// The trial's folder: where the study file recorded it, else under the study folder's new
+/// place (`moved_study_dir`), else by its name in the recorded study folder.
 fs::path FindTrialDir(const studyfile::TrialResult& r, const fs::path& study_dir,
-                      const fs::path& h5) {
-  const fs::path dir = r.dir;
-  if (fs::exists(dir / "trial.json")) return dir;
-  if (!study_dir.empty() && fs::exists(study_dir / dir.filename() / "trial.json"))
-    return study_dir / dir.filename();
-  throw std::runtime_error(h5.string() + ": trial " + r.id + ": its folder " + dir.string() +
-                           " (recorded in the study file) has no trial.json");
+                      const fs::path& moved_study_dir, const fs::path& h5) {
+  const compare::replay::TrialFolderSearch s =
+      compare::replay::LocateTrialFolder(r.dir, study_dir, moved_study_dir);
+  if (s.found) return *s.found;
+  throw std::runtime_error(h5.string() + ": trial " + r.id + ": " +
+                           compare::replay::NotFoundMessage(s, !moved_study_dir.empty()));
 }
 
 std::unique_ptr<tracking::FrameSource> OpenFrames(const pipeline::TrialSpec& spec) {
@@ -68,9 +69,10 @@ struct TrialData {
   tracking::ImageToWorld camera;
   std::vector<compare::FrameComparison> frames;  ///< the simulation against the measurement
   double t_touch_s = kNaN;
+  fs::path dir;  ///< the trial folder the frames are read from
 };
 
-TrialData LoadTrial(const fs::path& h5, const std::string& id) {
+TrialData LoadTrial(const fs::path& h5, const std::string& id, const fs::path& moved_study_dir) {
   TrialData d;
   const studyfile::StudyResults results = studyfile::ReadStudyResults(h5);
   const auto it = std::find_if(results.trials.begin(), results.trials.end(),
@@ -96,8 +98,12 @@ TrialData LoadTrial(const fs::path& h5, const std::string& id) {
                              (why.empty() ? "" : ": " + why));
   }
   d.t_touch_s = row->comparison.t_touch_s;
-  const fs::path trial_dir = FindTrialDir(d.result, results.study_dir, h5);
-  const fs::path study_json = fs::path(results.study_dir) / "study.json";
+  d.dir = FindTrialDir(d.result, results.study_dir, moved_study_dir, h5);
+  const fs::path& trial_dir = d.dir;
+  // study.json of the study folder the trial was found in (its specimens).
+  fs::path study_json = fs::path(results.study_dir) / "study.json";
+  if (!moved_study_dir.empty() && fs::exists(moved_study_dir / "study.json"))
+    study_json = moved_study_dir / "study.json";
   d.spec = pipeline::ReadTrial(
       trial_dir, fs::exists(study_json) ? std::optional<fs::path>(study_json) : std::nullopt);
   std::vector<std::string> markers;
@@ -121,10 +127,13 @@ std::pair<Eigen::Vector2d, double> SimPoseAt(const TrialData& d, double t) {
           fr[i].theta_W_sim_rad + a * (fr[j].theta_W_sim_rad - fr[i].theta_W_sim_rad)};
 }
 
-FrameOverlay BuildFrame(const TrialData& d, std::size_t f) {
+FrameOverlay BuildFrame(const TrialData& d, std::size_t f, const OverlayOptions& opt,
+                        const std::string& pace) {
   FrameOverlay o;
   o.frame = static_cast<int>(f);
   o.title = d.spec.id;
+  o.residual_scale = opt.residual_scale;
+  o.pace = pace;
   o.t_since_impact_s = static_cast<double>(f) / d.spec.fps - d.result.impact_time_s;
   const auto& sp = d.spec.specimen;
   if (f >= d.frames.size()) return o;
@@ -165,21 +174,22 @@ cv::Mat ToColour8(const cv::Mat& frame) {
 }
 
 std::string Stamp(const FrameOverlay& o) {
-  char buf[128];
+  std::string s = "frame " + std::to_string(o.frame);
   if (std::isfinite(o.t_since_impact_s))
-    std::snprintf(buf, sizeof buf, "frame %d   t = %+.3f ms from impact", o.frame,
-                  o.t_since_impact_s * 1e3);
-  else
-    std::snprintf(buf, sizeof buf, "frame %d", o.frame);
-  return buf;
+    s += "   t = " + std::string(o.t_since_impact_s >= 0 ? "+" : "") +
+         format::Number(o.t_since_impact_s * 1e3) + " ms from impact";
+  return s;
 }
+
+/// A glyph's colour as OpenCV's BGR.
+cv::Scalar Bgr(const compare::replay::Glyph& g) { return {double(g.b), double(g.g), double(g.r)}; }
 
 /// Writes `frames` into a video at `path` with `fourcc`; false when the encoder is missing.
 bool TryVideo(const fs::path& path, int fourcc, const std::vector<fs::path>& frames,
-              const OverlayOptions& opt) {
+              const VideoPace& pace) {
   const cv::Mat first = cv::imread(frames.front().string(), cv::IMREAD_COLOR);
-  cv::VideoWriter w(path.string(), cv::CAP_FFMPEG, fourcc, opt.video_fps, first.size(), true);
-  if (!w.isOpened()) w.open(path.string(), fourcc, opt.video_fps, first.size(), true);
+  cv::VideoWriter w(path.string(), cv::CAP_FFMPEG, fourcc, pace.video_fps, first.size(), true);
+  if (!w.isOpened()) w.open(path.string(), fourcc, pace.video_fps, first.size(), true);
   if (!w.isOpened()) {
     std::error_code ec;
     fs::remove(path, ec);  // a failed attempt's leftovers
@@ -187,7 +197,7 @@ bool TryVideo(const fs::path& path, int fourcc, const std::vector<fs::path>& fra
   }
   for (const auto& f : frames) {
     const cv::Mat img = cv::imread(f.string(), cv::IMREAD_COLOR);
-    for (int k = 0; k < opt.slow; ++k) w.write(img);
+    for (int k = 0; k < pace.repeats; ++k) w.write(img);
   }
   w.release();
   return fs::exists(path) && fs::file_size(path) > 0;
@@ -234,12 +244,93 @@ std::vector<Eigen::Vector2d> OutlineToImage(const pipeline::SpecimenSpec& specim
   return out;
 }
 
+std::vector<std::pair<std::string, cv::Scalar>> OverlayLegend(const FrameOverlay& o) {
+  using namespace compare::replay;
+  const cv::Scalar yellow(0, 230, 255), white(255, 255, 255);
+  std::vector<std::pair<std::string, cv::Scalar>> lines;
+  if (!o.title.empty()) lines.emplace_back(o.title, white);
+  lines.emplace_back(Stamp(o), white);
+  lines.emplace_back(std::string(kMeasured.symbol) + "  " + kMeasured.label, Bgr(kMeasured));
+  lines.emplace_back(std::string(kSimulated.symbol) + "  " + kSimulated.label + ", outline",
+                     Bgr(kSimulated));
+  if (o.residual_scale > 0)
+    lines.emplace_back(std::string(kResidual.symbol) + " " + kResidual.label + " x " +
+                           std::to_string(o.residual_scale) + " (sim. - meas.)",
+                       Bgr(kResidual));
+  if (o.has_contact) lines.emplace_back("<> contact T, surface (sim.)", yellow);
+  if (!o.pace.empty()) lines.emplace_back("video " + o.pace, white);
+  return lines;
+}
+
+namespace {
+/// Text metrics of the legend for an image of `size`.
+struct LegendMetrics {
+  int thick;
+  double font;
+  int line;  ///< line height (px)
+};
+LegendMetrics MetricsFor(const cv::Size& size) {
+  const double s = std::min(size.width, size.height);
+  LegendMetrics m;
+  m.thick = std::max(1, static_cast<int>(std::lround(s / 400)));
+  m.font = std::max(0.4, s / 900);
+  m.line = static_cast<int>(std::lround(28 * m.font)) + 4;
+  return m;
+}
+}  // namespace
+
+cv::Rect LegendRect(const cv::Size& size, const FrameOverlay& o) {
+  const LegendMetrics m = MetricsFor(size);
+  int width = 0, base = 0;
+  const auto lines = OverlayLegend(o);
+  for (const auto& l : lines)
+    width = std::max(
+        width, cv::getTextSize(l.first, cv::FONT_HERSHEY_SIMPLEX, m.font, m.thick, &base).width);
+  const int w = std::min(size.width, width + 16);
+  const int h = std::min(size.height, m.line * static_cast<int>(lines.size()) + m.line / 2);
+  const bool right = o.legend_corner == 1 || o.legend_corner == 3;
+  const bool bottom = o.legend_corner >= 2;
+  return {right ? size.width - w : 0, bottom ? size.height - h : 0, w, h};
+}
+
+int LegendCorner(const cv::Size& size, const std::vector<FrameOverlay>& frames) {
+  int best = 0;
+  long fewest = -1;
+  for (int corner = 0; corner < 4; ++corner) {
+    long covered = 0;
+    for (FrameOverlay o : frames) {
+      o.legend_corner = corner;
+      const cv::Rect r = LegendRect(size, o);
+      // A point counts when its glyph would reach into the box.
+      const double pad = 1.5 * o.marker_radius_px;
+      auto count = [&](const Eigen::Vector2d& p) {
+        if (Finite(p) && p.x() >= r.x - pad && p.x() <= r.x + r.width + pad && p.y() >= r.y - pad &&
+            p.y() <= r.y + r.height + pad)
+          ++covered;
+      };
+      for (std::size_t k = 0; k < o.markers_meas_px.size(); ++k) {
+        count(o.markers_meas_px[k]);
+        if (k < o.markers_sim_px.size() && o.residual_scale > 0)
+          count(o.markers_meas_px[k] +
+                o.residual_scale * (o.markers_sim_px[k] - o.markers_meas_px[k]));
+      }
+      for (const auto& p : o.markers_sim_px) count(p);
+      for (const auto& p : o.outline_sim_px) count(p);
+    }
+    if (fewest < 0 || covered < fewest) fewest = covered, best = corner;
+  }
+  return best;
+}
+
 cv::Mat DrawOverlay(const cv::Mat& frame, const FrameOverlay& o) {
+  using namespace compare::replay;
   cv::Mat img = ToColour8(frame);
-  const double size = std::min(img.cols, img.rows);
-  const int thick = std::max(1, static_cast<int>(std::lround(size / 400)));
-  const double font = std::max(0.4, size / 900);
-  const cv::Scalar red(40, 40, 255), green(0, 220, 0), yellow(0, 230, 255), white(255, 255, 255);
+  const LegendMetrics metrics = MetricsFor(img.size());
+  const int thick = metrics.thick;
+  const double font = metrics.font;
+  const cv::Scalar yellow(0, 230, 255);
+  const cv::Scalar measured = Bgr(kMeasured), simulated = Bgr(kSimulated),
+                   residual = Bgr(kResidual);
   const int shift = 4;  // sub-pixel drawing: coordinates * 16
   auto fx = [&](const Eigen::Vector2d& p) {
     return cv::Point(static_cast<int>(std::lround(p.x() * 16)),
@@ -252,58 +343,93 @@ cv::Mat DrawOverlay(const cv::Mat& frame, const FrameOverlay& o) {
     std::vector<cv::Point> poly;
     for (const auto& p : o.outline_sim_px)
       if (Finite(p)) poly.push_back(fx(p));
-    cv::polylines(img, std::vector<std::vector<cv::Point>>{poly}, true, red, thick, cv::LINE_AA,
-                  shift);
+    cv::polylines(img, std::vector<std::vector<cv::Point>>{poly}, true, simulated, thick,
+                  cv::LINE_AA, shift);
   }
-  for (const auto& p : o.markers_sim_px)
-    if (Finite(p))
-      cv::circle(img, fx(p), static_cast<int>(o.marker_radius_px * 16), red, thick, cv::LINE_AA,
-                 shift);
-  const double arm = std::max(3.0, 0.6 * o.marker_radius_px);
-  for (const auto& p : o.markers_meas_px) {
+  const double arm = kSimulated.size * o.marker_radius_px;
+  for (const auto& p : o.markers_sim_px) {
     if (!Finite(p)) continue;
-    cv::line(img, fx(p + Eigen::Vector2d(-arm, 0)), fx(p + Eigen::Vector2d(arm, 0)), green, thick,
-             cv::LINE_AA, shift);
-    cv::line(img, fx(p + Eigen::Vector2d(0, -arm)), fx(p + Eigen::Vector2d(0, arm)), green, thick,
-             cv::LINE_AA, shift);
+    cv::line(img, fx(p + Eigen::Vector2d(-arm, 0)), fx(p + Eigen::Vector2d(arm, 0)), simulated,
+             thick, cv::LINE_AA, shift);
+    cv::line(img, fx(p + Eigen::Vector2d(0, -arm)), fx(p + Eigen::Vector2d(0, arm)), simulated,
+             thick, cv::LINE_AA, shift);
+  }
+  for (const auto& p : o.markers_meas_px)
+    if (Finite(p))
+      cv::circle(img, fx(p),
+                 static_cast<int>(std::lround(kMeasured.size * o.marker_radius_px * 16)), measured,
+                 thick, cv::LINE_AA, shift);
+  // The residual arrows last, over the markers: measured -> measured + F (simulated - measured).
+  if (o.residual_scale > 0) {
+    const double head = kResidual.size * o.marker_radius_px;
+    for (std::size_t m = 0; m < std::min(o.markers_meas_px.size(), o.markers_sim_px.size()); ++m) {
+      const Eigen::Vector2d& a = o.markers_meas_px[m];
+      const Eigen::Vector2d b = a + o.residual_scale * (o.markers_sim_px[m] - a);
+      if (!Finite(a) || !Finite(b)) continue;
+      const double length = (b - a).norm();
+      if (length < 0.5) continue;  // nothing to draw
+      cv::arrowedLine(img, fx(a), fx(b), residual, thick, cv::LINE_AA, shift,
+                      std::min(0.5, head / length));
+    }
   }
   if (o.has_contact) {
-    cv::drawMarker(img, Pt(o.contact_px), yellow, cv::MARKER_DIAMOND, static_cast<int>(2 * arm),
-                   thick, cv::LINE_AA);
+    cv::drawMarker(img, Pt(o.contact_px), yellow, cv::MARKER_DIAMOND,
+                   static_cast<int>(std::lround(2 * arm)), thick, cv::LINE_AA);
   }
-  // Text: title and time stamp at the top left, the legend below.
-  const int line = static_cast<int>(std::lround(28 * font)) + 4;
-  int y = line;
-  auto text = [&](const std::string& s, const cv::Scalar& c) {
-    cv::putText(img, s, {8, y}, cv::FONT_HERSHEY_SIMPLEX, font, cv::Scalar(0, 0, 0), thick + 2,
-                cv::LINE_AA);
-    cv::putText(img, s, {8, y}, cv::FONT_HERSHEY_SIMPLEX, font, c, thick, cv::LINE_AA);
-    y += line;
-  };
-  std::vector<std::pair<std::string, cv::Scalar>> lines;
-  if (!o.title.empty()) lines.emplace_back(o.title, white);
-  lines.emplace_back(Stamp(o), white);
-  lines.emplace_back("+ measured markers", green);
-  lines.emplace_back("o simulated markers and outline", red);
-  if (o.has_contact)
-    lines.emplace_back("<> contact point T at first touch (sim.), surface", yellow);
-  // A darkened box behind the text keeps it legible over the specimen.
-  int width = 0, base = 0;
-  for (const auto& l : lines)
-    width = std::max(width,
-                     cv::getTextSize(l.first, cv::FONT_HERSHEY_SIMPLEX, font, thick, &base).width);
-  const cv::Rect box =
-      cv::Rect(0, 0, width + 16, line * static_cast<int>(lines.size()) + line / 2) &
-      cv::Rect(0, 0, img.cols, img.rows);
+  // Text: title and time stamp, then the legend, on a darkened box (which keeps it legible
+  // over the specimen) in the legend's corner.
+  const cv::Rect box = LegendRect(img.size(), o);
   img(box) *= 0.35;
-  for (const auto& l : lines) text(l.first, l.second);
+  const int line = MetricsFor(img.size()).line;
+  int y = box.y + line;
+  for (const auto& [s, c] : OverlayLegend(o)) {
+    cv::putText(img, s, {box.x + 8, y}, cv::FONT_HERSHEY_SIMPLEX, font, cv::Scalar(0, 0, 0),
+                thick + 2, cv::LINE_AA);
+    cv::putText(img, s, {box.x + 8, y}, cv::FONT_HERSHEY_SIMPLEX, font, c, thick, cv::LINE_AA);
+    y += line;
+  }
   return img;
 }
 
+namespace {
+/// A ratio for the legend: a whole number as such ("1000"), else to 3 significant digits.
+std::string Ratio(double x) {
+  const double whole = std::round(x);
+  if (std::abs(x - whole) <= 1e-9 * std::abs(x) && std::abs(whole) < 1e15)
+    return std::to_string(static_cast<long long>(whole));
+  return format::Significant(x, 3);
+}
+}  // namespace
+
+std::string VideoPace::Legend() const {
+  return "1/" + Ratio(slowdown) + " of real time, " + Ratio(video_fps / repeats) + " frames/s";
+}
+
+VideoPace PlanVideo(double capture_fps, int slowdown) {
+  if (!(capture_fps > 0) || !std::isfinite(capture_fps))
+    throw std::invalid_argument("overlay: the capture's frame rate (fps) must be > 0, got " +
+                                format::Number(capture_fps));
+  if (slowdown < 1)
+    throw std::invalid_argument("overlay: slowdown must be >= 1, got " + std::to_string(slowdown));
+  VideoPace p;
+  const double r = capture_fps / slowdown;
+  if (r > kMaxVideoFps) {
+    p.video_fps = kMaxVideoFps;
+    p.repeats = 1;
+    p.limited = true;
+  } else {
+    p.repeats = std::max(1, static_cast<int>(std::ceil(kMinVideoFps / r - 1e-9)));
+    p.video_fps = r * p.repeats;
+  }
+  p.slowdown = capture_fps * p.repeats / p.video_fps;
+  return p;
+}
+
 void OverlayOptions::Validate() const {
-  if (slow < 1)
-    throw std::invalid_argument("overlay: slow must be >= 1, got " + std::to_string(slow));
-  if (!(video_fps > 0)) throw std::invalid_argument("overlay: video_fps must be > 0");
+  if (slowdown < 1 || slowdown > 1000000)
+    throw std::invalid_argument("overlay: slowdown must be in 1..1000000, got " +
+                                std::to_string(slowdown));
+  compare::replay::ValidateResidualScale(residual_scale, "overlay: residual_scale");
   if (!write_frames && !write_video)
     throw std::invalid_argument("overlay: nothing to write (no frames, no video)");
 }
@@ -311,9 +437,17 @@ void OverlayOptions::Validate() const {
 OverlaySummary RenderTrialOverlay(const fs::path& h5, const std::string& id,
                                   const OverlayOptions& opt) {
   opt.Validate();
-  const TrialData d = LoadTrial(h5, id);
+  const TrialData d = LoadTrial(h5, id, opt.study_dir);
   auto source = OpenFrames(d.spec);
   OverlaySummary sum;
+  sum.trial_dir = d.dir;
+  sum.pace = PlanVideo(d.spec.fps, opt.slowdown);
+  const std::string pace = opt.write_video ? sum.pace.Legend() : std::string();
+  if (opt.write_video && sum.pace.limited)
+    sum.warnings.push_back("a capture at " + Ratio(d.spec.fps) + " fps shown 1/" +
+                           std::to_string(opt.slowdown) + " of real time would need a video at " +
+                           Ratio(d.spec.fps / opt.slowdown) + " fps; it plays at " +
+                           Ratio(kMaxVideoFps) + " fps, " + pace);
   const std::string group = fs::path(d.result.group).filename().string();
   sum.dir = opt.output_dir / group;
   fs::create_directories(opt.output_dir);
@@ -325,8 +459,15 @@ OverlaySummary RenderTrialOverlay(const fs::path& h5, const std::string& id,
   }
   try {
     std::vector<fs::path> tmp_frames;
+    // One legend corner for the whole trial, the one that hides the fewest marks.
+    std::vector<FrameOverlay> overlays;
+    for (int f = 0; f < source->count(); ++f)
+      overlays.push_back(BuildFrame(d, static_cast<std::size_t>(f), opt, pace));
+    const int corner = overlays.empty() ? 0 : LegendCorner(source->Read(0).size(), overlays);
     for (int f = 0; f < source->count(); ++f) {
-      const cv::Mat img = DrawOverlay(source->Read(f), BuildFrame(d, static_cast<std::size_t>(f)));
+      FrameOverlay& o = overlays[static_cast<std::size_t>(f)];
+      o.legend_corner = corner;
+      const cv::Mat img = DrawOverlay(source->Read(f), o);
       char name[32];
       std::snprintf(name, sizeof name, "frame_%06d.png", f);
       tmp_frames.push_back(tmp / name);
@@ -337,11 +478,11 @@ OverlaySummary RenderTrialOverlay(const fs::path& h5, const std::string& id,
     sum.frames = source->count();
     if (opt.write_video && !tmp_frames.empty()) {
       if (TryVideo(tmp / "overlay.webm", cv::VideoWriter::fourcc('V', 'P', '8', '0'), tmp_frames,
-                   opt)) {
+                   sum.pace)) {
         sum.video = sum.dir / "overlay.webm";
         sum.video_format = "WebM (VP8)";
       } else if (TryVideo(tmp / "overlay.avi", cv::VideoWriter::fourcc('M', 'J', 'P', 'G'),
-                          tmp_frames, opt)) {
+                          tmp_frames, sum.pace)) {
         sum.video = sum.dir / "overlay.avi";
         sum.video_format = "AVI (MJPG)";
       } else {

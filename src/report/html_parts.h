@@ -2,11 +2,14 @@
 /// @file
 /// Parts of the HTML report (html_report.cc) that its Discovery section (discovery_html.cc) and
 /// its Statistics section (stats_html.cc) share. Internal to hoof::report.
+/// Parts of the HTML report (html_report.cc) that its other sections (summary_html.cc,
+/// replay_html.cc, discovery_html.cc) share. Internal to hoof::report.
 
 #include <cstddef>
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "compare/comparison_tables.h"
@@ -18,6 +21,10 @@ namespace hoof::report::internal {
 
 /// A number for the page, or a dash when it is not finite.
 std::string Fmt(double v, int precision = 4);
+/// A number for the embedded JSON: NaN and infinities become null.
+std::string JsonNumber(double v);
+/// A JSON string literal that is also safe inside <script> ("</" cannot close the element).
+std::string JsonString(std::string_view text);
 /// A cell of a numeric column (NaN when the column is absent).
 double Num(const studyfile::Table& t, const std::string& name, std::size_t row);
 /// Rows of a table (0 without columns).
@@ -46,6 +53,17 @@ std::string FigureHtml(const std::filesystem::path& png);
 std::string TrialsSection(const studyfile::StudyResults& study,
                           const std::vector<compare::ComparedTrial>& compared,
                           const std::filesystem::path& h5, HtmlReportSummary& summary);
+
+/// The Study section: the summary of `study` and how the study file and the page were made
+/// (summary_html.cc).
+std::string SummarySection(const studyfile::StudyResults& study, const std::filesystem::path& h5,
+                           const HtmlReportOptions& options);
+
+/// The Replay section: a few trials' frames around the impact with the measured and simulated
+/// markers and the magnified residuals, or why none could be drawn (replay_html.cc). Each
+/// replay that cannot be drawn is added to the summary's notes and missing_replays.
+std::string ReplaySection(const studyfile::StudyResults& study, const std::filesystem::path& h5,
+                          const HtmlReportOptions& options, HtmlReportSummary& summary);
 
 /// The Discovery section of the study file's /discovery, or nothing without one
 /// (discovery_html.cc).

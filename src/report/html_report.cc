@@ -22,6 +22,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "compare/comparison_tables.h"
+#include "compare/replay_convention.h"
 #include "core/frames.h"
 #include "discovery/discovery_tables.h"
 #include "io/atomic_file.h"
@@ -122,31 +123,6 @@ std::size_t Rows(const Table& t) { return t.columns.empty() ? 0 : t.columns.fron
 
 // ---- sections ----------------------------------------------------------------------------
 
-std::string SummarySection(const studyfile::StudyResults& study, const fs::path& h5) {
-  std::ostringstream h;
-  int measured = 0;
-  for (const auto& t : study.trials) measured += t.success ? 1 : 0;
-  const int failed = static_cast<int>(study.trials.size()) - measured;
-  h << "<section id=\"summary\"><h2>Study</h2><dl class=\"facts\">"
-    << "<dt>Name</dt><dd>" << HtmlEscape(study.name) << "</dd>"
-    << "<dt>Study file</dt><dd><code>" << HtmlEscape(fs::absolute(h5).string()) << "</code></dd>"
-    << "<dt>Study folder</dt><dd><code>" << HtmlEscape(study.study_dir) << "</code></dd>"
-    << "<dt>Created</dt><dd>" << HtmlEscape(study.created_utc) << " by hoofimpact "
-    << HtmlEscape(study.hoofimpact_version) << "</dd>"
-    << "<dt>Trials</dt><dd><span id=\"n-trials\">" << study.trials.size() << "</span>: "
-    << "<span class=\"ok\">" << measured << " measured</span>, <span class=\""
-    << (failed > 0 ? "bad" : "ok") << "\">" << failed << " failed</span></dd></dl>";
-  if (failed > 0) {
-    h << "<h3>Failed trials</h3><ul class=\"failed\">";
-    for (const auto& t : study.trials)
-      if (!t.success)
-        h << "<li><b>" << HtmlEscape(t.id) << "</b>: " << HtmlEscape(t.error) << "</li>";
-    h << "</ul>";
-  }
-  h << "</section>";
-  return h.str();
-}
-
 std::string ModelSection(const std::vector<compare::SurfaceModel>& surfaces) {
   std::ostringstream h;
   h << "<section id=\"model\"><h2>Contact model per surface</h2>"
@@ -231,149 +207,6 @@ std::string FiguresSection(const studyfile::StudyResults& study, const fs::path&
   return h.str();
 }
 
-// ---- replay ------------------------------------------------------------------------------
-
-/// The trials to replay: successful ones, one per surface first, then in file order.
-std::vector<const studyfile::TrialResult*> PickReplays(const studyfile::StudyResults& study,
-                                                       int n) {
-  std::vector<const studyfile::TrialResult*> candidates, picked;
-  for (const auto& t : study.trials)
-    if (t.success) candidates.push_back(&t);
-  std::set<std::string> surfaces;
-  for (const auto* t : candidates)
-    if (static_cast<int>(picked.size()) < n && surfaces.insert(t->surface).second)
-      picked.push_back(t);
-  for (const auto* t : candidates)
-    if (static_cast<int>(picked.size()) < n &&
-        std::find(picked.begin(), picked.end(), t) == picked.end())
-      picked.push_back(t);
-  return picked;
-}
-
-fs::path TrialFolder(const studyfile::TrialResult& t, const std::string& study_dir) {
-  fs::path dir = t.dir;
-  if (fs::exists(dir / "trial.json")) return dir;
-  const fs::path alt = fs::path(study_dir) / dir.filename();
-  if (fs::exists(alt / "trial.json")) return alt;
-  throw std::runtime_error("trial folder " + dir.string() + " not found");
-}
-
-/// Frames [first, last) of the trial as JPEG data URIs, grey levels stretched over the range
-/// of those frames, downscaled to max_width. Sets `scale` (shown px per image px).
-std::vector<std::string> EncodeFrames(const studyfile::TrialResult& t, const std::string& study_dir,
-                                      int first, int last, const HtmlReportOptions& o,
-                                      double& scale) {
-  const pipeline::TrialSpec spec = pipeline::ReadTrial(TrialFolder(t, study_dir));
-  std::unique_ptr<tracking::FrameSource> source;
-  if (spec.frames.is_video())
-    source = std::make_unique<tracking::VideoSource>(spec.dir / spec.frames.video);
-  else
-    source = std::make_unique<tracking::ImageSequenceSource>(spec.dir, spec.frames.pattern,
-                                                             spec.frames.first, spec.frames.count);
-  std::vector<cv::Mat> frames;
-  double lo = 1e300, hi = -1e300;
-  for (int f = first; f < last && f < source->count(); ++f) {
-    cv::Mat grey;
-    source->Read(f).convertTo(grey, CV_32F);
-    double a = 0, b = 0;
-    cv::minMaxLoc(grey, &a, &b);
-    lo = std::min(lo, a);
-    hi = std::max(hi, b);
-    frames.push_back(grey);
-  }
-  std::vector<std::string> uris;
-  if (frames.empty()) return uris;
-  scale = std::min(1.0, o.replay_max_width_px / static_cast<double>(frames[0].cols));
-  const double gain = hi > lo ? 255.0 / (hi - lo) : 1.0;
-  for (const cv::Mat& f : frames) {
-    cv::Mat small, bytes;
-    cv::resize(f, small, cv::Size(), scale, scale, cv::INTER_AREA);
-    small.convertTo(bytes, CV_8U, gain, -lo * gain);
-    std::vector<uchar> jpeg;
-    cv::imencode(".jpg", bytes, jpeg, {cv::IMWRITE_JPEG_QUALITY, o.jpeg_quality});
-    uris.push_back(
-        "data:image/jpeg;base64," +
-        Base64(std::string_view(reinterpret_cast<const char*>(jpeg.data()), jpeg.size())));
-  }
-  return uris;
-}
-
-/// One replay as a JSON object, with its frames as hidden <img> elements appended to `imgs`
-/// (in the document, so the page's load event waits for them).
-std::string ReplayJson(const studyfile::TrialResult& t, const std::string& study_dir,
-                       const compare::ComparedFrames& compared, const HtmlReportOptions& o,
-                       int index, std::string& imgs) {
-  const int n_frames = static_cast<int>(compared.frames.size());
-  const int impact = static_cast<int>(std::lround(t.impact_time_s * t.fps));
-  const int first = std::clamp(impact - o.frames_per_replay / 2, 0, std::max(0, n_frames - 1));
-  const int last = std::min(n_frames, first + o.frames_per_replay);
-  double scale = 1.0;
-  const auto uris = EncodeFrames(t, study_dir, first, last, o, scale);
-  if (uris.empty()) throw std::runtime_error("no frames could be read");
-  const std::vector<std::string>& markers = compared.markers;
-  std::ostringstream j;
-  j << "{\"id\":" << JsonString(t.id) << ",\"surface\":" << JsonString(t.surface)
-    << ",\"scale\":" << JsonNumber(scale) << ",\"impact\":" << impact << ",\"markers\":[";
-  for (std::size_t m = 0; m < markers.size(); ++m) j << (m ? "," : "") << JsonString(markers[m]);
-  j << "],\"frames\":[";
-  for (int k = 0; k < static_cast<int>(uris.size()); ++k) {
-    const compare::FrameComparison& f = compared.frames[static_cast<std::size_t>(first + k)];
-    imgs += "<img class=\"frame\" id=\"f" + std::to_string(index) + "_" + std::to_string(k) +
-            "\" alt=\"\" src=\"" + uris[static_cast<std::size_t>(k)] + "\">";
-    j << (k ? "," : "") << "{\"frame\":" << first + k << ",\"t_ms\":" << JsonNumber(f.t_s * 1e3)
-      << ",\"sim\":[";
-    for (std::size_t m = 0; m < markers.size(); ++m)
-      j << (m ? "," : "") << "[" << JsonNumber(f.markers_px_sim[m].x()) << ","
-        << JsonNumber(f.markers_px_sim[m].y()) << "]";
-    j << "],\"meas\":[";
-    for (std::size_t m = 0; m < markers.size(); ++m)
-      j << (m ? "," : "") << "[" << JsonNumber(f.markers_px_meas[m].x()) << ","
-        << JsonNumber(f.markers_px_meas[m].y()) << "]";
-    j << "]}";
-  }
-  j << "]}";
-  return j.str();
-}
-
-std::string ReplaySection(const studyfile::StudyResults& study, const fs::path& h5,
-                          const HtmlReportOptions& o, HtmlReportSummary& summary) {
-  std::string json = "[", imgs;
-  for (const auto* t : PickReplays(study, o.replay_trials)) {
-    try {
-      const compare::ComparedFrames frames = compare::ReadComparedFrames(h5, t->id);
-      std::string trial_imgs;
-      const std::string one =
-          ReplayJson(*t, study.study_dir, frames, o, summary.replays, trial_imgs);
-      json += (summary.replays ? "," : "") + one;
-      imgs += trial_imgs;
-      ++summary.replays;
-    } catch (const std::exception& e) {
-      summary.notes += t->id + ": no replay (" + e.what() + ")\n";
-    }
-  }
-  json += "]";
-  std::ostringstream h;
-  h << "<section id=\"replay\"><h2>Replay</h2>";
-  if (summary.replays == 0) {
-    h << "<p>No replay: "
-      << (o.replay_trials == 0 ? "none asked for" : "no trial's frames could be read") << ".</p>";
-  } else {
-    h << "<p class=\"note\">The " << o.frames_per_replay << " frames around the impact. "
-      << "<span class=\"key meas\">&#9675; measured marker</span> "
-      << "<span class=\"key sim\">+ simulated marker</span> (the surface's fitted contact law, "
-         "started from the measured state before impact). Arrow keys step frames.</p>"
-      << "<div class=\"replay-controls\"><label>Trial <select id=\"replay-trial\"></select></label>"
-      << "<button id=\"replay-prev\" type=\"button\">&#9664; prev</button>"
-      << "<input id=\"replay-frame\" type=\"range\" min=\"0\" max=\"0\" value=\"0\" step=\"1\">"
-      << "<button id=\"replay-next\" type=\"button\">next &#9654;</button>"
-      << "<label><input id=\"replay-overlay\" type=\"checkbox\" checked> overlay</label>"
-      << "<span id=\"replay-info\"></span></div>"
-      << "<canvas id=\"replay-canvas\" width=\"480\" height=\"270\"></canvas>";
-  }
-  h << "<div class=\"frames-store\">" << imgs << "</div>"
-    << "<script type=\"application/json\" id=\"replay-data\">" << json << "</script></section>";
-  return h.str();
-}
 
 }  // namespace internal
 
@@ -391,6 +224,7 @@ void HtmlReportOptions::Validate() const {
   check(replay_max_width_px >= 64 && replay_max_width_px <= 4096, "replay_max_width_px",
         replay_max_width_px, "64..4096");
   check(jpeg_quality >= 1 && jpeg_quality <= 100, "jpeg_quality", jpeg_quality, "1..100");
+  compare::replay::ValidateResidualScale(residual_scale, "HtmlReportOptions.residual_scale");
 }
 
 std::string HtmlEscape(std::string_view text) {
@@ -475,7 +309,7 @@ HtmlReportSummary WriteHtmlReport(const fs::path& study_h5, const fs::path& outp
     << "<a href=\"#replay\">Replay</a><a href=\"#figures\">Figures</a>"
     << (has_discovery ? "<a href=\"#discovery\">Discovery</a>" : "")
     << "<a href=\"#trials\">Trials</a><a href=\"#statistics\">Statistics</a></nav><main>"
-    << SummarySection(study, study_h5) << ModelSection(surfaces)
+    << SummarySection(study, study_h5, options) << ModelSection(surfaces)
     << ReplaySection(study, study_h5, options, summary)
     << FiguresSection(study, study_h5, summary.figures) << discovery_section
     << TrialsSection(study, compared, study_h5, summary) << StatsSection(study_h5, summary)

@@ -191,7 +191,10 @@ StudyJobSummary RunStudyJob(const StudyJobOptions& options, StudyJobObserver* ob
 
   // The report.
   tell.StepStarted(StudyJobStep::kReport, s);
-  s.report = report::WriteHtmlReport(s.study_h5, s.report_html);
+  report::HtmlReportOptions report_options = options.report;
+  report_options.command_line = options.command_line;
+  report_options.study_dir = options.study_dir;
+  s.report = report::WriteHtmlReport(s.study_h5, s.report_html, report_options);
   s.seconds = Since(t0);
   tell.StepDone(StudyJobStep::kReport, s);
   return s;

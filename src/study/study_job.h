@@ -39,7 +39,9 @@ struct StudyJobOptions {
   bool trial_figures = false;  ///< also every trial's displacement figure (the paper's Figure 3)
   /// Run discovery with these options (its jobs are set to the job's); none = no discovery.
   std::optional<discovery::DiscoveryOptions> discovery;
-  std::string command_line;  ///< stored in the study file
+  std::string command_line;  ///< stored in the study file, and shown by the report
+  /// The report's options (its command_line and study_dir are set from the job's).
+  report::HtmlReportOptions report;
 };
 
 enum class StudyJobStep { kMeasure, kCompare, kStatistics, kDiscover, kFigures, kReport };

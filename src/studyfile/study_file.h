@@ -165,6 +165,7 @@ struct StudyResults {
   std::string study_dir;
   std::string hoofimpact_version;
   std::string created_utc;
+  std::string command_line;         ///< how the file was made; "" when not recorded
   std::vector<TrialResult> trials;  ///< in the order of `/results`
 };
 

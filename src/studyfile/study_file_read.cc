@@ -62,6 +62,8 @@ StudyResults ReadStudyResults(const std::filesystem::path& path) {
     out.study_dir = h5::GetAttrText(root, "study_dir", path.string());
     out.hoofimpact_version = h5::GetAttrText(root, "hoofimpact_version", path.string());
     out.created_utc = h5::GetAttrText(root, "created_utc", path.string());
+    if (root.attrExists("command_line"))
+      out.command_line = h5::GetAttrText(root, "command_line", path.string());
   } catch (const H5::Exception& e) {
     RethrowHdf5(e, path);
   }

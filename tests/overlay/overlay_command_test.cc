@@ -1,16 +1,21 @@
 // `hoofimpact overlay` end to end: a tiny rendered study is run, and one trial's overlay is
 // checked against its input frames and the stored simulation.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <unistd.h>
+#include <Eigen/Core>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "compare/replay_convention.h"
 #include "studyfile/study_file.h"
 #include "support/run_command.h"
 #include "support/test_studies.h"
@@ -44,14 +49,33 @@ std::vector<fs::path> PngsIn(const fs::path& dir) {
   return out;
 }
 
+/// The number of frames of a video, read one by one, and its frame rate; -1 when there is no
+/// video in `dir` (no encoder).
+std::pair<int, double> VideoFrames(const fs::path& dir) {
+  fs::path video;
+  for (const char* v : {"overlay.webm", "overlay.avi"})
+    if (fs::exists(dir / v)) video = dir / v;
+  if (video.empty()) return {-1, 0.0};
+  cv::VideoCapture cap(video.string());
+  EXPECT_TRUE(cap.isOpened()) << video;
+  int read = 0;
+  for (cv::Mat f; cap.read(f);) ++read;
+  return {read, cap.get(cv::CAP_PROP_FPS)};
+}
+
+/// A column of doubles of a table.
+const std::vector<double>& Doubles(const studyfile::Table& t, const std::string& name) {
+  return std::get<std::vector<double>>(t.Get(name).values);
+}
+
 TEST_F(OverlayCommandTest, FramesAndVideoOfTheObliqueTrial) {
   const auto results = studyfile::ReadStudyResults(H5());
   ASSERT_EQ(results.trials.size(), 2u);
   const auto& trial =
       results.trials[1].surface_angle_deg > 0 ? results.trials[1] : results.trials[0];
+  ASSERT_EQ(trial.fps, 8000.0);  // the expectations below are for an 8000 fps capture
   const fs::path x = base_ / "overlay";
-  const auto r = RunHoofimpact("overlay " + H5().string() + " " + trial.id + " -o " + x.string() +
-                               " --slow 2");
+  const auto r = RunHoofimpact("overlay " + H5().string() + " " + trial.id + " -o " + x.string());
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
 
   // One PNG per input frame, the same size, in colour.
@@ -73,8 +97,8 @@ TEST_F(OverlayCommandTest, FramesAndVideoOfTheObliqueTrial) {
     EXPECT_EQ(out.channels(), 3) << name;
   }
 
-  // At frame 12 the simulated markers are drawn: red pixels (red well above green and blue)
-  // near every simulated centre, where the grey input has none.
+  // At frame 12 the simulated markers are drawn: magenta pixels (red well above green) near
+  // every simulated centre, where the grey input has none.
   const auto frames = studyfile::ReadTable(H5(), "/comparison/frames/" + trial.id);
   const cv::Mat in12 = cv::imread(inputs[12].string(), cv::IMREAD_COLOR);
   const cv::Mat out12 = cv::imread((dir / "frame_000012.png").string(), cv::IMREAD_COLOR);
@@ -102,19 +126,111 @@ TEST_F(OverlayCommandTest, FramesAndVideoOfTheObliqueTrial) {
   }
   EXPECT_GE(markers, 2);
 
-  // The video: each frame shown twice (--slow 2).
-  fs::path video;
-  for (const char* v : {"overlay.webm", "overlay.avi"})
-    if (fs::exists(dir / v)) video = dir / v;
-  if (video.empty()) GTEST_SKIP() << "no video encoder: " << r.err;
-  EXPECT_NE(r.out.find(video.filename().string()), std::string::npos) << r.out;
-  cv::VideoCapture cap(video.string());
-  ASSERT_TRUE(cap.isOpened()) << video;
-  int read = 0;
-  for (cv::Mat f; cap.read(f);) ++read;
-  EXPECT_EQ(read, 2 * static_cast<int>(inputs.size())) << video;
-  EXPECT_NEAR(cap.get(cv::CAP_PROP_FRAME_COUNT), 2.0 * static_cast<double>(inputs.size()), 1.0)
-      << video;
+  // The video by default: 1/1000 of real time, i.e. 8 captured frames per second; each frame
+  // written ceil(20 / 8) = 3 times, at 24 fps.
+  const auto [read, fps] = VideoFrames(dir);
+  if (read < 0) GTEST_SKIP() << "no video encoder: " << r.err;
+  EXPECT_NE(r.out.find("1/1000 of real time, 8 frames/s"), std::string::npos) << r.out;
+  EXPECT_EQ(read, 3 * static_cast<int>(inputs.size()));
+  EXPECT_NEAR(fps, 24.0, 0.01);
+  // --slowdown 400: 20 captured frames per second, each written once, at 20 fps.
+  const fs::path x400 = base_ / "overlay400";
+  auto r400 = RunHoofimpact("overlay " + H5().string() + " " + trial.id + " -o " + x400.string() +
+                            " --slowdown 400 --video-only");
+  ASSERT_EQ(r400.exit_code, 0) << r400.err;
+  const auto [read400, fps400] = VideoFrames(x400 / trial.id);
+  EXPECT_EQ(read400, static_cast<int>(inputs.size()));
+  EXPECT_NEAR(fps400, 20.0, 0.01);
+  EXPECT_TRUE(PngsIn(x400 / trial.id).empty());
+  // --slowdown 20 would need 400 fps: the video runs at 60 fps, slower than asked, and says so.
+  const fs::path x20 = base_ / "overlay20";
+  auto r20 = RunHoofimpact("overlay " + H5().string() + " " + trial.id + " -o " + x20.string() +
+                           " --slowdown 20 --video-only");
+  ASSERT_EQ(r20.exit_code, 0) << r20.err;
+  EXPECT_NE(r20.err.find("1/133 of real time"), std::string::npos) << r20.err;
+  const auto [read20, fps20] = VideoFrames(x20 / trial.id);
+  EXPECT_EQ(read20, static_cast<int>(inputs.size()));
+  EXPECT_NEAR(fps20, 60.0, 0.01);
+}
+
+TEST_F(OverlayCommandTest, TheResidualArrowEndsWhereTheStoredResidualPutsIt) {
+  const auto results = studyfile::ReadStudyResults(H5());
+  const auto& trial =
+      results.trials[1].surface_angle_deg > 0 ? results.trials[1] : results.trials[0];
+  const auto frames = studyfile::ReadTable(H5(), "/comparison/frames/" + trial.id);
+  // The marker and frame of the largest stored residual |simulated - measured|.
+  std::string marker;
+  std::size_t frame = 0;
+  double largest = 0;
+  for (const auto& c : frames.columns) {
+    const std::string suffix = "_sim_x_px";
+    if (c.name.size() < suffix.size() ||
+        c.name.compare(c.name.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    const std::string m = c.name.substr(0, c.name.size() - suffix.size());
+    for (std::size_t f = 0; f < Doubles(frames, c.name).size(); ++f) {
+      const double d =
+          std::hypot(Doubles(frames, m + "_sim_x_px")[f] - Doubles(frames, m + "_meas_x_px")[f],
+                     Doubles(frames, m + "_sim_y_px")[f] - Doubles(frames, m + "_meas_y_px")[f]);
+      if (std::isfinite(d) && d > largest) largest = d, marker = m, frame = f;
+    }
+  }
+  ASSERT_GT(largest, 0.0);
+  // A magnification that draws it about 40 px long (the residual is sub-pixel or near it).
+  const int scale = std::clamp(static_cast<int>(std::ceil(40.0 / largest)), 1, 1000);
+  const fs::path x = base_ / "arrow";
+  const auto r = RunHoofimpact("overlay " + H5().string() + " " + trial.id + " -o " + x.string() +
+                               " --frames-only --residual-scale " + std::to_string(scale));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%06zu.png", frame);
+  const cv::Mat img = cv::imread((x / trial.id / name).string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(img.empty()) << name;
+  const Eigen::Vector2d meas(Doubles(frames, marker + "_meas_x_px")[frame],
+                             Doubles(frames, marker + "_meas_y_px")[frame]);
+  const Eigen::Vector2d sim(Doubles(frames, marker + "_sim_x_px")[frame],
+                            Doubles(frames, marker + "_sim_y_px")[frame]);
+  const Eigen::Vector2d end = meas + scale * (sim - meas);
+  // The arrow's colour (compare/replay_convention.h) in a corridor 6 px wide about the ray
+  // from the measured centre through the expected end, out to twice its length (so that a
+  // legend line in the same colour elsewhere does not count); the farthest such pixel is the
+  // arrow's end.
+  const auto& g = compare::replay::kResidual;
+  const Eigen::Vector2d u = (end - meas).normalized();
+  const double reach = 2 * (end - meas).norm() + 8;
+  double farthest = 0;
+  Eigen::Vector2d tip(0, 0);
+  int n = 0;
+  for (int y = std::max(0, static_cast<int>(meas.y() - reach));
+       y < std::min(img.rows, static_cast<int>(meas.y() + reach)); ++y)
+    for (int xx = std::max(0, static_cast<int>(meas.x() - reach));
+         xx < std::min(img.cols, static_cast<int>(meas.x() + reach)); ++xx) {
+      const cv::Vec3b p = img.at<cv::Vec3b>(y, xx);
+      if (std::abs(p[0] - g.b) > 60 || std::abs(p[1] - g.g) > 60 || std::abs(p[2] - g.r) > 60)
+        continue;
+      const Eigen::Vector2d q = Eigen::Vector2d(xx, y) - meas;
+      const double along = q.dot(u), across = std::abs(q.x() * u.y() - q.y() * u.x());
+      if (along < -3 || along > reach || across > 6) continue;
+      ++n;
+      if (along > farthest) farthest = along, tip = q + meas;
+    }
+  ASSERT_GT(n, 10) << marker << " frame " << frame << " F " << scale;
+  EXPECT_LE((tip - end).norm(), 2.0)
+      << marker << " frame " << frame << " F " << scale << ": tip at " << tip.transpose()
+      << ", expected " << end.transpose();
+}
+
+TEST_F(OverlayCommandTest, BadPaceAndScaleAreCommandLineErrors) {
+  for (const auto& [args, option] :
+       {std::pair<std::string, std::string>{"--residual-scale 0", "--residual-scale"},
+        {"--residual-scale 1001", "--residual-scale"},
+        {"--slowdown 0", "--slowdown"}}) {
+    const auto r = RunHoofimpact("overlay " + H5().string() + " x -o " +
+                                 (base_ / "bad-option").string() + " " + args);
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(option), std::string::npos) << args << ": " << r.err;
+  }
+  EXPECT_FALSE(fs::exists(base_ / "bad-option"));
 }
 
 TEST_F(OverlayCommandTest, AnUnknownTrialIsAClearError) {

@@ -143,42 +143,59 @@ TEST_F(HtmlReportPageTest, TheErrorTrapCatchesAScriptError) {
   EXPECT_NE(err.find("Uncaught"), std::string::npos);
 }
 
+/// Pixels of the simulated markers' magenta (#ff2d95, compare/replay_convention.h) in `image`,
+/// inside `rect` or outside it.
+int Magenta(const cv::Mat& image, const cv::Rect& rect, bool inside) {
+  int n = 0;
+  for (int y = 0; y < image.rows; ++y)
+    for (int x = 0; x < image.cols; ++x) {
+      if (rect.contains({x, y}) != inside) continue;
+      const cv::Vec3b p = image.at<cv::Vec3b>(y, x);  // B, G, R
+      if (p[2] >= 245 && std::abs(p[1] - 45) <= 15 && std::abs(p[0] - 149) <= 15) ++n;
+    }
+  return n;
+}
+
 TEST_F(HtmlReportPageTest, TheScreenshotIsNotBlankAndShowsTheOverlay) {
-  const fs::path png = Root() / "screenshot.png";
+  // The replay canvas's place on the page, which the script records (data-rect).
   std::string err;
+  const std::string dom = Chromium(Page(), "--dump-dom", err);
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(
+      dom, m, std::regex("<canvas[^>]* data-rect=\"([0-9-]+),([0-9-]+),([0-9]+),([0-9]+)\"")))
+      << err;
+  const cv::Rect canvas(std::stoi(m[1]), std::stoi(m[2]), std::stoi(m[3]), std::stoi(m[4]));
+  ASSERT_GT(canvas.area(), 1000);
+  const fs::path png = Root() / "screenshot.png";
   Chromium(Page(), "--screenshot=" + png.string(), err);
   const cv::Mat image = cv::imread(png.string(), cv::IMREAD_COLOR);
   ASSERT_FALSE(image.empty()) << err;
   EXPECT_EQ(image.cols, 1280);
+  ASSERT_LE(canvas.y + canvas.height, image.rows) << "the canvas is below the screenshot";
   cv::Scalar mean, sd;
   cv::meanStdDev(image, mean, sd);
   EXPECT_GT(sd[0] + sd[1] + sd[2], 30.0);
   // Not nearly all one colour: the most common colour covers less than 80 % of the page.
   std::map<int, int> counts;
-  int overlay_pixels = 0;
   for (int y = 0; y < image.rows; ++y)
     for (int x = 0; x < image.cols; ++x) {
       const cv::Vec3b p = image.at<cv::Vec3b>(y, x);  // B, G, R
       ++counts[p[0] << 16 | p[1] << 8 | p[2]];
-      // The simulated markers' magenta (#ff2d95) is drawn only by the overlay.
-      if (p[2] >= 245 && std::abs(p[1] - 45) <= 15 && std::abs(p[0] - 149) <= 15) ++overlay_pixels;
     }
   int most = 0;
   for (const auto& [c, n] : counts) most = std::max(most, n);
   EXPECT_LT(most, 0.8 * image.rows * image.cols);
-  EXPECT_GT(overlay_pixels, 20);
-  // Negative control: with the overlay turned off (the page reads #overlay=off) none is drawn.
+  // The simulated markers drawn on the canvas, and the legend's glyph in the same colour.
+  EXPECT_GT(Magenta(image, canvas, true), 20);
+  EXPECT_GT(Magenta(image, canvas, false), 5);
+  // Negative control: with the overlay turned off (the page reads #overlay=off) none is drawn
+  // on the canvas; the legend still shows its glyph.
   const fs::path off = Root() / "screenshot-off.png";
   Chromium(Page().string() + "#overlay=off", "--screenshot=" + off.string(), err);
   const cv::Mat plain = cv::imread(off.string(), cv::IMREAD_COLOR);
   ASSERT_FALSE(plain.empty()) << err;
-  int off_pixels = 0;
-  for (int y = 0; y < plain.rows; ++y)
-    for (int x = 0; x < plain.cols; ++x) {
-      const cv::Vec3b p = plain.at<cv::Vec3b>(y, x);
-      if (p[2] >= 245 && std::abs(p[1] - 45) <= 15 && std::abs(p[0] - 149) <= 15) ++off_pixels;
-    }
-  EXPECT_EQ(off_pixels, 0);
+  EXPECT_EQ(Magenta(plain, canvas, true), 0);
+  EXPECT_GT(Magenta(plain, canvas, false), 5);
 }
 
 TEST_F(HtmlReportPageTest, NeedsNoNetwork) {
