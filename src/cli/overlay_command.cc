@@ -7,6 +7,8 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "cli/common_options.h"
+#include "cli/json_output.h"
 #include "overlay/overlay.h"
 
 namespace hoof::cli {
@@ -18,6 +20,7 @@ void RegisterOverlay(CLI::App& app, RunState& state) {
     std::string output_dir = "overlay";
     int slow = 1;
     bool video_only = false, frames_only = false;
+    bool json = false;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -31,9 +34,10 @@ void RegisterOverlay(CLI::App& app, RunState& state) {
       ->capture_default_str();
   cmd->add_option("--slow", args->slow, "Show each frame N times in the video (25 fps)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(InRange(1, 10000));
   auto* vo = cmd->add_flag("--video-only", args->video_only, "Write the video only");
   cmd->add_flag("--frames-only", args->frames_only, "Write the PNG frames only")->excludes(vo);
+  AddJsonFlag(cmd, args->json);
   cmd->callback([args, &state] {
     if (!std::filesystem::is_regular_file(args->study_file))
       throw std::runtime_error(args->study_file + ": no such study file");
@@ -43,6 +47,21 @@ void RegisterOverlay(CLI::App& app, RunState& state) {
     o.write_frames = !args->video_only;
     o.write_video = !args->frames_only;
     const auto s = overlay::RenderTrialOverlay(args->study_file, args->trial_id, o);
+    state.exit_code = kExitOk;
+    if (args->json) {
+      PrintEnvelope(
+          "overlay", state.exit_code,
+          {{"study_h5", args->study_file},
+           {"id", args->trial_id},
+           {"dir", s.dir.string()},
+           {"frames", s.frames},
+           {"frames_written", o.write_frames},
+           {"video", s.video.empty() ? nlohmann::json(nullptr) : nlohmann::json(s.video.string())},
+           {"video_format", s.video_format}},
+          {}, s.warnings);
+      for (const auto& w : s.warnings) std::cerr << "hoofimpact: warning: " << w << "\n";
+      return;
+    }
     std::cout << s.frames << " frame(s) of " << args->trial_id << " rendered in " << s.dir.string()
               << (o.write_frames ? " (frame_NNNNNN.png)" : "") << "\n";
     if (!s.video.empty())
