@@ -5,6 +5,7 @@
 // Only arguments and reading live here; the statistics are in hoof::stats, the study's tables
 // in study/statistics.h, and their text, JSON and CSV in study/statistics_text.h.
 #include <cctype>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -195,8 +196,13 @@ json RunStudy(const StatsArgs& a) {
   return nullptr;
 }
 
-/// Whether `path` is an HDF5 file (its signature), not a CSV table.
+/// Whether `path` is meant as a study file, not a CSV table: named .h5 (or .hdf5), or HDF5 by
+/// its signature. A .h5 file that is not HDF5 is then a bad study file, named as such.
 bool IsHdf5(const std::string& path) {
+  for (const char* ending : {".h5", ".hdf5", ".H5"})
+    if (path.size() > std::strlen(ending) &&
+        path.compare(path.size() - std::strlen(ending), std::string::npos, ending) == 0)
+      return true;
   std::ifstream in(path, std::ios::binary);
   char signature[8] = {};
   in.read(signature, sizeof signature);
