@@ -17,8 +17,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/json_output.h"
 #include "cli/trial_output.h"
 #include "core/parallel.h"
+#include "format/number_format.h"
 #include "io/atomic_file.h"
 #include "pipeline/study_analysis.h"
 #include "pipeline/study_format.h"
@@ -49,8 +51,8 @@ std::string Summary(const std::vector<pipeline::TrialAnalysis>& results, const s
   std::size_t ok = 0;
   for (const auto& r : results) ok += r.success ? 1 : 0;
   std::ostringstream os;
-  os << "Analysed " << results.size() << " trial(s) in " << seconds << " s: " << ok << " ok, "
-     << results.size() - ok << " failed\n";
+  os << "Analysed " << results.size() << " trial(s) in " << format::Seconds(seconds) << ": " << ok
+     << " ok, " << results.size() - ok << " failed\n";
   for (const auto& r : results)
     if (!r.success) os << "  FAILED " << r.spec.id << ": " << r.error << "\n";
   // Metadata the images contradict: measured, but a user must see it.
@@ -102,29 +104,45 @@ void Run(AnalyzeArgs& a, RunState& state) {
                             results);
   if (!a.csv.empty()) studyfile::WriteResultsCsv(a.csv, results);
   if (!a.tracks_csv.empty()) studyfile::WriteTracksCsv(a.tracks_csv, results);
+  std::vector<std::string> figures;
   if (!a.figures_dir.empty()) {
-    std::size_t figure_count = 0;
     for (const auto& r : results)
-      figure_count += report::WriteTrialFigures(r, a.options, a.figures_dir, /*always=*/false,
-                                                /*displacement=*/a.figures_all)
-                          .size();
+      for (auto& f : report::WriteTrialFigures(r, a.options, a.figures_dir, /*always=*/false,
+                                               /*displacement=*/a.figures_all))
+        figures.push_back(std::move(f));
     // The study figures come from the file just written, as `hoofimpact figures` draws them.
-    figure_count +=
-        report::WriteStudyFigures(studyfile::ReadStudyResults(a.output), a.figures_dir).size();
-    std::cerr << "Figures: " << figure_count << " file(s) in " << a.figures_dir << "\n";
+    for (const auto& f :
+         report::WriteStudyFigures(studyfile::ReadStudyResults(a.output), a.figures_dir))
+      figures.push_back(f.string());
+    std::cerr << "Figures: " << figures.size() << " file(s) in " << a.figures_dir << "\n";
   }
 
   std::size_t ok = 0;
   for (const auto& r : results) ok += r.success ? 1 : 0;
+  state.exit_code = ok == results.size() ? kExitOk : ok == 0 ? kExitFailure : kExitPartial;
   if (a.json) {
-    nlohmann::json j = nlohmann::json::array();
-    for (const auto& r : results) j.push_back(TrialJson(r));
-    std::cout << j.dump(2) << "\n";
+    nlohmann::json trials = nlohmann::json::array();
+    std::vector<JsonError> errors;
+    for (const auto& r : results) {
+      trials.push_back(TrialJson(r));
+      if (!r.success) errors.push_back({r.error, "", r.spec.dir.string(), r.spec.id, ""});
+    }
+    const nlohmann::json out = {{"study_dir", a.study_dir},
+                                {"study_h5", a.output},
+                                {"results_csv", a.csv},
+                                {"tracks_csv", a.tracks_csv},
+                                {"figures", figures},
+                                {"trials_total", results.size()},
+                                {"measured", ok},
+                                {"failed", results.size() - ok},
+                                {"jobs", jobs},
+                                {"seconds", seconds},
+                                {"trials", trials}};
+    PrintEnvelope("analyze", state.exit_code, out, errors, study.warnings);
     std::cerr << Summary(results, a.output, seconds);
   } else {
     std::cout << Summary(results, a.output, seconds);
   }
-  state.exit_code = ok == results.size() ? kExitOk : ok == 0 ? kExitFailure : kExitPartial;
 }
 
 }  // namespace
@@ -138,9 +156,14 @@ void RegisterAnalyze(CLI::App& app, RunState& state) {
   cmd->add_option("study_dir", args->study_dir, "Study folder with study.json (docs/format.md)")
       ->required()
       ->check(CLI::ExistingDirectory);
-  cmd->add_option("-o,--output", args->output, "HDF5 study file to write (atomically)")->required();
-  cmd->add_flag("--json", args->json, "Print a JSON array with one object per trial");
-  cmd->add_option("--csv", args->csv, "Also write the per-trial results as CSV");
+  cmd->add_option("-o,--output", args->output,
+                  "Output file: the HDF5 study file to write (atomically)")
+      ->required();
+  AddJsonFlag(cmd, args->json);
+  cmd->add_option("--results-csv", args->csv,
+                  "Also write the per-trial results as CSV (the columns of /results)");
+  // --csv, its earlier name (an output here, an input of `stats`): still works, not shown.
+  cmd->add_option("--csv", args->csv, "Deprecated: --results-csv")->group("");
   cmd->add_option("--tracks-csv", args->tracks_csv,
                   "Also write every trial's marker tracks and poses as one long CSV");
   cmd->add_option("--figures", args->figures_dir,

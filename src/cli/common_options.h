@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <functional>
+#include <map>
+#include <sstream>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -47,13 +49,49 @@ inline const CLI::Validator kFinite(
     },
     "FINITE");
 
+/// A bound as the user reads it: "0.0001", "80", "1e+12".
+template <class T>
+std::string BoundText(T value) {
+  std::ostringstream os;
+  os << value;
+  return os.str();
+}
+
+/// Accepts a value in [lower, upper] (CLI::Range words its refusal with six decimals and no
+/// unit): the refusal reads "must be in [0, 80] deg, got 95", the option's name before it.
+/// `unit` may be empty.
+template <class T>
+CLI::Validator InRange(T lower, T upper, const std::string& unit = "") {
+  const std::string range = "[" + BoundText(lower) + ", " + BoundText(upper) + "]" +
+                            (unit.empty() ? std::string() : " " + unit);
+  return CLI::Validator(
+      [lower, upper, range](std::string& text) {
+        T value{};
+        const bool converted = CLI::detail::lexical_cast(text, value);
+        return converted && value >= lower && value <= upper
+                   ? std::string()
+                   : "must be in " + range + ", got " + text;
+      },
+      "in " + range);
+}
+
 /// Puts kFinite on every floating-point option of `app`'s subcommands.
 void RequireFiniteNumbers(CLI::App& app);
 
 /// Runs `validate` (a library's options Validate()) and turns the std::invalid_argument it
-/// throws into a command-line error (exit 2). The error names the option of `cmd` whose field
-/// the message names (render.fps -> --fps), else the command.
-void ValidateOptions(const CLI::App* cmd, const std::function<void()>& validate);
+/// throws into a command-line error (exit 2) in the user's words. The error names the option
+/// of `cmd` whose field the message names: the field's own name with '-' for '_' (render.fps
+/// -> --fps), or the option `fields` maps it to (relative_tolerance -> --rtol); else the
+/// command. A library message "owner.field = value is invalid: why" becomes "why, got TEXT"
+/// with the value as the user typed it (or the option's default), so no struct field name or
+/// internal unit reaches the user.
+void ValidateOptions(const CLI::App* cmd, const std::function<void()>& validate,
+                     const std::map<std::string, std::string>& fields = {});
+
+/// The message of a library's std::invalid_argument in the options of `cmd`, as
+/// ValidateOptions words it, with the option it names (empty when it names none).
+std::pair<std::string, std::string> OptionMessage(const CLI::App* cmd, const std::string& what,
+                                                  const std::map<std::string, std::string>& fields);
 
 /// A number for JSON: null when NaN or infinite.
 inline nlohmann::json JsonNumber(double value) {

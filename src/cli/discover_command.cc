@@ -17,6 +17,7 @@
 
 #include "cli/commands.h"
 #include "cli/common_options.h"
+#include "cli/json_output.h"
 #include "discovery/discovery.h"
 #include "discovery/discovery_json.h"
 #include "discovery/discovery_tables.h"
@@ -107,7 +108,8 @@ void PrintPlans(const DiscoverArgs& a, const std::vector<pipeline::TrialAnalysis
     all.push_back(discovery::PlanJson(p));
     if (!a.settings.json) discovery::WritePlanText(std::cout, p, a.study_h5);
   }
-  if (a.settings.json) std::cout << all.dump(2) << "\n";
+  if (a.settings.json)
+    PrintEnvelope("discover", kExitOk, {{"study_h5", a.study_h5}, {"plans", all}});
 }
 
 /// `S.h5` -> `S-discovery.h5` beside it.
@@ -227,7 +229,12 @@ bool PrintDiscoveryStep(const study::DiscoveryStep& step, const DiscoverSettings
   for (const auto& f : step.figures) figures.push_back(f.string());
   const std::string& shown = s.shown_as;
   if (s.json) {
-    std::cout << ResultJson(result, shown, s, figures).dump(2) << "\n";
+    std::vector<JsonError> errors;
+    if (!result.success)
+      errors.push_back(
+          {"the discovery workflow could not run: " + result.message, "", shown, "", ""});
+    PrintEnvelope("discover", result.success ? kExitOk : kExitFailure,
+                  ResultJson(result, shown, s, figures), errors, step.warnings);
   } else {
     discovery::WriteDiscoveryText(std::cout, result, shown);
     std::cout << "\nStored in " << shown << " under /discovery; " << figures.size()
@@ -285,16 +292,16 @@ void RegisterDiscover(CLI::App& app, RunState& state) {
       "--shared-only", [args] { args->settings.per_surface = false; },
       "Give every contact effect one value shared by all surfaces (default: a per-surface "
       "form too, chosen by a likelihood-ratio test)");
-  cmd->add_option(
-      "-o,--output", args->output,
-      "Study file to write: a copy of STUDY_H5 with the result under /discovery (default: "
-      "STUDY-discovery.h5 beside it); the input is never modified");
+  cmd->add_option("-o,--output", args->output,
+                  "Output file: the study file to write, a copy of STUDY_H5 with the result under "
+                  "/discovery (default: "
+                  "STUDY-discovery.h5 beside it); the input is never modified");
   cmd->add_option("--figures", s.figures_dir,
                   "Folder for the figures (default: figures/ beside the output file)");
   cmd->add_option("--report", args->report,
                   "Also write the HTML report of the output file to this file (only when the "
                   "workflow ran)");
-  cmd->add_flag("--json", s.json, "Print the whole result as one JSON object");
+  AddJsonFlag(cmd, s.json);
   auto* plan = cmd->add_option(
       "--plan", args->plans,
       "KEY=SIZE: instead of the workflow, how many trials of this design would detect the "
@@ -305,7 +312,7 @@ void RegisterDiscover(CLI::App& app, RunState& state) {
                   "baseline with the effect at SIZE (each trial's e and mu drawn from the noise "
                   "model's scatter) and count how often the candidate is detected: the power by "
                   "parametric bootstrap (slow: a baseline and a candidate fit per study)")
-      ->check(CLI::Range(0, 100000))
+      ->check(InRange(0, 100000))
       ->needs(plan);
   cmd->callback([args, &state] { Discover(*args, state); });
 }

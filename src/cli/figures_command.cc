@@ -8,8 +8,10 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "cli/commands.h"
+#include "cli/json_output.h"
 #include "compare/comparison_tables.h"
 #include "io/atomic_file.h"
 #include "report/comparison_figures.h"
@@ -23,6 +25,7 @@ void RegisterFigures(CLI::App& app, RunState& state) {
   struct Args {
     std::string study_file;
     std::string output_dir;
+    bool json = false;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -35,6 +38,7 @@ void RegisterFigures(CLI::App& app, RunState& state) {
       ->required();
   cmd->add_option("-o,--output", args->output_dir, "Folder for the figures (created when missing)")
       ->required();
+  AddJsonFlag(cmd, args->json);
   cmd->callback([args, &state] {
     // A missing file is bad input (exit 1, naming it), not a bad command line.
     if (!std::filesystem::is_regular_file(args->study_file))
@@ -46,11 +50,21 @@ void RegisterFigures(CLI::App& app, RunState& state) {
     if (compare::HasComparison(args->study_file))
       for (auto& f : report::WriteComparisonFigures(args->study_file, args->output_dir))
         written.push_back(std::move(f));
-    for (const auto& f : written) std::cout << "figure: " << f.string() << "\n";
-    if (written.empty()) {
-      std::cerr << "hoofimpact: error: " << args->study_file << ": no successful trial to draw\n";
-      state.exit_code = kExitFailure;
+    const std::string error = args->study_file + ": no successful trial to draw";
+    state.exit_code = written.empty() ? kExitFailure : kExitOk;
+    if (args->json) {
+      std::vector<std::string> figures;
+      for (const auto& f : written) figures.push_back(f.string());
+      std::vector<JsonError> errors;
+      if (written.empty()) errors.push_back(ErrorFromMessage(error));
+      PrintEnvelope(
+          "figures", state.exit_code,
+          {{"study_h5", args->study_file}, {"output_dir", args->output_dir}, {"figures", figures}},
+          errors);
+    } else {
+      for (const auto& f : written) std::cout << "figure: " << f.string() << "\n";
     }
+    if (written.empty()) std::cerr << "hoofimpact: error: " << error << "\n";
   });
 }
 

@@ -14,7 +14,9 @@
 
 #include "cli/commands.h"
 #include "cli/common_options.h"
+#include "cli/json_output.h"
 #include "dynamics/contact_fit.h"
+#include "format/number_format.h"
 #include "io/atomic_file.h"
 #include "study/normal_impacts.h"
 
@@ -70,8 +72,8 @@ std::string AsciiMap(const ContactFitSummary& s, double mass_kg) {
 }
 
 void PrintText(const std::string& group, const ContactFitSummary& s, double mass_kg) {
+  using format::Kind;
   std::ostringstream os;
-  os << std::setprecision(4);
   os << "Contact-law fit" << (group.empty() ? "" : " for " + group) << " (" << s.n
      << " normal impacts)\n";
   if (!s.success) {
@@ -79,21 +81,21 @@ void PrintText(const std::string& group, const ContactFitSummary& s, double mass
     std::cout << os.str();
     return;
   }
-  os << "  zeta = " << s.zeta;
-  if (std::isfinite(s.zeta_se))
-    os << "  (s.e. " << s.zeta_se << "; 95 % interval " << s.zeta_ci_low << " .. " << s.zeta_ci_high
-       << ")";
-  os << "\n  e (normal, closed form) = " << s.e_normal << "; mean |error| of rebound speed "
-     << s.mpe_percent << " %, rms " << s.rms_percent << " %\n\n";
+  os << "  zeta = " << format::WithError(s.zeta, s.zeta_se, Kind::kCoefficient)
+     << "  (95 % interval " << format::Interval(s.zeta_ci_low, s.zeta_ci_high, Kind::kCoefficient)
+     << ")";
+  os << "\n  e (normal, closed form) = " << format::Number(s.e_normal, Kind::kCoefficient)
+     << "; mean |error| of rebound speed " << format::Number(s.mpe_percent, Kind::kError)
+     << " %, rms " << format::Number(s.rms_percent, Kind::kError) << " %\n\n";
   os << "  The valley (best b for each k; every row fits the data about equally well):\n";
   os << "        k (N/m)      b (N s/m)     zeta     MPE (%)   contact (µs)  in paper's box\n";
   for (const auto& p : s.valley) {
-    os << "    " << std::scientific << std::setprecision(3) << std::setw(11) << p.k_N_m << "  "
-       << std::fixed << std::setprecision(2) << std::setw(11) << p.b_N_s_m << "  "
-       << std::setprecision(5) << std::setw(8) << p.zeta << "  " << std::setprecision(4)
-       << std::setw(8) << p.mpe_percent << "  " << std::setprecision(2) << std::setw(10)
-       << p.contact_duration_s * 1e6 << "    " << (p.within_bounds ? "yes" : "no (b > max)")
-       << "\n";
+    os << "    " << std::setw(11) << format::Number(p.k_N_m) << "  " << std::setw(11)
+       << format::Number(p.b_N_s_m) << "  " << std::setw(8)
+       << format::Number(p.zeta, Kind::kCoefficient) << "  " << std::setw(8)
+       << format::Number(p.mpe_percent, Kind::kError) << "  " << std::setw(10)
+       << format::Number(p.contact_duration_s * 1e6) << "    "
+       << (p.within_bounds ? "yes" : "no (b > max)") << "\n";
   }
   os << "\n" << AsciiMap(s, mass_kg) << "\n";
   os << s.Explanation() << "\n";
@@ -113,12 +115,13 @@ nlohmann::json SummaryJson(const std::string& group, const ContactFitSummary& s)
           {"success", s.success},
           {"message", s.message},
           {"n", s.n},
-          {"zeta", s.zeta},
+          {"zeta", JsonNumber(s.zeta)},
           {"zeta_se", JsonNumber(s.zeta_se)},
-          {"zeta_ci95", {JsonNumber(s.zeta_ci_low), JsonNumber(s.zeta_ci_high)}},
-          {"e_normal", s.e_normal},
-          {"mpe_percent", s.mpe_percent},
-          {"rms_percent", s.rms_percent},
+          {"zeta_ci_low", JsonNumber(s.zeta_ci_low)},
+          {"zeta_ci_high", JsonNumber(s.zeta_ci_high)},
+          {"e_normal", JsonNumber(s.e_normal)},
+          {"mpe_percent", JsonNumber(s.mpe_percent)},
+          {"rms_percent", JsonNumber(s.rms_percent)},
           {"k_identified", false},
           {"valley", valley},
           {"valley_k_range_N_m", {s.valley_k_min_N_m, s.valley_k_max_N_m}},
@@ -145,20 +148,33 @@ void RegisterFit(CLI::App& app, RunState& state) {
                   "Column that splits the impacts into separate fits (ignored if absent)")
       ->capture_default_str();
   AddSpecimenOptions(cmd, args->specimen);
-  cmd->add_option("--k-min", args->fit.k_min_N_m, "Lower bound of k (N/m)")->capture_default_str();
-  cmd->add_option("--k-max", args->fit.k_max_N_m, "Upper bound of k (N/m)")->capture_default_str();
-  cmd->add_option("--b-max", args->fit.b_max_N_s_m, "Upper bound of b (N s/m)")
+  // The bounds of simulate's --k, --b and --gravity-m-s2: beyond them the fit's simulations
+  // do not end (1e300 once failed deep inside the fit, naming the simulator's options).
+  cmd->add_option("--k-min", args->fit.k_min_N_m, "Lower bound of k (N/m; 1 to 1e12)")
+      ->check(InRange(1.0, 1e12, "N/m"))
       ->capture_default_str();
-  cmd->add_option("--gravity-m-s2", args->fit.gravity_m_s2, "Gravity g")->capture_default_str();
+  cmd->add_option("--k-max", args->fit.k_max_N_m, "Upper bound of k (N/m; 1 to 1e12)")
+      ->check(InRange(1.0, 1e12, "N/m"))
+      ->capture_default_str();
+  cmd->add_option("--b-max", args->fit.b_max_N_s_m, "Upper bound of b (N s/m; 0 to 1e9)")
+      ->check(InRange(0.0, 1e9, "N s/m"))
+      ->capture_default_str();
+  cmd->add_option("--gravity-m-s2", args->fit.gravity_m_s2, "Gravity g (0 to 100)")
+      ->check(InRange(0.0, 100.0, "m/s^2"))
+      ->capture_default_str();
   cmd->add_option("--where", args->filters,
                   "Keep only rows where COL=VALUE (numeric or text), e.g. surface_angle_deg=0; "
                   "may be repeated");
-  cmd->add_flag("--json", args->json, "Print a JSON array, one object per group");
+  AddJsonFlag(cmd, args->json);
   cmd->add_option("--valley-csv", args->valley_csv,
                   "Write the objective over the (k, b) grid and the valley as CSV");
 
-  cmd->callback([args, &state] {
+  cmd->callback([args, &state, cmd] {
     const FitArgs& a = *args;
+    // The fit's bounds, in the options' names (k_min_N_m is --k-min).
+    ValidateOptions(
+        cmd, [&] { a.fit.Validate(); },
+        {{"k_min_N_m", "--k-min"}, {"k_max_N_m", "--k-max"}, {"b_max_N_s_m", "--b-max"}});
     std::map<std::string, std::vector<dynamics::NormalImpact>> groups;
     try {
       groups =
@@ -180,12 +196,19 @@ void RegisterFit(CLI::App& app, RunState& state) {
       }
       fits.emplace_back(name, s);
     }
-    if (a.json) std::cout << out.dump(2) << "\n";
     if (!a.valley_csv.empty()) {
       io::WriteTextAtomically(a.valley_csv, study::ValleyCsv(fits, a.specimen.mass_kg));
       if (!a.json) std::cout << "Objective map and valley written to " << a.valley_csv << "\n";
     }
     state.exit_code = all_ok ? kExitOk : kExitFailure;
+    if (a.json) {
+      std::vector<JsonError> errors;
+      for (const auto& [name, s] : fits)
+        if (!s.success)
+          errors.push_back({"group " + name + ": " + s.message, "", a.csv_path, "", ""});
+      PrintEnvelope("fit", state.exit_code,
+                    {{"csv", a.csv_path}, {"valley_csv", a.valley_csv}, {"groups", out}}, errors);
+    }
   });
 }
 

@@ -8,6 +8,7 @@
 
 #include "cli/commands.h"
 #include "cli/common_options.h"
+#include "cli/json_output.h"
 #include "io/interrupt.h"
 
 int main(int argc, char** argv) {
@@ -20,7 +21,7 @@ int main(int argc, char** argv) {
       "hoofimpact: high-speed video of hoof-wall impacts -> restitution, friction and a "
       "two-phase contact model held against the measurements."};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "hoofimpact 0.1.0");
+  app.set_version_flag("--version", std::string("hoofimpact ") + hoof::cli::kVersion);
   hoof::cli::RunState state;
   for (int i = 0; i < argc; ++i) {  // the command line as typed, for provenance
     std::string word = i == 0 ? std::string("hoofimpact") : std::string(argv[i]);
@@ -46,14 +47,24 @@ int main(int argc, char** argv) {
   hoof::cli::RegisterOverlay(app, state);
   hoof::cli::RegisterDiscover(app, state);
   hoof::cli::RequireFiniteNumbers(app);  // NaN, inf and 1e999 are command-line errors everywhere
+  // With --json, a failure is an envelope on stdout too (success false, the error in it), as
+  // the command's own failures are; the message still goes to stderr for a person.
+  const std::string json_command = hoof::cli::JsonCommandOf(argc, argv, app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
-    return code == 0 ? 0 : hoof::cli::kExitUsage;
+    if (code == 0) return 0;  // --help, --version
+    if (!json_command.empty())
+      hoof::cli::PrintEnvelope(json_command, hoof::cli::kExitUsage, nullptr,
+                               {hoof::cli::ErrorFromMessage(e.what())});
+    return hoof::cli::kExitUsage;
   } catch (const std::exception& e) {
     hoof::io::YieldToInterrupt();  // a failure Ctrl-C caused ends as the interrupt does
     std::cerr << "hoofimpact: error: " << e.what() << "\n";
+    if (!json_command.empty())
+      hoof::cli::PrintEnvelope(json_command, hoof::cli::kExitFailure, nullptr,
+                               {hoof::cli::ErrorFromMessage(e.what())});
     return hoof::cli::kExitFailure;
   }
   if (state.exit_code != 0) hoof::io::YieldToInterrupt();

@@ -9,6 +9,7 @@
 
 #include "cli/commands.h"
 #include "cli/common_options.h"
+#include "cli/json_output.h"
 #include "compare/replay_convention.h"
 #include "overlay/overlay.h"
 
@@ -22,6 +23,7 @@ void RegisterOverlay(CLI::App& app, RunState& state) {
     std::string study_dir;
     overlay::OverlayOptions options;
     bool video_only = false, frames_only = false;
+    bool json = false;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -51,6 +53,7 @@ void RegisterOverlay(CLI::App& app, RunState& state) {
                   "missing at its recorded path is looked for here");
   auto* vo = cmd->add_flag("--video-only", args->video_only, "Write the video only");
   cmd->add_flag("--frames-only", args->frames_only, "Write the PNG frames only")->excludes(vo);
+  AddJsonFlag(cmd, args->json);
   cmd->callback([cmd, args, &state] {
     overlay::OverlayOptions& o = args->options;
     o.output_dir = args->output_dir;
@@ -63,6 +66,24 @@ void RegisterOverlay(CLI::App& app, RunState& state) {
     if (!args->study_dir.empty() && !std::filesystem::is_directory(args->study_dir))
       throw CLI::ValidationError("--study-dir", args->study_dir + ": no such folder");
     const auto s = overlay::RenderTrialOverlay(args->study_file, args->trial_id, o);
+    state.exit_code = kExitOk;
+    if (args->json) {
+      PrintEnvelope(
+          "overlay", state.exit_code,
+          {{"study_h5", args->study_file},
+           {"id", args->trial_id},
+           {"trial_dir", s.trial_dir.string()},
+           {"dir", s.dir.string()},
+           {"frames", s.frames},
+           {"frames_written", o.write_frames},
+           {"video", s.video.empty() ? nlohmann::json(nullptr) : nlohmann::json(s.video.string())},
+           {"video_format", s.video_format},
+           {"residual_scale", o.residual_scale},
+           {"slowdown", o.slowdown}},
+          {}, s.warnings);
+      for (const auto& w : s.warnings) std::cerr << "hoofimpact: warning: " << w << "\n";
+      return;
+    }
     std::cout << s.frames << " frame(s) of " << args->trial_id << " (from " << s.trial_dir.string()
               << ") rendered in " << s.dir.string() << (o.write_frames ? " (frame_NNNNNN.png)" : "")
               << "\n";

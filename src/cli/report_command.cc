@@ -6,6 +6,7 @@
 
 #include "cli/commands.h"
 #include "cli/common_options.h"
+#include "cli/json_output.h"
 #include "report/html_report.h"
 
 namespace hoof::cli {
@@ -16,6 +17,7 @@ void RegisterReport(CLI::App& app, RunState& state) {
     std::string output_dir = "hoofimpact-report";
     std::string study_dir;
     report::HtmlReportOptions options;
+    bool json = false;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -26,15 +28,16 @@ void RegisterReport(CLI::App& app, RunState& state) {
       "over the frames. A replay whose frames cannot be found is named, with the folders looked "
       "at, in the page and on stderr; it does not fail the report (exit 0)");
   cmd->add_option("study_h5", args->study_file, "HDF5 study file written by `run`")->required();
-  cmd->add_option("-o,--output", args->output_dir, "Folder for report.html (created when missing)")
+  cmd->add_option("-o,--output", args->output_dir,
+                  "Output folder for report.html (created when missing)")
       ->capture_default_str();
   cmd->add_option("--replay-trials", args->options.replay_trials,
                   "Trials with a replay (one per surface first; 0 = none; 0..50)")
-      ->check(CLI::Range(0, 50))
+      ->check(InRange(0, 50))
       ->capture_default_str();
   cmd->add_option("--replay-frames", args->options.frames_per_replay,
                   "Frames per replay, centred on the impact (2..400)")
-      ->check(CLI::Range(2, 400))
+      ->check(InRange(2, 400))
       ->capture_default_str();
   cmd->add_option("--residual-scale", args->options.residual_scale,
                   "Magnification F of the replay's residual arrows, drawn from each measured "
@@ -45,6 +48,7 @@ void RegisterReport(CLI::App& app, RunState& state) {
                   "The study folder's place when it has moved since `run`: a trial folder "
                   "missing at its recorded path is looked for here, at the same place relative "
                   "to the study folder");
+  AddJsonFlag(cmd, args->json);
   cmd->callback([cmd, args, &state] {
     args->options.study_dir = args->study_dir;
     args->options.command_line = state.command_line;
@@ -53,6 +57,12 @@ void RegisterReport(CLI::App& app, RunState& state) {
       throw CLI::ValidationError("--study-dir", args->study_dir + ": no such folder");
     const auto summary = report::WriteHtmlReport(
         args->study_file, std::filesystem::path(args->output_dir) / "report.html", args->options);
+    state.exit_code = kExitOk;
+    if (args->json) {
+      PrintEnvelope("report", state.exit_code, ReportJson(summary));
+      if (!summary.notes.empty()) std::cerr << summary.notes;
+      return;
+    }
     std::cout << "report: " << summary.output.string() << " (" << summary.bytes / 1024 << " KiB; "
               << summary.trials << " trials, " << summary.figures << " figures, " << summary.replays
               << " replays)\n";

@@ -18,8 +18,13 @@
 #include <unistd.h>
 
 #include "cli/commands.h"
+#include "cli/common_options.h"
+#include "cli/json_output.h"
 #include "cli/trial_output.h"
 #include "core/parallel.h"
+#include "discovery/discovery_json.h"
+#include "format/number_format.h"
+#include "study/statistics_text.h"
 #include "study/study_job.h"
 
 namespace hoof::cli {
@@ -32,6 +37,7 @@ struct RunArgs {
   double alpha = 0.05;
   bool trial_figures = false;
   bool discover = false;
+  bool json = false;
   pipeline::TrialAnalysisOptions options;
   std::string method = "centroid";
 };
@@ -87,8 +93,7 @@ class RunPrinter : public study::StudyJobObserver {
         for (const auto& t : s.trials)
           if (!t.success) std::cout << "  FAILED " << t.spec.id << ": " << t.error << "\n";
         std::cout << "  " << s.measured << " measured, " << s.trials.size() - s.measured
-                  << " failed (" << std::fixed << std::setprecision(1) << s.measure_seconds
-                  << " s)\n";
+                  << " failed (" << format::Seconds(s.measure_seconds) << ")\n";
         break;
       case Step::kCompare:
         PrintComparison(s);
@@ -118,20 +123,21 @@ class RunPrinter : public study::StudyJobObserver {
 
  private:
   static void PrintComparison(const study::StudyJobSummary& s) {
-    std::cout << std::defaultfloat << std::setprecision(4);
+    using format::Kind;
     for (const auto& [surface, m] : s.comparison.surfaces) {
       std::cout << "  " << std::left << std::setw(9) << surface << std::right;
       if (!m.success) {
         std::cout << " no model: " << m.message << "\n";
         continue;
       }
-      std::cout << " zeta " << m.zeta_fit.zeta << " (95 % " << m.zeta_fit.zeta_ci_low << " .. "
-                << m.zeta_fit.zeta_ci_high << ", " << m.normal_trials << " normal trials), mu "
-                << m.mu;
+      std::cout << " zeta " << format::Number(m.zeta_fit.zeta, Kind::kCoefficient) << " (95 % "
+                << format::Interval(m.zeta_fit.zeta_ci_low, m.zeta_fit.zeta_ci_high,
+                                    Kind::kCoefficient)
+                << ", " << m.normal_trials << " normal trials), mu ";
       if (m.mu_only_lower_bound)
-        std::cout << " (a lower bound: contacts stick)";
-      else if (std::isfinite(m.mu_se))
-        std::cout << " +- " << m.mu_se;
+        std::cout << format::Number(m.mu, Kind::kCoefficient) << " (a lower bound: contacts stick)";
+      else
+        std::cout << format::WithError(m.mu, m.mu_se, Kind::kCoefficient);
       std::cout << " (" << m.oblique_trials << " oblique trials); k not identified\n";
     }
     std::cout << "  " << s.compared << " trial(s) compared; ";
@@ -139,13 +145,13 @@ class RunPrinter : public study::StudyJobObserver {
       std::cout << s.prediction_z_over_3 << " of " << s.prediction_components
                 << " trial components beyond 3 on the scale of their prediction interval "
                    "(largest |z| "
-                << s.worst_prediction_z
+                << format::Number(s.worst_prediction_z, Kind::kStatistic)
                 << (s.worst_prediction_z_id.empty() ? "" : " (" + s.worst_prediction_z_id + ")")
                 << ")";
     else
       std::cout << "no prediction intervals (" << s.predictions.message << ")";
-    std::cout << "; largest marker residual over the 20 frames after impact: " << s.worst_marker_px
-              << " px\n";
+    std::cout << "; largest marker residual over the 20 frames after impact: "
+              << format::Number(s.worst_marker_px) << " px\n";
   }
 
   const RunArgs& args_;
@@ -153,6 +159,59 @@ class RunPrinter : public study::StudyJobObserver {
   bool tty_;
   int step_ = 3;  // the numbered steps after the comparison
 };
+
+/// The envelope of `run --json`: the outputs, the counts, the model per surface, the
+/// statistics, the discovery (null without --discover) and every trial.
+void PrintRunJson(const RunArgs& a, const study::StudyJobSummary& s, int exit_code) {
+  nlohmann::json surfaces = nlohmann::json::array();
+  for (const auto& [surface, m] : s.comparison.surfaces) surfaces.push_back(SurfaceModelJson(m));
+  nlohmann::json trials = nlohmann::json::array();
+  std::vector<JsonError> errors;
+  for (const auto& t : s.trials) {
+    trials.push_back(TrialJson(t));
+    if (!t.success) errors.push_back({t.error, "", t.spec.dir.string(), t.spec.id, ""});
+  }
+  nlohmann::json discovery = nullptr;
+  if (s.discovery) {
+    discovery = discovery::DiscoveryJson(s.discovery->result);
+    if (!s.discovery->result.success)
+      errors.push_back({"the discovery workflow could not run: " + s.discovery->result.message, "",
+                        s.study_h5.string(), "", ""});
+  }
+  std::vector<std::string> figures;
+  for (const auto& f : s.figures) figures.push_back(f.string());
+  const nlohmann::json results = {{"study_dir", a.study_dir},
+                                  {"output_dir", s.output_dir.string()},
+                                  {"study_h5", s.study_h5.string()},
+                                  {"results_csv", s.results_csv.string()},
+                                  {"stats_csv", s.stats_csv.string()},
+                                  {"figures_dir", s.figures_dir.string()},
+                                  {"report_html", s.report.output.string()},
+                                  {"jobs", s.jobs},
+                                  {"trials_total", s.trials.size()},
+                                  {"measured", s.measured},
+                                  {"failed", s.trials.size() - s.measured},
+                                  {"compared", s.compared},
+                                  {"worst_z", JsonNumber(s.worst_z)},
+                                  {"worst_z_id", s.worst_z_id},
+                                  {"worst_marker_px", JsonNumber(s.worst_marker_px)},
+                                  {"prediction",
+                                   {{"success", s.predictions.success},
+                                    {"message", s.predictions.message},
+                                    {"components", s.prediction_components},
+                                    {"beyond_3", s.prediction_z_over_3},
+                                    {"worst_z", JsonNumber(s.worst_prediction_z)},
+                                    {"worst_z_id", s.worst_prediction_z_id}}},
+                                  {"surfaces", surfaces},
+                                  {"statistics", study::StudyStatisticsJson(s.statistics)},
+                                  {"discovery", discovery},
+                                  {"figures", figures},
+                                  {"report", ReportJson(s.report)},
+                                  {"measure_seconds", s.measure_seconds},
+                                  {"seconds", s.seconds},
+                                  {"trials", trials}};
+  PrintEnvelope("run", exit_code, results, errors);
+}
 
 void Run(RunArgs& a, RunState& state) {
   ApplyMethod(a.method, a.options);
@@ -172,9 +231,17 @@ void Run(RunArgs& a, RunState& state) {
                              ? "hoofimpact run " + a.study_dir + " -o " + a.output_dir
                              : state.command_line;
   RunPrinter printer(a, discover);
-  const study::StudyJobSummary s = study::RunStudyJob(options, &printer);
+  // With --json, stdout holds the envelope alone: the steps' text goes to stderr.
+  std::streambuf* const stdout_buffer = a.json ? std::cout.rdbuf(std::cerr.rdbuf()) : nullptr;
+  study::StudyJobSummary s;
+  try {
+    s = study::RunStudyJob(options, &printer);
+  } catch (...) {
+    if (stdout_buffer != nullptr) std::cout.rdbuf(stdout_buffer);
+    throw;
+  }
   std::cout
-      << "\nDone in " << std::fixed << std::setprecision(1) << s.seconds << " s. Outputs in "
+      << "\nDone in " << format::Seconds(s.seconds) << ". Outputs in "
       << std::filesystem::absolute(s.output_dir).string() << ":\n"
       << "  report.html  the report: summary, model, replay, figures, trials, statistics\n"
       << "  study.h5     everything (docs/hdf5-schema.md)\n"
@@ -187,6 +254,10 @@ void Run(RunArgs& a, RunState& state) {
                                                   : kExitPartial;
   // Asked for, the discovery must have run (why not is on stderr and in the report).
   if (s.discovery && !s.discovery->result.success) state.exit_code = kExitFailure;
+  if (stdout_buffer != nullptr) {
+    std::cout.rdbuf(stdout_buffer);
+    PrintRunJson(a, s, state.exit_code);
+  }
 }
 
 }  // namespace
@@ -200,9 +271,11 @@ void RegisterRun(CLI::App& app, RunState& state) {
   cmd->add_option("study_dir", args->study_dir, "Study folder with study.json (docs/format.md)")
       ->required()
       ->check(CLI::ExistingDirectory);
-  cmd->add_option("-o,--output", args->output_dir, "Output folder")->capture_default_str();
+  cmd->add_option("-o,--output", args->output_dir,
+                  "Output folder: study.h5, results.csv, stats.csv, figures/, report.html")
+      ->capture_default_str();
   cmd->add_option("--jobs", args->jobs, "Threads (0 = all cores)")
-      ->check(CLI::Range(0, 4096))
+      ->check(InRange(0, 4096))
       ->capture_default_str();
   cmd->add_option("--alpha", args->alpha, "Significance level of the statistics, in (0, 0.5)")
       ->check(CLI::Validator(
@@ -217,6 +290,7 @@ void RegisterRun(CLI::App& app, RunState& state) {
   cmd->add_flag("--discover", args->discover,
                 "Also run the discovery workflow (as `hoofimpact discover` with its defaults) "
                 "after the comparison: /discovery, its figures and the report's Discovery section");
+  AddJsonFlag(cmd, args->json);
   AddAnalysisOptions(cmd, args->options, args->method);
   cmd->callback([args, &state] { Run(*args, state); });
 }

@@ -8,15 +8,17 @@
 
 #include "cli/commands.h"
 #include "cli/common_options.h"
+#include "cli/json_output.h"
 #include "cli/trial_output.h"
+#include "format/number_format.h"
 #include "pipeline/truth_score.h"
 
 namespace hoof::cli {
 
 namespace {
 
-/// One JSON object per trial (its errors, or its score) and the summary.
-void PrintScoreJson(const pipeline::StudyScore& score) {
+/// The envelope: one JSON object per trial (its errors, or its score) and the summary.
+void PrintScoreJson(const pipeline::StudyScore& score, int exit_code) {
   const pipeline::StudyScoreSummary& sum = score.summary;
   nlohmann::json rows = nlohmann::json::array();
   for (const auto& t : score.trials) {
@@ -32,7 +34,7 @@ void PrintScoreJson(const pipeline::StudyScore& score) {
                   {"v_after_rel", s.v_after_rel},
                   {"w_before_abs", s.w_before_abs},
                   {"w_after_abs", s.w_after_abs},
-                  {"e_abs", s.e_abs},
+                  {"e_abs", JsonNumber(s.e_abs)},
                   {"mu_eff_abs", JsonNumber(s.mu_eff_abs)},
                   {"impact_time_abs_s", s.impact_time_abs_s},
                   {"truth_out_of_plane", t.truth_out_of_plane}});
@@ -47,7 +49,10 @@ void PrintScoreJson(const pipeline::StudyScore& score) {
                                   {"w_max_abs_rad_s", sum.w_max_abs_rad_s},
                                   {"e_max_abs", sum.e_max_abs},
                                   {"mu_eff_max_abs", sum.mu_eff_max_abs}};
-  std::cout << nlohmann::json({{"trials", rows}, {"summary", summary}}).dump(2) << "\n";
+  std::vector<JsonError> errors;
+  for (const auto& t : score.trials)
+    if (!t.scored()) errors.push_back({t.error, "", t.dir.string(), t.id, ""});
+  PrintEnvelope("score", exit_code, {{"trials", rows}, {"summary", summary}}, errors);
 }
 
 /// One line per trial and the summary.
@@ -60,17 +65,22 @@ void PrintScoreText(const pipeline::StudyScore& score) {
       continue;
     }
     const auto& s = t.score;
-    std::cout << std::left << std::setw(28) << name << std::right << std::fixed
-              << std::setprecision(4) << " marker rms " << s.marker_rms_px << " px  v "
-              << 100 * std::max(s.v_before_rel, s.v_after_rel) << " %  w "
-              << std::max(s.w_before_abs, s.w_after_abs) << "  e " << s.e_abs << "  mu "
-              << (std::isfinite(s.mu_eff_abs) ? s.mu_eff_abs : 0.0) << "\n";
+    using format::Kind;
+    std::cout << std::left << std::setw(28) << name << std::right << " marker rms "
+              << format::Number(s.marker_rms_px, Kind::kError) << " px  v "
+              << format::Number(100 * std::max(s.v_before_rel, s.v_after_rel), Kind::kError)
+              << " %  w " << format::Number(std::max(s.w_before_abs, s.w_after_abs), Kind::kError)
+              << " rad/s  e " << format::Number(s.e_abs, Kind::kError) << "  mu_eff "
+              << format::Number(s.mu_eff_abs, Kind::kError) << "\n";
   }
-  std::cout << std::defaultfloat << std::setprecision(6) << "summary: " << sum.scored << " of "
-            << sum.trials << " trials scored; marker rms " << sum.marker_rms_px << " px (worst "
-            << sum.marker_max_px << "), v_SC " << sum.v_SC_max_rel << " rel, w "
-            << sum.w_max_abs_rad_s << " rad/s, e " << sum.e_max_abs << ", mu_eff "
-            << sum.mu_eff_max_abs << " (worst of each)\n";
+  using format::Kind;
+  std::cout << "summary: " << sum.scored << " of " << sum.trials << " trials scored; marker rms "
+            << format::Number(sum.marker_rms_px, Kind::kError) << " px (worst "
+            << format::Number(sum.marker_max_px, Kind::kError) << "), v_SC "
+            << format::Number(100 * sum.v_SC_max_rel, Kind::kError) << " %, w "
+            << format::Number(sum.w_max_abs_rad_s, Kind::kError) << " rad/s, e "
+            << format::Number(sum.e_max_abs, Kind::kError) << ", mu_eff "
+            << format::Number(sum.mu_eff_max_abs, Kind::kError) << " (worst of each)\n";
 }
 
 }  // namespace
@@ -89,20 +99,21 @@ void RegisterScore(CLI::App& app, RunState& state) {
   cmd->add_option("study_dir", args->study_dir, "Study folder with synthetic trials")
       ->required()
       ->check(CLI::ExistingDirectory);
-  cmd->add_flag("--json", args->json, "Print one JSON object per trial and a summary");
+  AddJsonFlag(cmd, args->json);
   cmd->add_option("--jobs", args->jobs, "Worker threads (0 = all cores)")
-      ->check(CLI::Range(0, 4096));
+      ->check(InRange(0, 4096))
+      ->capture_default_str();
   AddAnalysisOptions(cmd, args->options, args->method);
   cmd->callback([args, &state] {
     Args& a = *args;
     ApplyMethod(a.method, a.options);
     const pipeline::StudyScore score = pipeline::ScoreStudy(a.study_dir, a.options, a.jobs);
     const pipeline::StudyScoreSummary& sum = score.summary;
+    state.exit_code = sum.scored == sum.trials ? kExitOk : kExitPartial;
     if (a.json)
-      PrintScoreJson(score);
+      PrintScoreJson(score, state.exit_code);
     else
       PrintScoreText(score);
-    state.exit_code = sum.scored == sum.trials ? kExitOk : kExitPartial;
   });
 }
 

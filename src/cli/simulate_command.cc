@@ -13,8 +13,10 @@
 
 #include "cli/commands.h"
 #include "cli/common_options.h"
+#include "cli/json_output.h"
 #include "core/frames.h"
 #include "dynamics/impact_simulator.h"
+#include "format/number_format.h"
 #include "io/atomic_file.h"
 #include "io/csv.h"
 
@@ -138,24 +140,28 @@ nlohmann::json ResultJson(const SimulateArgs& a, const dynamics::ContactParamete
 
 void PrintText(const SimulateArgs& a, const dynamics::ContactParameters& contact,
                const ImpactResult& r) {
+  using format::Kind;
+  const auto num = [](double v, Kind kind = Kind::kMeasured) { return format::Number(v, kind); };
+  const auto vec = [&](const Eigen::Vector2d& v) {
+    return "[" + num(v.x()) + ", " + num(v.y()) + "]";
+  };
   std::ostringstream os;
-  os << std::setprecision(6);
   const double zeta = dynamics::DampingRatio(contact.k_N_m, contact.b_N_s_m, a.specimen.mass_kg);
-  os << "Impact on " << a.surface << " at " << a.angle_deg << " deg, " << a.speed_m_s
-     << " m/s (k = " << contact.k_N_m << " N/m, b = " << contact.b_N_s_m
-     << " N s/m, zeta = " << zeta << ", mu = " << contact.mu << ")\n";
-  os << "  v_SC before   [" << r.at_touch.v_SC.x() << ", " << r.at_touch.v_SC.y() << "] m/s\n";
-  os << "  v_SC after    [" << r.at_separation.v_SC.x() << ", " << r.at_separation.v_SC.y()
-     << "] m/s\n";
-  os << "  w after       " << r.at_separation.w_rad_s << " rad/s\n";
-  os << "  e             " << r.e << "\n";
-  os << "  mu_eff        " << r.mu_eff << "\n";
-  os << "  energy loss   " << r.energy_loss_J * 1e3 << " mJ (of " << r.kinetic_energy_before_J * 1e3
-     << " mJ)\n";
-  os << "  contact       " << r.t_separation_s * 1e6 << " µs (max compression at "
-     << r.t_max_compression_s * 1e6 << " µs, " << r.max_penetration_m * 1e6 << " µm)\n";
+  os << "Impact on " << a.surface << " at " << num(a.angle_deg) << " deg, " << num(a.speed_m_s)
+     << " m/s (k = " << num(contact.k_N_m) << " N/m, b = " << num(contact.b_N_s_m)
+     << " N s/m, zeta = " << num(zeta, Kind::kCoefficient)
+     << ", mu = " << num(contact.mu, Kind::kCoefficient) << ")\n";
+  os << "  v_SC before   " << vec(r.at_touch.v_SC) << " m/s\n";
+  os << "  v_SC after    " << vec(r.at_separation.v_SC) << " m/s\n";
+  os << "  w after       " << num(r.at_separation.w_rad_s) << " rad/s\n";
+  os << "  e             " << num(r.e, Kind::kCoefficient) << "\n";
+  os << "  mu_eff        " << num(r.mu_eff, Kind::kCoefficient) << "\n";
+  os << "  energy loss   " << num(r.energy_loss_J * 1e3) << " mJ (of "
+     << num(r.kinetic_energy_before_J * 1e3) << " mJ)\n";
+  os << "  contact       " << num(r.t_separation_s * 1e6) << " µs (max compression at "
+     << num(r.t_max_compression_s * 1e6) << " µs, " << num(r.max_penetration_m * 1e6) << " µm)\n";
   os << "  events:";
-  for (const auto& e : r.events) os << " " << e.what << "@" << e.t_s * 1e6 << " µs";
+  for (const auto& e : r.events) os << " " << e.what << "@" << num(e.t_s * 1e6) << " µs";
   os << "\n";
   std::cout << os.str();
 }
@@ -171,56 +177,59 @@ void RegisterSimulate(CLI::App& app, RunState& state) {
   cmd->add_option("--surface", args->surface, "steel, concrete or asphalt (sets k, b, mu)")
       ->capture_default_str();
   cmd->add_option("--k", args->k_N_m, "Contact stiffness k (N/m; 1 to 1e12); overrides the surface")
-      ->check(CLI::Range(1.0, 1e12));
+      ->check(InRange(1.0, 1e12, "N/m"));
   cmd->add_option("--b", args->b_N_s_m,
                   "Compression damping b (N s/m; 0 to 1e9); overrides the surface")
-      ->check(CLI::Range(0.0, 1e9));
+      ->check(InRange(0.0, 1e9, "N s/m"));
   cmd->add_option("--zeta", args->zeta, "Damping ratio (0 to 100); sets b = 2 zeta sqrt(k m)")
-      ->check(CLI::Range(0.0, 100.0))
+      ->check(InRange(0.0, 100.0))
       ->excludes("--b");
   cmd->add_option("--mu", args->mu, "Coulomb friction coefficient (0 to 10); overrides the surface")
-      ->check(CLI::Range(0.0, 10.0));
+      ->check(InRange(0.0, 10.0));
   cmd->add_option("--angle-deg", args->angle_deg, "Surface angle phi (deg; 0 to 80)")
-      ->check(CLI::Range(0.0, 80.0))
+      ->check(InRange(0.0, 80.0, "deg"))
       ->capture_default_str();
   cmd->add_option("--speed-m-s", args->speed_m_s, "Vertical impact speed (m/s; up to 100)")
-      ->check(CLI::Range(0.0, 100.0))
+      ->check(InRange(0.0, 100.0, "m/s"))
       ->capture_default_str();
   AddSpecimenOptions(cmd, args->specimen);
   AddExtensionOptions(cmd, args->extensions);
   cmd->add_option("--gravity-m-s2", args->sim.gravity_m_s2, "Gravity g (0 to 100); 0 turns it off")
-      ->check(CLI::Range(0.0, 100.0))
+      ->check(InRange(0.0, 100.0, "m/s^2"))
       ->capture_default_str();
   cmd->add_option("--rtol", args->sim.relative_tolerance,
                   "Integrator relative tolerance, per state against max(|x|, its scale in the "
                   "impact); in (0, 1e-3]")
       ->capture_default_str();
-  cmd->add_flag("--json", args->json, "Print one JSON object");
+  AddJsonFlag(cmd, args->json);
   cmd->add_option("--trajectory", args->trajectory_path,
                   "Write the trajectory sampled at frame times as CSV");
   cmd->add_option("--fps", args->fps, "Frame rate for --trajectory (1/s)")->capture_default_str();
   cmd->add_option("--frames-before", args->frames_before, "Frames before touch (0 to 100000)")
-      ->check(CLI::Range(0, 100000))
+      ->check(InRange(0, 100000))
       ->capture_default_str();
   cmd->add_option("--frames-after", args->frames_after, "Frames after touch (0 to 100000)")
-      ->check(CLI::Range(0, 100000))
+      ->check(InRange(0, 100000))
       ->capture_default_str();
   cmd->add_option("--touch-fraction", args->touch_fraction,
                   "Where touch falls between two frames, in frame periods [0, 1)")
       ->capture_default_str();
   cmd->add_option("--contact-samples", args->contact_samples,
                   "Extra samples spread through the contact (0 to 100000)")
-      ->check(CLI::Range(0, 100000))
+      ->check(InRange(0, 100000))
       ->capture_default_str();
 
-  cmd->callback([args, &state] {
+  cmd->callback([args, &state, cmd] {
     SimulateArgs& a = *args;
-    // Every value here comes from the command line: a bad one is a command-line error (exit 2).
-    try {
-      Simulate(a, state);
-    } catch (const std::invalid_argument& e) {
-      throw CLI::ValidationError("simulate", e.what());
-    }
+    // Every value here comes from the command line: a bad one is a command-line error (exit 2),
+    // worded in the option the user typed (the simulator's fields are named otherwise).
+    ValidateOptions(cmd, [&] { Simulate(a, state); },
+                    {{"relative_tolerance", "--rtol"},
+                     {"surface_angle_rad", "--angle-deg"},
+                     {"v_SC_m_s", "--speed-m-s"},
+                     {"k_N_m", "--k"},
+                     {"b_N_s_m", "--b"},
+                     {"d_EC_m", "--d-ec-m"}});
   });
 }
 
@@ -228,9 +237,11 @@ namespace {
 
 void Simulate(SimulateArgs& a, RunState& state) {
   // The sampling options are checked whether or not --trajectory uses them.
-  if (!(a.fps > 0)) throw std::invalid_argument("--fps must be > 0");
+  if (!(a.fps > 0))
+    throw CLI::ValidationError("--fps", "must be > 0 (1/s), got " + BoundText(a.fps));
   if (!(a.touch_fraction >= 0 && a.touch_fraction < 1))
-    throw std::invalid_argument("--touch-fraction must be in [0, 1)");
+    throw CLI::ValidationError(
+        "--touch-fraction", "must be in [0, 1) frame periods, got " + BoundText(a.touch_fraction));
   {
     dynamics::ContactParameters contact = dynamics::PaperContact(dynamics::ParseSurface(a.surface));
     if (a.k_N_m) contact.k_N_m = *a.k_N_m;
@@ -242,7 +253,8 @@ void Simulate(SimulateArgs& a, RunState& state) {
     }
     if (a.mu) contact.mu = *a.mu;
     contact.extensions = a.extensions;
-    if (!(a.speed_m_s > 0.0)) throw std::invalid_argument("--speed-m-s must be > 0");
+    if (!(a.speed_m_s > 0.0))
+      throw CLI::ValidationError("--speed-m-s", "must be > 0 m/s, got " + BoundText(a.speed_m_s));
     const dynamics::ImpactSimulator sim(a.specimen, contact, a.sim);
     const auto conditions = dynamics::ImpactConditions::Paper(a.speed_m_s, a.angle_deg);
     ImpactResult r = sim.Simulate(conditions);
@@ -252,8 +264,12 @@ void Simulate(SimulateArgs& a, RunState& state) {
       r = sim.Simulate(conditions, times);
       WriteTrajectory(a.trajectory_path, r.samples, conditions.surface_angle_rad);
     }
+    state.exit_code = kExitOk;
     if (a.json) {
-      std::cout << ResultJson(a, contact, r).dump(2) << "\n";
+      nlohmann::json results = ResultJson(a, contact, r);
+      results["trajectory_csv"] = a.trajectory_path;
+      results["trajectory_samples"] = r.samples.size();
+      PrintEnvelope("simulate", state.exit_code, std::move(results));
     } else {
       PrintText(a, contact, r);
       if (!a.trajectory_path.empty())

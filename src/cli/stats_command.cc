@@ -5,6 +5,8 @@
 // Only arguments and reading live here; the statistics are in hoof::stats, the study's tables
 // in study/statistics.h, and their text, JSON and CSV in study/statistics_text.h.
 #include <cctype>
+#include <cstring>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -17,6 +19,7 @@
 
 #include "cli/commands.h"
 #include "cli/common_options.h"
+#include "cli/json_output.h"
 #include "io/csv.h"
 #include "stats/grouping.h"
 #include "stats/one_way_analysis.h"
@@ -31,8 +34,10 @@ namespace {
 using nlohmann::json;
 
 struct StatsArgs {
-  // Input: a study file (positional) or --csv; --response/--factor are checked in the
-  // callback, not by CLI11, because only --csv needs them.
+  // Input: a study file or a CSV table (positional; --csv, the earlier spelling of a table,
+  // still works); --response/--factor are checked in the callback, not by CLI11, because only
+  // a table needs them.
+  std::string input;
   std::string study_h5;
   std::string shown_as;  ///< the study file's name in messages, when study_h5 is a temporary
   std::string csv_path;
@@ -121,13 +126,12 @@ std::string LeftOutText(const StatsInput& in, const std::string& response) {
 
 // ----------------------------------------------------------------------------------------
 
-void RunCsv(const StatsArgs& a) {
+json RunCsv(const StatsArgs& a) {
   if (a.csv_path.empty())
-    throw CLI::ValidationError("--csv",
-                               "an input is required: a study file (STUDY_H5) or --csv FILE");
+    throw CLI::ValidationError("INPUT", "an input is required: a study file or a CSV table");
   if (a.response.empty() || a.factor.empty())
     throw CLI::ValidationError("--response/--factor",
-                               "--csv needs --response COL and --factor COL");
+                               "a CSV table needs --response COL and --factor COL");
   const StatsInput in = ReadInput(a);
   const std::string context = in.source + " (" + a.response + " by " + a.factor + "): ";
   stats::OneWayAnalysis analysis;
@@ -160,13 +164,13 @@ void RunCsv(const StatsArgs& a) {
     j.update(study::OneWayJson(analysis.original, analysis.alpha));
     j["transform"] = study::TransformJson(analysis.transform, analysis.alpha);
     j["two_way"] = two_way ? study::TwoWayJson(*two_way) : json(nullptr);
-    std::cout << j.dump(2) << "\n";
-  } else {
-    std::cout << LeftOutText(in, a.response);
-    study::WriteOneWayAnalysisText(std::cout, a.response, a.factor, in.source, in.response.size(),
-                                   analysis, two_way);
-    if (!a.out_csv.empty()) std::cout << "Tables written to " << a.out_csv << "\n";
+    return j;
   }
+  std::cout << LeftOutText(in, a.response);
+  study::WriteOneWayAnalysisText(std::cout, a.response, a.factor, in.source, in.response.size(),
+                                 analysis, two_way);
+  if (!a.out_csv.empty()) std::cout << "Tables written to " << a.out_csv << "\n";
+  return nullptr;
 }
 
 // ----------------------------------------------------------------------------------------
@@ -174,34 +178,50 @@ void RunCsv(const StatsArgs& a) {
 // and stored by hoof::study, shown here.
 // ----------------------------------------------------------------------------------------
 
-void RunStudy(const StatsArgs& a) {
+json RunStudy(const StatsArgs& a) {
   if (!a.csv_path.empty())
-    throw CLI::ValidationError("STUDY_H5/--csv", "give a study file or --csv, not both");
+    throw CLI::ValidationError("INPUT/--csv", "give one input: a study file or a CSV table");
   if (!a.response.empty() || !a.factor.empty() || !a.factor2.empty())
     throw CLI::ValidationError("--response/--factor/--factor2",
-                               "only for --csv; a study file is analysed for e and mu_eff by "
-                               "surface, angle and speed");
+                               "only for a CSV table; a study file is analysed for e and mu_eff "
+                               "by surface, angle and speed");
   study::StatisticsOptions options;
   options.alpha = a.alpha;
   options.ss_type =
       a.ss_type == "I" ? stats::SumOfSquaresType::kTypeI : stats::SumOfSquaresType::kTypeIII;
   const study::StudyStatistics s =
       study::StoreStatistics(a.study_h5, options, a.out_csv, a.shown_as);
-  if (a.json)
-    std::cout << study::StudyStatisticsJson(s).dump(2) << "\n";
-  else
-    PrintStudyStatistics(s, a.out_csv);
+  if (a.json) return study::StudyStatisticsJson(s);
+  PrintStudyStatistics(s, a.out_csv);
+  return nullptr;
 }
 
-void Run(const StatsArgs& a) {
+/// Whether `path` is meant as a study file, not a CSV table: named .h5 (or .hdf5), or HDF5 by
+/// its signature. A .h5 file that is not HDF5 is then a bad study file, named as such.
+bool IsHdf5(const std::string& path) {
+  for (const char* ending : {".h5", ".hdf5", ".H5"})
+    if (path.size() > std::strlen(ending) &&
+        path.compare(path.size() - std::strlen(ending), std::string::npos, ending) == 0)
+      return true;
+  std::ifstream in(path, std::ios::binary);
+  char signature[8] = {};
+  in.read(signature, sizeof signature);
+  return in.gcount() == 8 && std::string(signature, 8) == std::string("\x89HDF\r\n\x1a\n", 8);
+}
+
+void Run(StatsArgs a, RunState& state) {
   if (!(a.alpha > 0.0 && a.alpha < 1.0))
     throw CLI::ValidationError("--alpha", "must be in (0, 1), got " + std::to_string(a.alpha));
   if (a.ss_type != "I" && a.ss_type != "III")
     throw CLI::ValidationError("--ss-type", "must be I or III, got " + a.ss_type);
-  if (!a.study_h5.empty())
-    RunStudy(a);
-  else
-    RunCsv(a);
+  if (!a.input.empty()) {
+    if (!a.csv_path.empty())
+      throw CLI::ValidationError("INPUT/--csv", "give one input: a study file or a CSV table");
+    (IsHdf5(a.input) ? a.study_h5 : a.csv_path) = a.input;
+  }
+  const json results = !a.study_h5.empty() ? RunStudy(a) : RunCsv(a);
+  state.exit_code = kExitOk;
+  if (a.json) PrintEnvelope("stats", state.exit_code, results);
 }
 
 }  // namespace
@@ -213,10 +233,14 @@ void RegisterStats(CLI::App& app, RunState& state) {
       "One-way ANOVA of a response by a factor, with Bartlett, Welch, a Box-Cox transform when "
       "variances differ, and Fisher's LSD; two-way ANOVA with --factor2. With a study file: e "
       "and mu_eff by surface, angle and speed, stored under /stats");
-  cmd->add_option("study_h5", args->study_h5,
-                  "Study file from `hoofimpact analyze` (instead of --csv)")
+  cmd->add_option("input", args->input,
+                  "A study file from `hoofimpact analyze` or `run` (HDF5), or a CSV table with "
+                  "a header row (needs --response and --factor)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--csv", args->csv_path, "Input table (CSV with a header row)");
+  // --csv FILE, the earlier way to give a table: still works, not shown.
+  cmd->add_option("--csv", args->csv_path, "Deprecated: give the table as INPUT")
+      ->check(CLI::ExistingFile)
+      ->group("");
   cmd->add_option("--response", args->response, "Column holding the response (numbers)");
   cmd->add_option("--factor", args->factor, "Column holding the group label of each row");
   cmd->add_option("--factor2", args->factor2, "Second factor: adds the two-way table");
@@ -225,13 +249,12 @@ void RegisterStats(CLI::App& app, RunState& state) {
       ->capture_default_str();
   cmd->add_option("--ss-type", args->ss_type, "Two-way sums of squares: III or I (sequential)")
       ->capture_default_str();
-  cmd->add_flag("--json", args->json, "Print one JSON object");
-  cmd->add_option("--out-csv", args->out_csv,
+  AddJsonFlag(cmd, args->json);
+  cmd->add_option("--tables-csv", args->out_csv,
                   "Also write every table to this CSV (columns table,row,statistic,value)");
-  cmd->callback([args, &state] {
-    Run(*args);
-    state.exit_code = kExitOk;
-  });
+  // --out-csv, its earlier name: still works, not shown.
+  cmd->add_option("--out-csv", args->out_csv, "Deprecated: --tables-csv")->group("");
+  cmd->callback([args, &state] { Run(*args, state); });
 }
 
 void PrintStudyStatistics(const study::StudyStatistics& s, const std::string& out_csv) {

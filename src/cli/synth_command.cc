@@ -17,6 +17,8 @@
 
 #include "cli/commands.h"
 #include "cli/common_options.h"
+#include "cli/json_output.h"
+#include "format/number_format.h"
 #include "synth/contact_sheet.h"
 #include "synth/renderer.h"
 #include "synth/study.h"
@@ -193,6 +195,11 @@ void CheckArgs(const SynthArgs& a) {
     if (!(s >= 0 && s <= 60))
       Bad("--angles-deg", "must each be in [0, 60], got " + std::to_string(s));
   if (a.design.trials_per_cell < 1) Bad("--trials-per-cell", "must be >= 1");
+}
+
+/// Creates the output's folder (or its parent, for a trial), once every value is checked: a
+/// bad option creates nothing.
+void CheckOutput(const SynthArgs& a) {
   const fs::path out(a.output);
   std::error_code ec;
   const fs::path parent =
@@ -205,7 +212,7 @@ void CheckArgs(const SynthArgs& a) {
 
 nlohmann::json TrialSummary(const synth::TrialSpec& spec, bool ok, const std::string& error,
                             const synth::TrialResult& r) {
-  nlohmann::json j = {{"id", spec.id}, {"ok", ok}};
+  nlohmann::json j = {{"id", spec.id}, {"success", ok}};
   if (!ok) {
     j["error"] = error;
     return j;
@@ -264,6 +271,7 @@ void ApplyOptions(SynthArgs& a, CLI::App* cmd) {
   a.hidden.out_of_plane.Validate();
   a.hidden.contact.Validate();
   if (a.study) a.design.Validate();
+  CheckOutput(a);
 }
 
 void Run(SynthArgs& a, RunState& state, CLI::App* cmd) {
@@ -316,22 +324,26 @@ void Run(SynthArgs& a, RunState& state, CLI::App* cmd) {
   for (const auto& t : trials)
     if (!t.ok) std::cerr << "hoofimpact: trial " << t.spec.id << " failed: " << t.error << "\n";
   if (!a.contact_sheet.empty()) WriteContactSheet(a.contact_sheet, trials);
+  state.exit_code = failed > 0 ? kExitPartial : kExitOk;
   if (a.json) {
     nlohmann::json list = nlohmann::json::array();
-    for (const auto& t : trials) list.push_back(TrialSummary(t.spec, t.ok, t.error, t.result));
-    std::cout << nlohmann::json{{"output", a.output},
-                                {"study", a.study},
-                                {"trials", list},
-                                {"failed", failed},
-                                {"seconds", seconds}}
-                     .dump(2)
-              << "\n";
+    std::vector<JsonError> errors;
+    for (const auto& t : trials) {
+      list.push_back(TrialSummary(t.spec, t.ok, t.error, t.result));
+      if (!t.ok) errors.push_back({t.error, "", "", t.spec.id, ""});
+    }
+    PrintEnvelope("synth", state.exit_code,
+                  {{"output", a.output},
+                   {"study", a.study},
+                   {"trials", list},
+                   {"failed", failed},
+                   {"seconds", seconds}},
+                  errors);
   } else {
     std::cout << "Wrote " << trials.size() - static_cast<std::size_t>(failed) << " trial(s) to "
-              << a.output << " in " << seconds << " s"
+              << a.output << " in " << format::Seconds(seconds)
               << (failed ? " (" + std::to_string(failed) + " failed)" : "") << "\n";
   }
-  state.exit_code = failed > 0 ? kExitPartial : kExitOk;
 }
 
 }  // namespace
@@ -341,7 +353,8 @@ void RegisterSynth(CLI::App& app, RunState& state) {
   SynthArgs& a = *args;
   CLI::App* cmd = app.add_subcommand(
       "synth", "Render synthetic 8000 fps trials with ground truth (trial or study folders)");
-  cmd->add_option("-o,--output", a.output, "Trial folder to write (a study folder with --study)")
+  cmd->add_option("-o,--output", a.output,
+                  "Output folder: the trial folder to write (the study folder with --study)")
       ->required();
   cmd->add_flag("--overwrite", a.overwrite,
                 "Replace existing trial folders; with --study, render into a folder that holds a "
@@ -399,10 +412,11 @@ void RegisterSynth(CLI::App& app, RunState& state) {
   cmd->add_option("--out-of-plane-random-deg", a.out_of_plane_random_deg,
                   "Study: per-trial random tilt and roll within +- this (deg)");
   // --jobs, as in every other command; --threads, its earlier name, still works.
-  cmd->add_option("--jobs,--threads", a.threads, "Worker threads for a study (0 = all cores)")
-      ->check(CLI::Range(0, 4096))
+  cmd->add_option("--jobs", a.threads, "Worker threads for a study (0 = all cores)")
+      ->check(InRange(0, 4096))
       ->capture_default_str();
-  cmd->add_flag("--json", a.json, "Print a JSON summary");
+  cmd->add_option("--threads", a.threads, "Deprecated: --jobs")->check(InRange(0, 4096))->group("");
+  AddJsonFlag(cmd, a.json);
   cmd->add_option("--contact-sheet", a.contact_sheet, "Write a contact sheet PNG")->group("");
   cmd->callback([args, &state, cmd] { Run(*args, state, cmd); });
 }

@@ -10,6 +10,7 @@
 
 #include "cli/commands.h"
 #include "cli/common_options.h"
+#include "cli/json_output.h"
 #include "cli/trial_output.h"
 #include "io/atomic_file.h"
 #include "pipeline/trial_analysis.h"
@@ -36,7 +37,7 @@ void RegisterTrack(CLI::App& app, RunState& state) {
   cmd->add_option("--study", args->study_json,
                   "study.json that defines the specimen (default: the one beside the trial)");
   cmd->add_option("--tracks-csv", args->tracks_csv, "Write the marker tracks and poses as CSV");
-  cmd->add_flag("--json", args->json, "Print the result as one JSON object");
+  AddJsonFlag(cmd, args->json);
   cmd->add_option(
       "--figures", args->figures_dir,
       "Write the trial's figures into this folder (PNG and SVG): <id>_displacement (the "
@@ -60,16 +61,18 @@ void RegisterTrack(CLI::App& app, RunState& state) {
     if (!a.tracks_csv.empty()) io::WriteTextAtomically(a.tracks_csv, TracksCsv(r));
     const auto figures = report::WriteTrialFigures(r, a.options, a.figures_dir, /*always=*/true,
                                                    /*displacement=*/true);
+    state.exit_code = r.success ? kExitOk : kExitFailure;
     if (a.json) {
-      std::cout << TrialJson(r).dump(2) << "\n";
+      nlohmann::json results = TrialJson(r);
+      results["figures"] = figures;
+      std::vector<JsonError> errors;
+      if (!r.success) errors.push_back({r.error, "", spec.dir.string(), spec.id, ""});
+      PrintEnvelope("track", state.exit_code, std::move(results), errors);
     } else {
       std::cout << TrialText(r);
       for (const auto& f : figures) std::cout << "  figure: " << f << "\n";
     }
-    if (!r.success) {
-      std::cerr << "hoofimpact: error: " << r.error << "\n";
-      state.exit_code = kExitFailure;
-    }
+    if (!r.success) std::cerr << "hoofimpact: error: " << r.error << "\n";
   });
 }
 

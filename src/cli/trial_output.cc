@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "cli/common_options.h"
+#include "format/number_format.h"
 #include "io/csv.h"
 #include "report/figures.h"
 
@@ -48,22 +49,27 @@ void ApplyMethod(const std::string& method, pipeline::TrialAnalysisOptions& opti
 
 nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
   const auto& k = r.impact;
-  nlohmann::json j = {{"id", r.spec.id},
-                      {"dir", r.spec.dir.string()},
-                      {"surface", r.spec.surface},
-                      {"surface_angle_deg", r.spec.surface_angle_deg},
-                      {"success", r.success},
-                      {"error", r.error},
-                      {"flags", r.flags},
-                      {"warnings", r.warnings},
-                      {"seconds", r.seconds},
-                      {"m_per_px_used", r.m_per_px_used},
-                      {"m_per_px_from_markers", JsonNumber(r.m_per_px_from_markers)},
-                      {"surface_angle_measured_deg", r.surface_angle_measured_deg
-                                                         ? JsonNumber(*r.surface_angle_measured_deg)
-                                                         : nlohmann::json(nullptr)},
-                      {"out_of_plane_change", r.out_of_plane_change},
-                      {"out_of_plane_noise", r.out_of_plane_noise}};
+  nlohmann::json j = {
+      {"id", r.spec.id},
+      {"dir", r.spec.dir.string()},
+      {"specimen", r.spec.specimen_id},
+      {"surface", r.spec.surface},
+      {"surface_angle_deg", r.spec.surface_angle_deg},
+      {"fps", r.spec.fps},
+      {"nominal_speed_m_s",
+       r.spec.nominal_speed_m_s ? JsonNumber(*r.spec.nominal_speed_m_s) : nlohmann::json(nullptr)},
+      {"success", r.success},
+      {"error", r.error},
+      {"flags", r.flags},
+      {"warnings", r.warnings},
+      {"seconds", r.seconds},
+      {"m_per_px_used", r.m_per_px_used},
+      {"m_per_px_from_markers", JsonNumber(r.m_per_px_from_markers)},
+      {"surface_angle_measured_deg", r.surface_angle_measured_deg
+                                         ? JsonNumber(*r.surface_angle_measured_deg)
+                                         : nlohmann::json(nullptr)},
+      {"out_of_plane_change", r.out_of_plane_change},
+      {"out_of_plane_noise", r.out_of_plane_noise}};
   if (k.success) {
     j.update({{"impact_time_s", k.impact_time_s},
               {"v_SC_before_m_s", JsonVector(k.v_SC_before)},
@@ -76,12 +82,15 @@ nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
               {"w_after_rad_s", k.w_after_rad_s},
               {"w_before_se_rad_s", k.w_before_se_rad_s},
               {"w_after_se_rad_s", k.w_after_se_rad_s},
-              {"e", k.e},
-              {"e_se", k.e_se},
-              {"e_ci95", {k.e_ci_low, k.e_ci_high}},
+              // The names of the columns of /results and results.csv (studyfile/schema.h).
+              {"e", JsonNumber(k.e)},
+              {"e_se", JsonNumber(k.e_se)},
+              {"e_ci_low", JsonNumber(k.e_ci_low)},
+              {"e_ci_high", JsonNumber(k.e_ci_high)},
               {"mu_eff", JsonNumber(k.mu_eff)},
               {"mu_eff_se", JsonNumber(k.mu_eff_se)},
-              {"mu_eff_ci95", {JsonNumber(k.mu_eff_ci_low), JsonNumber(k.mu_eff_ci_high)}},
+              {"mu_eff_ci_low", JsonNumber(k.mu_eff_ci_low)},
+              {"mu_eff_ci_high", JsonNumber(k.mu_eff_ci_high)},
               {"kinetic_energy_before_J", k.kinetic_energy_before_J},
               {"kinetic_energy_after_J", k.kinetic_energy_after_J},
               {"fit_frames_before", {k.before.first_frame, k.before.last_frame}},
@@ -92,35 +101,41 @@ nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
 }
 
 std::string TrialText(const pipeline::TrialAnalysis& r) {
+  using format::Kind;
+  const auto num = [](double v, Kind kind = Kind::kMeasured) { return format::Number(v, kind); };
+  const auto vec = [&](const Eigen::Vector2d& v, Kind kind = Kind::kMeasured) {
+    return "[" + num(v.x(), kind) + ", " + num(v.y(), kind) + "]";
+  };
   std::ostringstream os;
-  os << std::setprecision(5);
-  os << "Trial " << r.spec.id << " (" << r.spec.surface << ", " << r.spec.surface_angle_deg
+  os << "Trial " << r.spec.id << " (" << r.spec.surface << ", " << num(r.spec.surface_angle_deg)
      << " deg): ";
   if (!r.success) {
     os << "FAILED: " << r.error << "\n";
   } else {
     const auto& k = r.impact;
-    os << "impact at " << k.impact_time_s * 1e3 << " ms (after frame " << k.impact_frame << ")\n";
-    os << "  v_SC before  [" << k.v_SC_before.x() << ", " << k.v_SC_before.y() << "] +- ["
-       << k.v_SC_before_se.x() << ", " << k.v_SC_before_se.y() << "] m/s\n";
-    os << "  v_SC after   [" << k.v_SC_after.x() << ", " << k.v_SC_after.y() << "] +- ["
-       << k.v_SC_after_se.x() << ", " << k.v_SC_after_se.y() << "] m/s\n";
-    os << "  w before/after  " << k.w_before_rad_s << " / " << k.w_after_rad_s << " rad/s (s.e. "
-       << k.w_before_se_rad_s << " / " << k.w_after_se_rad_s << ")\n";
-    os << "  e       " << k.e << "  (s.e. " << k.e_se << ", 95 % " << k.e_ci_low << " .. "
-       << k.e_ci_high << ")\n";
-    os << "  mu_eff  " << k.mu_eff << "  (s.e. " << k.mu_eff_se << ", 95 % " << k.mu_eff_ci_low
-       << " .. " << k.mu_eff_ci_high << ")\n";
+    os << "impact at " << num(k.impact_time_s * 1e3) << " ms (after frame " << k.impact_frame
+       << ")\n";
+    os << "  v_SC before  " << vec(k.v_SC_before) << " m/s, s.e. "
+       << vec(k.v_SC_before_se, Kind::kError) << "\n";
+    os << "  v_SC after   " << vec(k.v_SC_after) << " m/s, s.e. "
+       << vec(k.v_SC_after_se, Kind::kError) << "\n";
+    os << "  w before/after  " << format::WithError(k.w_before_rad_s, k.w_before_se_rad_s) << " / "
+       << format::WithError(k.w_after_rad_s, k.w_after_se_rad_s) << " rad/s\n";
+    os << "  e       " << format::WithError(k.e, k.e_se, Kind::kCoefficient) << "  (95 % "
+       << format::Interval(k.e_ci_low, k.e_ci_high, Kind::kCoefficient) << ")\n";
+    os << "  mu_eff  " << format::WithError(k.mu_eff, k.mu_eff_se, Kind::kCoefficient) << "  (95 % "
+       << format::Interval(k.mu_eff_ci_low, k.mu_eff_ci_high, Kind::kCoefficient) << ")\n";
     os << "  fits    frames " << k.before.first_frame << "-" << k.before.last_frame << " and "
        << k.after.first_frame << "-" << k.after.last_frame << ", rms residual "
-       << k.before.rms_residual_m * 1e6 << " / " << k.after.rms_residual_m * 1e6 << " µm\n";
+       << num(k.before.rms_residual_m * 1e6, Kind::kError) << " / "
+       << num(k.after.rms_residual_m * 1e6, Kind::kError) << " µm\n";
   }
   if (r.surface_angle_measured_deg)
-    os << "  surface angle measured " << *r.surface_angle_measured_deg << " deg\n";
-  os << "  scale " << r.m_per_px_used << " m/px (from the markers: " << r.m_per_px_from_markers
-     << ")\n";
-  os << "  projected marker distance changes by " << 100 * r.out_of_plane_change << " % (noise "
-     << 100 * r.out_of_plane_noise << " %)\n";
+    os << "  surface angle measured " << num(*r.surface_angle_measured_deg) << " deg\n";
+  os << "  scale " << num(r.m_per_px_used)
+     << " m/px (from the markers: " << num(r.m_per_px_from_markers) << ")\n";
+  os << "  projected marker distance changes by " << num(100 * r.out_of_plane_change, Kind::kError)
+     << " % (noise " << num(100 * r.out_of_plane_noise, Kind::kError) << " %)\n";
   if (!r.flags.empty()) {
     os << "  flags:";
     for (const auto& f : r.flags) os << " " << f;

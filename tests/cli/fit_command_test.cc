@@ -49,7 +49,7 @@ TEST(FitCommandTest, ReportsZetaAndThatKIsNotIdentified) {
   std::filesystem::remove(valley);
   const auto r = RunHoofimpact("fit " + csv + " --json --valley-csv " + valley);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto j = nlohmann::json::parse(r.out);
+  const auto j = nlohmann::json::parse(r.out).at("results").at("groups");
   ASSERT_EQ(j.size(), 1u);
   EXPECT_EQ(j[0]["group"], "asphalt");
   EXPECT_NEAR(j[0]["zeta"].get<double>(), 0.6009, 5e-4);
@@ -75,7 +75,7 @@ TEST(FitCommandTest, WhereKeepsOnlyTheRowsOfThatText) {
       WriteGroups("fit_cli_where.csv", {{"asphalt", 5.86e7, 0.6009}, {"steel", 7.24e8, 0.1105}});
   auto r = RunHoofimpact("fit " + csv + " --json --where surface=steel");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  auto j = nlohmann::json::parse(r.out);
+  auto j = nlohmann::json::parse(r.out).at("results").at("groups");
   ASSERT_EQ(j.size(), 1u) << r.out;
   EXPECT_EQ(j[0]["group"], "steel");
   EXPECT_NEAR(j[0]["zeta"].get<double>(), 0.1105, 5e-4);

@@ -1,6 +1,8 @@
 // Option values out of range are command-line errors (exit 2) that name the option, in every
 // command: NaN, infinities and numbers beyond a double on every floating-point option (main()
 // puts the check on all of them), and the library validators' bounds before any file is read.
+#include <fstream>
+#include <iostream>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -75,6 +77,78 @@ TEST(OptionBoundsTest, LibraryBoundsAreCommandLineErrorsNamingTheOption) {
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
     EXPECT_NE(r.err.find(option), std::string::npos) << args << "\n" << r.err;
   }
+}
+
+}  // namespace
+
+namespace {
+
+/// A struct field with its value ("conditions.surface_angle_rad = 1.65806", "kinematics
+/// fit_frames must"): the library's words, which must not reach the user.
+bool LeaksAField(const std::string& err) {
+  static const std::regex field(
+      R"([a-z]+[._][a-z0-9_]+ = -?[0-9.e+-]+ is invalid|kinematics \w+ must|options\.\w+|HtmlReportOptions)");
+  return std::regex_search(err, field);
+}
+
+TEST(OptionBoundsTest, MessagesUseTheOptionsAndUnitsTheUserTyped) {
+  // The user typed degrees: the bound is in degrees, with the value typed, and no radians.
+  auto r = RunHoofimpact("simulate --angle-deg 95");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--angle-deg: must be in [0, 80] deg, got 95"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("rad"), std::string::npos) << r.err;
+  // Bounds that only the library knows, in the option's name with the value typed.
+  const std::string sample = std::string(HOOF_SOURCE_DIR) + "/sample_frames";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"simulate --rtol 1", "--rtol: must be in (0, 1e-3], got 1"},
+      {"simulate --mass-kg 0", "--mass-kg: must be in [0.0001, 10000] kg, got 0"},
+      {"simulate --speed-m-s 0", "--speed-m-s: must be > 0 m/s, got 0"},
+      {"analyze " + sample + " -o /nonexistent-dir/x.h5 --fit-frames 2",
+       "--fit-frames: must be >= 3, got 2"},
+      {"score " + sample + " --max-contact-s 2", "--max-contact-s: must be in [0, 1] s, got 2"},
+      {"synth -o /nonexistent-dir/x --bit-depth 12", "--bit-depth: must be 8 or 16, got 12"},
+      {"report /nonexistent-dir/x.h5 --replay-frames 1", "--replay-frames: must be in [2, 400]"},
+      {"overlay /nonexistent-dir/x.h5 t1 --slow 0", "--slow: must be in [1, 10000], got 0"},
+  };
+  for (const auto& [args, message] : cases) {
+    r = RunHoofimpact(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << args << "\n" << r.err;
+    EXPECT_FALSE(LeaksAField(r.err)) << args << "\n" << r.err;
+  }
+}
+
+TEST(OptionBoundsTest, NoLibraryFieldReachesTheUserOnAnyNumericOption) {
+  // Every numeric option of the commands that check before they read or write anything, at
+  // two extremes: refused or not, no struct field name and value is shown.
+  const std::string fit_csv = std::string(HOOF_BINARY_DIR) + "/option_bounds_fit.csv";
+  {
+    std::ofstream out(fit_csv);
+    out << "v_before_m_s,v_after_m_s\n-3,1.5\n-2,1\n-4,2\n";
+  }
+  const std::vector<std::pair<std::string, std::string>> commands = {
+      {"simulate", ""},
+      {"fit", fit_csv},
+      {"synth", "-o /nonexistent-dir/x"},
+      {"discover", "/nonexistent-dir/x.h5"},
+      {"report", "/nonexistent-dir/x.h5"}};
+  int refused = 0;
+  for (const auto& [command, args] : commands) {
+    const auto help = RunHoofimpact(command + " --help");
+    const std::regex option(R"((--[a-z0-9-]+) (FLOAT|INT|UINT))");
+    for (auto it = std::sregex_iterator(help.out.begin(), help.out.end(), option);
+         it != std::sregex_iterator(); ++it) {
+      const std::string name = (*it)[1];
+      if (name == "--plan-draws") continue;  // needs --plan
+      for (const char* value : {"-1e300", "1e300"}) {
+        const auto r = RunHoofimpact(command + " " + args + " " + name + " " + value);
+        EXPECT_FALSE(LeaksAField(r.err)) << command << " " << name << " " << value << "\n" << r.err;
+        if (r.exit_code == 2 && r.err.find(name) != std::string::npos) ++refused;
+      }
+    }
+  }
+  std::cout << refused << " values refused, naming the option\n";
+  EXPECT_GT(refused, 80);
 }
 
 }  // namespace

@@ -19,7 +19,7 @@ TEST(ScoreCommandTest, SampleTrialsMeetTheirTruthOnAnyNumberOfThreads) {
   ASSERT_EQ(one.exit_code, 0) << one.err;
   ASSERT_EQ(two.exit_code, 0) << two.err;
   EXPECT_EQ(one.out, two.out);
-  const auto j = nlohmann::json::parse(two.out);
+  const auto j = nlohmann::json::parse(two.out).at("results");
   const auto& s = j.at("summary");
   EXPECT_EQ(s.at("succeeded").get<int>(), 4);
   EXPECT_LT(s.at("e_max_abs").get<double>(), 1e-3);

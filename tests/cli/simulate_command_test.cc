@@ -19,7 +19,7 @@ TEST(SimulateCommandTest, JsonMatchesThePapersObliqueReferenceCase) {
   const auto r =
       RunHoofimpact("simulate --surface steel --angle-deg 20 --speed-m-s 3.28 --mu 0.12 --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto j = nlohmann::json::parse(r.out);
+  const auto j = nlohmann::json::parse(r.out).at("results");
   // The reference oblique case (kReference in tests/dynamics/impact_simulator_test.cc):
   // v_C = (0.4706, 2.3451), w = 57.56, e 0.8472, dKE 17.630 mJ, 9.86 us.
   EXPECT_NEAR(j["v_SC_after_m_s"][0].get<double>(), 0.4706, 1e-3 * 2.39);
@@ -36,7 +36,7 @@ TEST(SimulateCommandTest, OverridesReachTheModel) {
   const auto r =
       RunHoofimpact("simulate --k 1e8 --zeta 0.3 --mu 0 --gravity-m-s2 0 --mass-kg 0.01 --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto j = nlohmann::json::parse(r.out);
+  const auto j = nlohmann::json::parse(r.out).at("results");
   const double z = 0.3;
   const double e = std::exp(-z / std::sqrt(1 - z * z) * std::atan(std::sqrt(1 - z * z) / z));
   EXPECT_NEAR(j["e"].get<double>(), e, 1e-6);

@@ -61,7 +61,7 @@ TEST(StatsCommandTest, JsonMatchesRForPlantGrowth) {
   const auto r = RunHoofimpact("stats --csv " + WritePlantGrowth() +
                                " --response weight --factor group --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto j = nlohmann::json::parse(r.out);
+  const auto j = nlohmann::json::parse(r.out).at("results");
   EXPECT_NEAR(j["anova"]["between"]["f"].get<double>(), 4.8461, 0.5e-4);
   EXPECT_NEAR(j["anova"]["between"]["p"].get<double>(), 0.01591, 0.5e-5);
   EXPECT_EQ(j["anova"]["within"]["df"].get<int>(), 27);
@@ -85,7 +85,7 @@ TEST(StatsCommandTest, Factor2AddsTheTwoWayTableAndOutCsvWritesIt) {
       RunHoofimpact("stats --csv " + WriteToothGrowth() +
                     " --response len --factor supp --factor2 dose --json --out-csv " + out_csv);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto j = nlohmann::json::parse(r.out);
+  const auto j = nlohmann::json::parse(r.out).at("results");
   const auto& rows = j["two_way"]["rows"];
   ASSERT_EQ(rows.size(), 4u);
   EXPECT_EQ(rows[0]["source"], "supp");
@@ -168,7 +168,7 @@ TEST(StatsCommandTest, RowsWithoutAValueAreLeftOutAndNamed) {
   }
   auto r = RunHoofimpact("stats --csv " + path + " --response weight --factor group --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto j = nlohmann::json::parse(r.out);
+  const auto j = nlohmann::json::parse(r.out).at("results");
   EXPECT_EQ(j["input"]["observations"].get<int>(), 30);
   EXPECT_EQ(j["input"]["left_out_lines"], nlohmann::json({12, 23, 34}));
   // PlantGrowth's R results, as without the three rows.
@@ -256,7 +256,7 @@ TEST(StatsCommandTest, StudyFileGivesRsNumbersAndStoresTheTables) {
   const std::string out_csv = Dir() + "/study_tables.csv";
   const auto r = RunHoofimpact("stats " + study.path + " --json --out-csv " + out_csv);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto j = nlohmann::json::parse(r.out);
+  const auto j = nlohmann::json::parse(r.out).at("results");
   ASSERT_EQ(j["excluded"].size(), 1u);
   EXPECT_EQ(j["excluded"][0]["id"], "steel_broken");
   EXPECT_NE(j["excluded"][0]["reason"].get<std::string>().find("000003.png"), std::string::npos);

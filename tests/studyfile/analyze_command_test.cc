@@ -81,7 +81,7 @@ TEST_F(AnalyzeCommandTest, EveryTrialMatchesItsTruthInTheStudyFile) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const studyfile::StudyResults s = studyfile::ReadStudyResults(out / "study.h5");
   ASSERT_EQ(s.trials.size(), 8u);
-  const auto json = nlohmann::json::parse(r.out);
+  const auto json = nlohmann::json::parse(r.out).at("results").at("trials");
   ASSERT_EQ(json.size(), 8u);
   double worst_e = 0, worst_v = 0;
   for (std::size_t i = 0; i < s.trials.size(); ++i) {
@@ -149,7 +149,7 @@ TEST_F(AnalyzeCommandTest, BadTrialsAreRecordedAndTheOthersMeasured) {
   // stats leaves the failed trials out, with a note naming them.
   const auto st = RunHoofimpact("stats " + file.string() + " --json");
   ASSERT_EQ(st.exit_code, 0) << st.err;
-  const auto j = nlohmann::json::parse(st.out);
+  const auto j = nlohmann::json::parse(st.out).at("results");
   ASSERT_EQ(j["excluded"].size(), 2u);
   EXPECT_EQ(j["excluded"][0]["id"], "steel_0deg_v3.00_r2");
   EXPECT_EQ(j["responses"]["e"]["observations"].get<int>(), 6);
@@ -209,7 +209,7 @@ TEST_F(AnalyzeCommandTest, StatsOnTheStudyFileAgreesWithTheLibrary) {
     angle.push_back(t.surface_angle_deg == 0 ? "0" : "20");
   }
   const auto expected = stats::AnalyzeOneWay(stats::GroupByLabel(e, surface));
-  const auto j = nlohmann::json::parse(r.out);
+  const auto j = nlohmann::json::parse(r.out).at("results");
   const auto& by_surface = j["responses"]["e"]["by_surface"];
   EXPECT_DOUBLE_EQ(by_surface["anova"]["between"]["f"].get<double>(), expected.original.anova.f);
   EXPECT_DOUBLE_EQ(by_surface["anova"]["between"]["p"].get<double>(), expected.original.anova.p);

@@ -30,7 +30,7 @@ TEST(SynthCommandTest, WritesATrialAndPrintsAJsonSummary) {
                                " --surface concrete --angle-deg 10 --speed-m-s 2.5 --seed 3 "
                                "--frames-before 4 --frames-after 4 --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto j = nlohmann::json::parse(r.out);
+  const auto j = nlohmann::json::parse(r.out).at("results");
   ASSERT_EQ(j["trials"].size(), 1u);
   EXPECT_EQ(j["trials"][0]["frames"], 8);
   EXPECT_TRUE(fs::exists(out / "trial.json"));
@@ -49,7 +49,7 @@ TEST(SynthCommandTest, WritesASmallStudy) {
                                " --surfaces steel,asphalt --angles-deg 0 --speeds 3 "
                                "--trials-per-cell 1 --frames-before 3 --frames-after 3 --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto j = nlohmann::json::parse(r.out);
+  const auto j = nlohmann::json::parse(r.out).at("results");
   EXPECT_EQ(j["trials"].size(), 2u);
   EXPECT_TRUE(fs::exists(out / "study.json"));
   EXPECT_TRUE(fs::exists(out / "asphalt_0deg_v3.00_r1" / "frames" / "000005.png"));
