@@ -84,11 +84,11 @@ int main(int argc, char** argv) {
           }
           trials_over += any ? 1 : 0;
           if (any && verbose)
-            std::printf("    %s: residual %.4g %.4g %.4g  prediction s.d. %.4g %.4g %.4g  z %.3g "
-                        "%.3g %.3g\n",
-                        t.id.c_str(), t.residual[0], t.residual[1], t.residual[2],
-                        t.prediction_sd[0], t.prediction_sd[1], t.prediction_sd[2], t.z[0], t.z[1],
-                        t.z[2]);
+            std::printf(
+                "    %s: residual %.4g %.4g %.4g  prediction s.d. %.4g %.4g %.4g  z %.3g "
+                "%.3g %.3g\n",
+                t.id.c_str(), t.residual[0], t.residual[1], t.residual[2], t.prediction_sd[0],
+                t.prediction_sd[1], t.prediction_sd[2], t.z[0], t.z[1], t.z[2]);
         }
         total_components += components;
         total_over += over;

@@ -378,8 +378,9 @@ void Serialize(Archive& a, T& t) {
   for (int k = 0; k < 3; ++k)
     a.Number(std::string("t_") + suffix[k], t.t[k], "1",
              std::string("residual / prediction s.d. of ") + what[k]);
-  a.Integer("dof", t.dof, "1", "degrees of freedom of t: the surface's other trials less its "
-                               "mean parameters");
+  a.Integer("dof", t.dof, "1",
+            "degrees of freedom of t: the surface's other trials less its "
+            "mean parameters");
   for (int k = 0; k < 3; ++k)
     a.Number(std::string("z_") + suffix[k], t.z[k], "1",
              std::string("normal z with the tail probability of t on dof, of ") + what[k]);

@@ -77,8 +77,8 @@ BaselinePredictions PredictBaseline(const std::vector<pipeline::TrialAnalysis>& 
       const int c = cov.components[a];
       const auto k = static_cast<Eigen::Index>(a);
       p.residual[c] = residuals[i][c];
-      const double mean_var = std::pow(sens[i](c, 0) * zeta_se, 2) +
-                              std::pow(sens[i](c, 1) * mu_se, 2);
+      const double mean_var =
+          std::pow(sens[i](c, 0) * zeta_se, 2) + std::pow(sens[i](c, 1) * mu_se, 2);
       p.prediction_sd[c] = std::sqrt(cov.cov(k, k) + mean_var);
       p.t[c] = p.residual[c] / p.prediction_sd[c];
       p.z[c] = NormalEquivalent(p.t[c], p.dof);

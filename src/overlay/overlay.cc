@@ -427,9 +427,9 @@ VideoPace PlanVideo(double capture_fps, int slowdown) {
 
 void OverlayOptions::Validate() const {
   if (slowdown < 1 || slowdown > 1000000)
-    throw std::invalid_argument("overlay: slowdown must be in 1..1000000, got " +
-                                std::to_string(slowdown));
-  compare::replay::ValidateResidualScale(residual_scale, "overlay: residual_scale");
+    throw std::invalid_argument("OverlayOptions.slowdown = " + std::to_string(slowdown) +
+                                ": must be in 1..1000000");
+  compare::replay::ValidateResidualScale(residual_scale, "OverlayOptions.residual_scale");
   if (!write_frames && !write_video)
     throw std::invalid_argument("overlay: nothing to write (no frames, no video)");
 }

@@ -9,6 +9,7 @@
 
 #include "core/frames.h"
 #include "discovery/discovery_tables.h"
+#include "format/number_format.h"
 #include "io/atomic_file.h"
 #include "io/interrupt.h"
 #include "report/discovery_figures.h"
@@ -22,23 +23,29 @@ using studyfile::Table;
 
 // ---- discovery ---------------------------------------------------------------------------
 
-/// "estimate +- se unit", or a dash when the estimate is undefined.
+/// "estimate +- se unit" (the estimate to the decimal of its s.e.), or n/a when undefined.
 std::string EstimateHtml(double estimate, double se, const std::string& unit) {
-  if (!std::isfinite(estimate)) return "&ndash;";
-  std::string out = Fmt(estimate, 3);
-  if (std::isfinite(se)) out += " &plusmn; " + Fmt(se, 2);
+  if (!std::isfinite(estimate)) return format::kUndefined;
+  std::string out = format::WithError(estimate, se, format::Kind::kCoefficient, " &plusmn; ");
   if (!unit.empty() && unit != "1") out += " " + HtmlEscape(unit);
   return out;
 }
 
-/// A fraction as a percentage ("12.3 %"), or a dash.
+/// A fraction as a percentage ("12.3 %"), or n/a.
 std::string PercentHtml(double fraction) {
-  return std::isfinite(fraction) ? Fmt(100.0 * fraction, 3) + " %" : "&ndash;";
+  return std::isfinite(fraction) ? Fmt(100.0 * fraction, 3) + " %" : format::kUndefined;
+}
+
+/// Degrees of freedom: whole numbers as such, fractional ones (Welch's) to 3 digits.
+std::string Df(double df) {
+  return std::isfinite(df) && df == std::round(df) ? std::to_string(static_cast<long long>(df))
+                                                   : Fmt(df, 3);
 }
 
 /// A p-value cell, bold when `significant`.
 std::string PCell(double p, bool significant) {
-  return std::string("<td class=\"num") + (significant ? " sig" : "") + "\">" + Fmt(p, 3) + "</td>";
+  return std::string("<td class=\"num") + (significant ? " sig" : "") + "\">" + HtmlEscape(format::P(p)) +
+         "</td>";
 }
 
 /// The verdict's paragraphs (separated by blank lines), each line of its own, and its lists
@@ -101,15 +108,15 @@ std::string TestsTableHtml(const std::vector<discovery::StructureTest>& tests,
   for (const auto& t : tests) {
     std::string stat = Fmt(t.statistic, 4);
     if (t.test.find('F') != std::string::npos && std::isfinite(t.df2))
-      stat = "F(" + Fmt(t.df1, 3) + ", " + Fmt(t.df2, 3) + ") = " + stat;
+      stat = "F(" + Df(t.df1) + ", " + Df(t.df2) + ") = " + stat;
     else if (std::isfinite(t.df1) && t.df1 > 0)
-      stat = "t(" + Fmt(t.df1, 3) + ") = " + stat;
+      stat = "t(" + Df(t.df1) + ") = " + stat;
     else if (t.test.find(" z") != std::string::npos)
       stat = "z = " + stat;
     h << "<tr><td>" << HtmlEscape(t.quantity) << "</td><td>" << HtmlEscape(t.scope) << "</td><td>"
       << HtmlEscape(t.covariate) << "</td><td>" << HtmlEscape(t.test) << "</td><td class=\"num\">"
-      << stat << "</td><td class=\"num\">" << Fmt(t.p, 3) << "</td><td class=\"num"
-      << (t.significant ? " sig" : "") << "\">" << Fmt(t.p_holm, 3) << "</td><td>"
+      << stat << "</td><td class=\"num\">" << HtmlEscape(format::P(t.p)) << "</td><td class=\"num"
+      << (t.significant ? " sig" : "") << "\">" << HtmlEscape(format::P(t.p_holm)) << "</td><td>"
       << HtmlEscape(t.description) << "</td></tr>";
   }
   h << "</tbody></table>";
@@ -271,14 +278,13 @@ std::string FactsHtml(const discovery::DiscoveryResult& r, const fs::path& h5) {
   std::ostringstream h;
   h << "<dl class=\"facts\"><dt>Trials</dt><dd>" << r.trials_used << " used, " << r.trials_skipped
     << " skipped (not measured)</dd><dt>Rounds</dt><dd>" << r.rounds.size()
-    << "</dd><dt>Effort</dt><dd>" << r.simulations << " simulations, " << Fmt(r.seconds, 3)
+    << "</dd><dt>Effort</dt><dd>" << r.simulations << " simulations, " << format::Seconds(r.seconds)
     << " s</dd>";
   if (const auto o = discovery::ReadDiscoveryOptions(h5)) {
     std::string keys;
     for (const auto& k : o->candidates) keys += (keys.empty() ? "" : ",") + k;
-    h << "<dt>Settings</dt><dd>alpha " << Fmt(o->alpha) << ", " << Fmt(o->folds)
-      << " folds, at most " << Fmt(o->max_rounds)
-      << " rounds, candidates: " << HtmlEscape(keys.empty() ? "all" : keys)
+    h << "<dt>Settings</dt><dd>alpha " << Fmt(o->alpha, 2) << ", " << o->folds << " folds, at most "
+      << o->max_rounds << " rounds, candidates: " << HtmlEscape(keys.empty() ? "all" : keys)
       << (o->per_surface ? "" : ", shared values only")
       << (std::isfinite(o->measurement_floor)
               ? ", measurement floor " + PercentHtml(o->measurement_floor) + " of the impact speed"

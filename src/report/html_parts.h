@@ -19,7 +19,8 @@
 
 namespace hoof::report::internal {
 
-/// A number for the page, or a dash when it is not finite.
+/// A number for the page to `precision` significant digits, "n/a" when it is not finite
+/// (format::Significant: the number policy of src/format/number_format.h).
 std::string Fmt(double v, int precision = 4);
 /// A number for the embedded JSON: NaN and infinities become null.
 std::string JsonNumber(double v);

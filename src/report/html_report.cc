@@ -25,6 +25,7 @@
 #include "compare/replay_convention.h"
 #include "core/frames.h"
 #include "discovery/discovery_tables.h"
+#include "format/number_format.h"
 #include "io/atomic_file.h"
 #include "io/interrupt.h"
 #include "pipeline/study_format.h"
@@ -45,13 +46,7 @@ using studyfile::Table;
 
 // ---- small helpers ------------------------------------------------------------------------
 
-std::string Fmt(double v, int precision) {
-  if (!std::isfinite(v)) return "&ndash;";
-  std::ostringstream s;
-  s.precision(precision);
-  s << v;
-  return s.str();
-}
+std::string Fmt(double v, int precision) { return format::Significant(v, precision); }
 
 /// A number for the embedded JSON: NaN and infinities become null.
 std::string JsonNumber(double v) {
@@ -133,8 +128,8 @@ std::string ModelSection(const std::vector<compare::SurfaceModel>& surfaces) {
        "trials</th><th>zeta</th><th>zeta 95 % interval</th><th>mu</th><th>k</th><th>note</th>"
        "</tr></thead><tbody>";
   for (const compare::SurfaceModel& m : surfaces) {
-    h << "<tr><td>" << HtmlEscape(m.surface) << "</td><td class=\"num\">" << Fmt(m.normal_trials)
-      << "</td><td class=\"num\">" << Fmt(m.oblique_trials) << "</td>";
+    h << "<tr><td>" << HtmlEscape(m.surface) << "</td><td class=\"num\">" << m.normal_trials
+      << "</td><td class=\"num\">" << m.oblique_trials << "</td>";
     if (!m.success) {
       h << "<td colspan=\"4\" class=\"bad\">no model</td><td>" << HtmlEscape(m.message)
         << "</td></tr>";
@@ -142,13 +137,14 @@ std::string ModelSection(const std::vector<compare::SurfaceModel>& surfaces) {
     }
     const double lo = m.zeta_fit.zeta_ci_low, hi = m.zeta_fit.zeta_ci_high;
     h << "<td class=\"num\">" << Fmt(m.zeta_fit.zeta) << "</td><td class=\"num\">"
-      << (std::isfinite(lo) && std::isfinite(hi) ? Fmt(lo) + " .. " + Fmt(hi)
-                                                 : std::string("not available"))
+      << (std::isfinite(lo) && std::isfinite(hi)
+              ? format::Interval(lo, hi, format::Kind::kCoefficient)
+              : std::string("not available"))
       << "</td><td class=\"num\">";
     if (m.mu_only_lower_bound)
       h << "&ge; " << Fmt(m.mu) << " (contacts stick)";
     else
-      h << Fmt(m.mu) << (std::isfinite(m.mu_se) ? " &plusmn; " + Fmt(m.mu_se, 2) : "");
+      h << format::WithError(m.mu, m.mu_se, format::Kind::kCoefficient, " &plusmn; ");
     h << "</td><td>k not identified</td><td>" << HtmlEscape(m.message) << "</td></tr>";
   }
   h << "</tbody></table></section>";
@@ -206,7 +202,6 @@ std::string FiguresSection(const studyfile::StudyResults& study, const fs::path&
   h << "</div></section>";
   return h.str();
 }
-
 
 }  // namespace internal
 

@@ -108,7 +108,11 @@ TEST(OptionBoundsTest, MessagesUseTheOptionsAndUnitsTheUserTyped) {
       {"score " + sample + " --max-contact-s 2", "--max-contact-s: must be in [0, 1] s, got 2"},
       {"synth -o /nonexistent-dir/x --bit-depth 12", "--bit-depth: must be 8 or 16, got 12"},
       {"report /nonexistent-dir/x.h5 --replay-frames 1", "--replay-frames: must be in [2, 400]"},
-      {"overlay /nonexistent-dir/x.h5 t1 --slow 0", "--slow: must be in [1, 10000], got 0"},
+      {"overlay /nonexistent-dir/x.h5 t1 --slowdown 0", "--slowdown: must be in 1..1000000, got 0"},
+      {"overlay /nonexistent-dir/x.h5 t1 --residual-scale 0",
+       "--residual-scale: must be in 1..1000 (the residual arrow's magnification), got 0"},
+      {"report /nonexistent-dir/x.h5 --residual-scale 5000",
+       "--residual-scale: must be in 1..1000 (the residual arrow's magnification), got 5000"},
   };
   for (const auto& [args, message] : cases) {
     r = RunHoofimpact(args);

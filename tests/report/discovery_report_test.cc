@@ -151,7 +151,7 @@ TEST(HtmlReportDiscoveryTest, TheSectionShowsVerdictEvidenceAndFigures) {
   const auto row = html.find("<tr class=\"candidate accepted\" data-key=\"hunt_crossley\">");
   ASSERT_NE(row, std::string::npos);
   const std::string tr = html.substr(row, html.find("</tr>", row) - row);
-  EXPECT_NE(tr.find("c = 0.75 &plusmn; 0.05 N s/m^2"), std::string::npos) << tr;
+  EXPECT_NE(tr.find("c = 0.750 &plusmn; 0.050 N s/m^2"), std::string::npos) << tr;
   EXPECT_NE(tr.find("-10.500 vs -8.250"), std::string::npos) << tr;
   EXPECT_NE(tr.find("-38"), std::string::npos) << tr;
   // Why it was added, in the "why" column, and the outcome as its text.
@@ -172,7 +172,7 @@ TEST(HtmlReportDiscoveryTest, TheSectionShowsVerdictEvidenceAndFigures) {
   const auto sf_row = html.find("data-key=\"static_friction\"");
   ASSERT_NE(sf_row, std::string::npos);
   const std::string sf_tr = html.substr(sf_row, html.find("</tr>", sf_row) - sf_row);
-  EXPECT_NE(sf_tr.find("concrete: ds = 0.03 &plusmn; 0.01<br>steel: ds = 0.08 &plusmn; 0.02"),
+  EXPECT_NE(sf_tr.find("concrete: ds = 0.030 &plusmn; 0.010<br>steel: ds = 0.080 &plusmn; 0.020"),
             std::string::npos)
       << sf_tr;
   EXPECT_NE(
@@ -197,22 +197,22 @@ TEST(HtmlReportDiscoveryTest, TheSectionShowsVerdictEvidenceAndFigures) {
                 discovery::ToString(EffectForm::kPerSurface) + ": found on steel, concrete</td>"),
       std::string::npos);
   EXPECT_NE(html.find("hunt_crossley,out_of_plane, shared values only, measurement floor "
-                      "0.02 % of the impact speed"),
+                      "0.0200 % of the impact speed"),
             std::string::npos);
   // The noise model: per surface the scatter of zeta and mu, and the measurement error.
   const auto noise = html.find("<table class=\"data discovery-noise\">");
   ASSERT_NE(noise, std::string::npos);
   const std::string noise_table = html.substr(noise, html.find("</table>", noise) - noise);
   EXPECT_NE(noise_table.find("<td>concrete</td><td class=\"num\">0.0123</td><td "
-                             "class=\"num\">0.0045</td>"),
+                             "class=\"num\">0.00450</td>"),
             std::string::npos)
       << noise_table;
   EXPECT_NE(noise_table.find("<td>steel</td><td class=\"num\">0.0111</td><td "
-                             "class=\"num\">&ndash;</td>"),
+                             "class=\"num\">n/a</td>"),
             std::string::npos)
       << noise_table;
-  EXPECT_NE(html.find("<td class=\"num\">0.025 %</td><td class=\"num\">0.035 %</td><td "
-                      "class=\"num\">0.065 %</td>"),
+  EXPECT_NE(html.find("<td class=\"num\">0.0250 %</td><td class=\"num\">0.0350 %</td><td "
+                      "class=\"num\">0.0650 %</td>"),
             std::string::npos);
   // The figures are embedded as PNG data URIs.
   EXPECT_NE(html.find("<img alt=\"discovery_gap_round1\" src=\"data:image/png;base64,iVBOR"),
