@@ -44,8 +44,8 @@ std::string Df(double df) {
 
 /// A p-value cell, bold when `significant`.
 std::string PCell(double p, bool significant) {
-  return std::string("<td class=\"num") + (significant ? " sig" : "") + "\">" + HtmlEscape(format::P(p)) +
-         "</td>";
+  return std::string("<td class=\"num") + (significant ? " sig" : "") + "\">" +
+         HtmlEscape(format::P(p)) + "</td>";
 }
 
 /// The verdict's paragraphs (separated by blank lines), each line of its own, and its lists
