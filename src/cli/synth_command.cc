@@ -415,10 +415,16 @@ void RegisterSynth(CLI::App& app, RunState& state) {
   cmd->add_option("--jobs", a.threads, "Worker threads for a study (0 = all cores)")
       ->check(InRange(0, 4096))
       ->capture_default_str();
-  cmd->add_option("--threads", a.threads, "Deprecated: --jobs")->check(InRange(0, 4096))->group("");
+  // Checked in the callback, in the name of --jobs (a hidden option's own check names nothing).
+  cmd->add_option("--threads", a.threads, "Deprecated: --jobs")->group("");
   AddJsonFlag(cmd, a.json);
   cmd->add_option("--contact-sheet", a.contact_sheet, "Write a contact sheet PNG")->group("");
-  cmd->callback([args, &state, cmd] { Run(*args, state, cmd); });
+  cmd->callback([args, &state, cmd] {
+    if (args->threads < 0 || args->threads > 4096)
+      throw CLI::ValidationError("--jobs",
+                                 "must be in [0, 4096], got " + std::to_string(args->threads));
+    Run(*args, state, cmd);
+  });
 }
 
 }  // namespace hoof::cli

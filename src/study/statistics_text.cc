@@ -57,10 +57,10 @@ void AnovaLine(std::ostream& os, const std::string& source, std::size_t df, doub
                std::optional<double> ms, std::optional<double> f, std::optional<double> p) {
   os << "    " << std::left << std::setw(20) << source << std::right;
   Col(os, df, 5);
-  Col(os, ss, 13);
-  if (ms) Col(os, *ms, 13);
-  if (f) Col(os, *f, 11);
-  if (p) Col(os, *p, 12);
+  Col(os, format::Number(ss, format::Kind::kSum), 13);
+  if (ms) Col(os, format::Number(*ms, format::Kind::kSum), 13);
+  if (f) Col(os, format::Number(*f, format::Kind::kStatistic), 11);
+  if (p) Col(os, format::P(*p), 12);
   os << "\n";
 }
 
@@ -150,9 +150,9 @@ void WriteCells(std::ostream& os, const ResponseAnalysis& r) {
       for (const auto& c : r.cells)
         if (c.label == surface + "|" + angle) {
           // The s.d. of a one-trial cell is undefined: "n/a" (as the report prints it), not 0.
-          cell << c.mean << " (";
+          cell << format::Number(c.mean) << " (";
           if (c.n > 1)
-            cell << c.sd;
+            cell << format::Number(c.sd);
           else
             cell << format::kUndefined;
           cell << ", " << c.n << ")";
@@ -298,9 +298,9 @@ void WriteOneWayText(std::ostream& os, const stats::OneWayScaleResults& s, doubl
     const auto& g = s.groups[i];
     os << "    " << std::left << std::setw(20) << g.label << std::right;
     Col(os, g.n, 5);
-    Col(os, g.mean, 13);
+    Col(os, format::Number(g.mean), 13);
     if (g.n > 1)
-      Col(os, g.sd, 13);
+      Col(os, format::Number(g.sd), 13);
     else
       Col(os, format::kUndefined, 13);  // one observation has no s.d.
     os << "  " << letters.letters[i] << "\n";
@@ -311,14 +311,17 @@ void WriteOneWayText(std::ostream& os, const stats::OneWayScaleResults& s, doubl
   AnovaLine(os, "between", a.df_between, a.ss_between, a.ms_between, a.f, a.p);
   AnovaLine(os, "within", a.df_within, a.ss_within, a.ms_within, {}, {});
   AnovaLine(os, "total", a.df_total, a.ss_total, {}, {}, {});
-  os << "    eta^2 = " << a.eta_squared << "\n";
-  os << "  Bartlett (equal variances): K^2 = " << s.bartlett.k_squared << ", df = " << s.bartlett.df
-     << ", p = " << s.bartlett.p << (s.bartlett.p < alpha ? "  -> rejected" : "  -> not rejected")
-     << "\n";
+  os << "    eta^2 = " << format::Number(a.eta_squared, format::Kind::kCoefficient) << "\n";
+  os << "  Bartlett (equal variances): K^2 = "
+     << format::Number(s.bartlett.k_squared, format::Kind::kStatistic) << ", df = " << s.bartlett.df
+     << ", " << format::PValue(s.bartlett.p)
+     << (s.bartlett.p < alpha ? "  -> rejected" : "  -> not rejected") << "\n";
   if (!s.bartlett.note.empty()) os << "    note: " << s.bartlett.note << "\n";
   if (s.welch) {
-    os << "  Welch ANOVA: F = " << s.welch->f << ", df1 = " << s.welch->df1
-       << ", df2 = " << s.welch->df2 << ", p = " << s.welch->p << "\n";
+    os << "  Welch ANOVA: F = " << format::Number(s.welch->f, format::Kind::kStatistic)
+       << ", df1 = " << format::Significant(s.welch->df1, 3)
+       << ", df2 = " << format::Significant(s.welch->df2, 3) << ", " << format::PValue(s.welch->p)
+       << "\n";
   } else {
     os << "  Welch ANOVA: " << s.welch_note << "\n";
   }
@@ -328,9 +331,11 @@ void WriteOneWayText(std::ostream& os, const stats::OneWayScaleResults& s, doubl
   }
   os << "  Fisher's LSD (" << 100.0 * (1.0 - alpha) << "% intervals, unadjusted p)\n";
   for (const auto& c : s.lsd)
-    os << "    " << c.group_a << " - " << c.group_b << ": diff " << c.difference << ", se "
-       << c.standard_error << ", t(" << c.df << ") = " << c.t << ", p = " << c.p << ", CI ["
-       << c.ci_low << ", " << c.ci_high << "]" << (c.significant ? "  *" : "") << "\n";
+    os << "    " << c.group_a << " - " << c.group_b << ": diff " << format::Number(c.difference)
+       << ", se " << format::Number(c.standard_error, format::Kind::kError) << ", t(" << c.df
+       << ") = " << format::Number(c.t, format::Kind::kStatistic) << ", " << format::PValue(c.p)
+       << ", CI [" << format::Number(c.ci_low) << ", " << format::Number(c.ci_high) << "]"
+       << (c.significant ? "  *" : "") << "\n";
 }
 
 void WriteTwoWayText(std::ostream& os, const stats::TwoWayAnovaResult& r) {
@@ -378,7 +383,8 @@ void WriteStudyStatisticsText(std::ostream& out, const StudyStatistics& s) {
         continue;
       }
       const auto& an = f.analysis->original.anova;
-      os << "F(" << an.df_between << ", " << an.df_within << ") = " << an.f << ", p = " << an.p
+      os << "F(" << an.df_between << ", " << an.df_within
+         << ") = " << format::Number(an.f, format::Kind::kStatistic) << ", " << format::PValue(an.p)
          << (an.p < s.options.alpha ? "  (significant)" : "") << "\n";
       WriteOneWayText(os, f.analysis->original, f.analysis->alpha);
       os << "  Transform: " << f.analysis->transform.reason << "\n";

@@ -106,8 +106,8 @@ TEST(StatisticsTextTest, AOneTrialCellHasNoStandardDeviation) {
   std::ostringstream os;
   WriteStudyStatisticsText(os, st);
   const std::string text = os.str();
-  EXPECT_NE(text.find("0.9 (n/a, 1)"), std::string::npos) << text;
-  EXPECT_NE(text.find("0.825 (0.03536, 2)"), std::string::npos) << text;
+  EXPECT_NE(text.find("0.9000 (n/a, 1)"), std::string::npos) << text;
+  EXPECT_NE(text.find("0.8250 (0.03536, 2)"), std::string::npos) << text;
   EXPECT_EQ(text.find("(-, 1)"), std::string::npos) << text;
 }
 
