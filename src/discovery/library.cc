@@ -7,6 +7,7 @@
 
 #include "core/frames.h"
 #include "discovery/internal.h"
+#include "format/number_format.h"
 
 namespace hoof::discovery {
 namespace internal {
@@ -54,14 +55,7 @@ std::string UnitSuffix(const std::string& unit) {
   return unit == "1" || unit.empty() ? "" : " " + unit;
 }
 
-std::string FmtP(double p) {
-  if (p < 1e-300) return "< 1e-300";
-  std::ostringstream s;
-  s.precision(2);
-  if (p < 1e-3) s << std::scientific;
-  s << p;
-  return s.str();
-}
+std::string FmtP(double p) { return format::PAgainstSmallLevel(p); }
 
 }  // namespace internal
 

@@ -61,6 +61,13 @@ std::string PValue(double p) {
   return s.front() == '<' ? "p " + s : "p = " + s;
 }
 
+std::string PAgainstSmallLevel(double p) {
+  if (!std::isfinite(p)) return kUndefined;
+  if (p < 1e-300) return "< 1e-300";
+  if (p < 1e-3) return fmt::format("{:.2e}", p);
+  return fmt::format("{:.2g}", p);
+}
+
 std::string WithError(double value, double error, Kind kind, const std::string& plus_minus) {
   if (!std::isfinite(value)) return kUndefined;
   if (!std::isfinite(error) || error <= 0.0) return Number(value, kind);

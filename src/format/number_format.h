@@ -9,7 +9,8 @@
 ///    notation between 1e-4 and 1e6 and in scientific notation outside, never with trailing
 ///    zeros cut from a fixed count of digits ("0.7000" stays "0.7000" at 4 digits).
 ///  - A p-value prints as "< 0.001" below 0.001, else with 3 decimals ("0.017"); PValue gives
-///    the phrase with its "p" ("p = 0.017", "p < 0.001").
+///    the phrase with its "p" ("p = 0.017", "p < 0.001"). Where a p is compared with a level
+///    below 0.001 (discovery), PAgainstSmallLevel keeps its digits ("1.60e-08").
 ///  - A value with its uncertainty prints the uncertainty to 2 significant digits and the value
 ///    to the same last decimal ("0.712 ± 0.013").
 ///  - Durations print in s with 1 decimal ("4.9 s"), below 0.1 s in ms.
@@ -46,6 +47,13 @@ std::string P(double p);
 
 /// "p < 0.001" or "p = 0.017" (or "p n/a").
 std::string PValue(double p);
+
+/// A p-value that is compared with a level below 0.001 (discovery's naming levels, which
+/// multiplicity puts at 1e-4 and below, docs/discovery.md): "< 0.001" would hide whether it
+/// passes, so below 0.001 it keeps 3 significant digits in scientific notation ("1.60e-08"),
+/// "< 1e-300" below 1e-300; from 0.001 on, 2 significant digits ("0.2", "1"); "n/a" when not
+/// finite. The one exception to P()'s style, used by the discovery text.
+std::string PAgainstSmallLevel(double p);
 
 /// "0.712 ± 0.013": the error to 2 significant digits, the value to the same decimal. Where
 /// the error is not finite or not positive, the value alone with the digits of `kind`.

@@ -52,6 +52,17 @@ TEST(NumberFormatTest, PValuesInPaperStyle) {
   EXPECT_EQ(PValue(0.0174), "p = 0.017");
 }
 
+// Discovery compares p with naming levels of 1e-4 and below: there a p keeps its digits.
+TEST(NumberFormatTest, PAgainstASmallLevelKeepsItsDigits) {
+  EXPECT_EQ(PAgainstSmallLevel(1.6e-8), "1.60e-08");
+  EXPECT_EQ(PAgainstSmallLevel(3.6e-58), "3.60e-58");
+  EXPECT_EQ(PAgainstSmallLevel(1e-320), "< 1e-300");
+  EXPECT_EQ(PAgainstSmallLevel(0.0094), "0.0094");
+  EXPECT_EQ(PAgainstSmallLevel(0.2), "0.2");
+  EXPECT_EQ(PAgainstSmallLevel(1.0), "1");
+  EXPECT_EQ(PAgainstSmallLevel(kNaN), "n/a");
+}
+
 TEST(NumberFormatTest, ValueToTheDecimalOfItsError) {
   EXPECT_EQ(WithError(0.71234, 0.01312, Kind::kCoefficient, " +- "), "0.712 +- 0.013");
   EXPECT_EQ(WithError(2.5, 0.25, Kind::kMeasured, " +- "), "2.50 +- 0.25");
