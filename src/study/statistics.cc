@@ -116,7 +116,9 @@ Table Rows(std::string name, std::string description, const std::vector<Row>& ro
 void ScaleTables(const std::string& prefix, const stats::OneWayScaleResults& s,
                  std::vector<Table>& out) {
   std::vector<studyfile::GroupRow> groups;
-  for (const auto& g : s.groups) groups.push_back({g.label, g.n, g.mean, g.sd});
+  // The s.d. of one observation is undefined: NaN in the file, as n/a on the page and in text.
+  for (const auto& g : s.groups)
+    groups.push_back({g.label, g.n, g.mean, g.n > 1 ? g.sd : core::kNaN});
   out.push_back(Rows(prefix + "groups", "group summaries, order of first appearance", groups));
   const auto& a = s.anova;
   const double nan = core::kNaN;
@@ -174,7 +176,7 @@ std::vector<Table> StatisticsTables(const StudyStatistics& s) {
     for (const auto& c : r.cells) {
       const auto bar = c.label.find('|');
       cells.push_back({r.response, c.label, c.label.substr(0, bar), c.label.substr(bar + 1), c.n,
-                       c.mean, c.sd});
+                       c.mean, c.n > 1 ? c.sd : core::kNaN});
     }
     studyfile::CellRow declared;
     declared.response = r.response;

@@ -115,7 +115,7 @@ void Serialize(A& a, T& r) {
   a.Text("angle_deg", r.angle_deg, "surface angle (deg), as a label");
   StoredAsNumber(a, "n", r.n, "1", "observations");
   a.Number("mean", r.mean, "1", "mean of " + r.response);
-  a.Number("sd", r.sd, "1", "sample standard deviation");
+  a.Number("sd", r.sd, "1", "sample standard deviation (NaN for one observation)");
 }
 
 template <class A, class T>
@@ -124,7 +124,7 @@ void Serialize(A& a, T& r) {
   a.Text("group", r.group, "group label");
   StoredAsNumber(a, "n", r.n, "1", "observations");
   a.Number("mean", r.mean, "1", "group mean (units of the response)");
-  a.Number("sd", r.sd, "1", "sample standard deviation");
+  a.Number("sd", r.sd, "1", "sample standard deviation (NaN for one observation)");
 }
 
 template <class A, class T>
