@@ -336,14 +336,20 @@ void Serialize(Archive& a, F& f) {
   a.Number("gap_shrink", f.gap_shrink, "1", "held-out gap shrink when it was added");
 }
 
-/// A used trial's residuals under the baseline and the final model.
+/// The columns that name a trial in /discovery/residuals and /prediction/trials.
 template <class Archive, class T>
-requires std::is_same_v<std::remove_const_t<T>, TrialResiduals>
-void Serialize(Archive& a, T& t) {
+void SerializeTrialKey(Archive& a, T& t) {
   a.Text("id", t.id, "trial id");
   a.Text("surface", t.surface, "surface");
   a.Number("angle_deg", t.angle_deg, "deg", "surface angle");
   a.Number("speed_m_s", t.speed_m_s, "m/s", "impact speed");
+}
+
+/// A used trial's residuals under the baseline and the final model.
+template <class Archive, class T>
+requires std::is_same_v<std::remove_const_t<T>, TrialResiduals>
+void Serialize(Archive& a, T& t) {
+  SerializeTrialKey(a, t);
   const char* suffix[3] = {"v_x", "v_y", "w"};
   const char* what[3] = {"v_x (along the surface)", "v_y (normal)", "w d_EC"};
   for (int k = 0; k < 3; ++k)
@@ -360,10 +366,7 @@ void Serialize(Archive& a, T& t) {
 template <class Archive, class T>
 requires std::is_same_v<std::remove_const_t<T>, TrialPrediction>
 void Serialize(Archive& a, T& t) {
-  a.Text("id", t.id, "trial id");
-  a.Text("surface", t.surface, "surface");
-  a.Number("angle_deg", t.angle_deg, "deg", "surface angle");
-  a.Number("speed_m_s", t.speed_m_s, "m/s", "impact speed");
+  SerializeTrialKey(a, t);
   const char* suffix[3] = {"v_x", "v_y", "w"};
   const char* what[3] = {"v_x (along the surface)", "v_y (normal)", "w d_EC"};
   for (int k = 0; k < 3; ++k)
