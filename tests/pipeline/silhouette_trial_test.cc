@@ -107,6 +107,68 @@ TEST(SilhouetteTrialTest, ABodyThatDoesNotMoveIsAnErrorNamingTheFrames) {
   EXPECT_NE(r.error.find("000000.png"), std::string::npos) << r.error;
 }
 
+// An unmarked specimen (the bar with one rounded end) drawn at known poses: its centroid is C,
+// its axis gives the angle, and the impact's velocities, spins and e follow from the outline.
+TEST(SilhouetteTrialTest, AnUnmarkedSpecimensOutlineGivesItsVelocitiesSpinAndRestitution) {
+  constexpr double fps = 4000, m = 5e-4, width_px = 16, rect_px = 40, t_i = 19.4 / fps;
+  const double d = hoof::testing::RoundedBarCentroid(width_px, rect_px) * m;  // |EC|
+  const double R = width_px / 2 * m;
+  const double theta_i = 100.0 * 3.14159265358979323846 / 180;  // x_B up and a little left
+  const Eigen::Vector2d v_b{0.3, -2.0}, v_a{0.1, 1.4};
+  const double w_b = 5.0, w_a = 25.0;
+  // At first touch the round end's lowest point is on the surface (height 0).
+  const Eigen::Vector2d x_Bi{std::cos(theta_i), std::sin(theta_i)};
+  const Eigen::Vector2d p_Ci = Eigen::Vector2d(0.03, R) + d * x_Bi;
+  const auto pose = [&](int i) {
+    const double t = i / fps - t_i;
+    const Eigen::Vector2d v = t < 0 ? v_b : v_a;
+    const double w = t < 0 ? w_b : w_a;
+    return std::pair<Eigen::Vector2d, double>{p_Ci + v * t + Eigen::Vector2d(0, -0.5 * kG * t * t),
+                                              theta_i + w * t};
+  };
+  const fs::path dir = fs::path(HOOF_BINARY_DIR) / "test-output" / "silhouette_trial" / "outline";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "frames");
+  for (int i = 0; i < 40; ++i) {
+    const auto [p_C, theta] = pose(i);
+    const Eigen::Vector2d x_B{std::cos(theta), std::sin(theta)};
+    const Eigen::Vector2d E_W = p_C - d * x_B;
+    const Eigen::Vector2d E_I{E_W.x() / m, 150.0 - E_W.y() / m};
+    cv::Mat img(170, 120, CV_64F, cv::Scalar(20.0));
+    hoof::testing::Paint(img, hoof::testing::RoundedBar(E_I, -theta, width_px, rect_px), 190.0, 0,
+                         0, 119, 169);
+    char file[32];
+    std::snprintf(file, sizeof file, "frames/%06d.png", i);
+    cv::imwrite((dir / file).string(),
+                hoof::testing::Quantize(img, CV_8U, 1.0, static_cast<unsigned>(300 + i)));
+  }
+  std::ofstream(dir / "trial.json") << R"({"format": "hoofimpact-trial/1", "id": "outline",
+    "specimen": "bar", "specimen_parameters": {"mass_kg": 0.008, "inertia_kg_m2": 1.5e-6,
+    "end_radius_m": )" << R << R"(, "d_EC_m": )"
+                                    << d << R"(}, "surface": "steel", "surface_angle_deg": 0,
+    "fps": 4000, "frames": {"pattern": "frames/%06d.png", "first": 0, "count": 40},
+    "camera": {"m_per_px": 5e-4}, "body": {"model": "silhouette", "shape": "outline"}})";
+  const TrialAnalysis r = AnalyzeTrial(ReadTrial(dir));
+  ASSERT_TRUE(r.success) << r.error;
+  EXPECT_EQ(r.silhouette.polarity, tracking::Polarity::kBrightOnDark);
+  const auto& k = r.impact;
+  // The velocities of C at first touch (the fits are parabolas, so gravity is accounted for).
+  EXPECT_NEAR(k.v_SC_before.x(), v_b.x(), 0.01);
+  EXPECT_NEAR(k.v_SC_before.y(), v_b.y(), 0.01);
+  EXPECT_NEAR(k.v_SC_after.x(), v_a.x(), 0.01);
+  EXPECT_NEAR(k.v_SC_after.y(), v_a.y(), 0.01);
+  EXPECT_NEAR(k.w_before_rad_s, w_b, 0.5);
+  EXPECT_NEAR(k.w_after_rad_s, w_a, 0.5);
+  // e from the contact point T's normal velocity: v_T = v_C + w x (p_T - p_C).
+  const auto v_T = [&](const Eigen::Vector2d& v, double w) -> Eigen::Vector2d {
+    const Eigen::Vector2d r_CT = -d * x_Bi - Eigen::Vector2d(0, R);
+    return v + w * Eigen::Vector2d(-r_CT.y(), r_CT.x());
+  };
+  const double e = std::abs(v_T(v_a, w_a).y() / v_T(v_b, w_b).y());
+  EXPECT_NEAR(k.e, e, 0.01) << "e " << k.e << " +- " << k.e_se << ", truth " << e;
+  EXPECT_NEAR(k.impact_time_s, t_i, 0.2 / fps);
+}
+
 TEST(SilhouetteTrialTest, TheBodyFieldIsCheckedNamingTheField) {
   const auto error_of = [](const std::string& body_and_camera) {
     const fs::path dir = WriteTrial("bad_body", 1, body_and_camera);
