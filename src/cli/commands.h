@@ -23,10 +23,11 @@ namespace hoof::cli {
 
 /// Exit codes shared by all subcommands.
 enum ExitCode : int {
-  kExitOk = 0,       ///< Everything succeeded.
-  kExitFailure = 1,  ///< Bad input data or a failed computation; the message says which.
-  kExitUsage = 2,    ///< Bad command line.
-  kExitPartial = 3,  ///< A study ran, but some trials failed (each recorded with a reason).
+  kExitOk = 0,        ///< Everything succeeded.
+  kExitFailure = 1,   ///< Bad input data or a failed computation; the message says which.
+  kExitUsage = 2,     ///< Bad command line.
+  kExitPartial = 3,   ///< A study ran, but some trials failed (each recorded with a reason).
+  kExitNoImpact = 4,  ///< `track`: the clip holds no impact; the motion is still reported.
 };
 
 /// Holds the exit code a subcommand's callback sets.

@@ -61,7 +61,7 @@ void RegisterTrack(CLI::App& app, RunState& state) {
     if (!a.tracks_csv.empty()) io::WriteTextAtomically(a.tracks_csv, TracksCsv(r));
     const auto figures = report::WriteTrialFigures(r, a.options, a.figures_dir, /*always=*/true,
                                                    /*displacement=*/true);
-    state.exit_code = r.success ? kExitOk : kExitFailure;
+    state.exit_code = r.success ? kExitOk : r.no_impact ? kExitNoImpact : kExitFailure;
     if (a.json) {
       nlohmann::json results = TrialJson(r);
       results["figures"] = figures;
@@ -72,7 +72,10 @@ void RegisterTrack(CLI::App& app, RunState& state) {
       std::cout << TrialText(r);
       for (const auto& f : figures) std::cout << "  figure: " << f << "\n";
     }
-    if (!r.success) std::cerr << "hoofimpact: error: " << r.error << "\n";
+    if (r.no_impact)
+      std::cerr << "hoofimpact: no impact in the clip: " << r.error << "\n";
+    else if (!r.success)
+      std::cerr << "hoofimpact: error: " << r.error << "\n";
   });
 }
 

@@ -69,7 +69,29 @@ nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
                                          ? JsonNumber(*r.surface_angle_measured_deg)
                                          : nlohmann::json(nullptr)},
       {"out_of_plane_change", r.out_of_plane_change},
-      {"out_of_plane_noise", r.out_of_plane_noise}};
+      {"out_of_plane_noise", r.out_of_plane_noise},
+      {"body_model", r.spec.body.model},
+      {"scale_source", r.scale_source},
+      {"m_per_px_se", r.m_per_px_se},
+      {"no_impact", r.no_impact}};
+  if (r.spec.body.is_silhouette()) {
+    j["body_shape"] = r.spec.body.shape;
+    j["polarity"] = tracking::PolarityName(r.silhouette.polarity);
+    j["body_diameter_px"] = JsonNumber(r.body_diameter_px);
+    j["body_diameter_se_px"] = JsonNumber(r.body_diameter_se_px);
+    j["m_per_px_from_body"] = JsonNumber(r.m_per_px_from_body);
+  }
+  if (r.no_impact) {
+    const auto& m = r.motion;
+    j["motion"] = {{"frames_tracked", m.frames_tracked},
+                   {"fit", m.gravity_fit ? "gravity" : "straight line"},
+                   {"v_px_per_frame", JsonVector(m.v_px_per_frame)},
+                   {"speed_px_per_frame", JsonNumber(m.speed_px_per_frame)},
+                   {"speed_se_px_per_frame", JsonNumber(m.speed_se_px_per_frame)},
+                   {"speed_m_s", JsonNumber(m.speed_m_s)},
+                   {"speed_se_m_s", JsonNumber(m.speed_se_m_s)},
+                   {"rms_residual_px", JsonNumber(m.rms_residual_px)}};
+  }
   if (k.success) {
     j.update({{"impact_time_s", k.impact_time_s},
               {"v_SC_before_m_s", JsonVector(k.v_SC_before)},
@@ -78,10 +100,10 @@ nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
               {"v_SC_after_se_m_s", JsonVector(k.v_SC_after_se)},
               {"v_ST_before_m_s", JsonVector(k.v_ST_before)},
               {"v_ST_after_m_s", JsonVector(k.v_ST_after)},
-              {"w_before_rad_s", k.w_before_rad_s},
-              {"w_after_rad_s", k.w_after_rad_s},
-              {"w_before_se_rad_s", k.w_before_se_rad_s},
-              {"w_after_se_rad_s", k.w_after_se_rad_s},
+              {"w_before_rad_s", JsonNumber(k.w_before_rad_s)},
+              {"w_after_rad_s", JsonNumber(k.w_after_rad_s)},
+              {"w_before_se_rad_s", JsonNumber(k.w_before_se_rad_s)},
+              {"w_after_se_rad_s", JsonNumber(k.w_after_se_rad_s)},
               // The names of the columns of /results and results.csv (studyfile/schema.h).
               {"e", JsonNumber(k.e)},
               {"e_se", JsonNumber(k.e_se)},
@@ -91,8 +113,8 @@ nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
               {"mu_eff_se", JsonNumber(k.mu_eff_se)},
               {"mu_eff_ci_low", JsonNumber(k.mu_eff_ci_low)},
               {"mu_eff_ci_high", JsonNumber(k.mu_eff_ci_high)},
-              {"kinetic_energy_before_J", k.kinetic_energy_before_J},
-              {"kinetic_energy_after_J", k.kinetic_energy_after_J},
+              {"kinetic_energy_before_J", JsonNumber(k.kinetic_energy_before_J)},
+              {"kinetic_energy_after_J", JsonNumber(k.kinetic_energy_after_J)},
               {"fit_frames_before", {k.before.first_frame, k.before.last_frame}},
               {"fit_frames_after", {k.after.first_frame, k.after.last_frame}},
               {"fit_rms_residual_m", {k.before.rms_residual_m, k.after.rms_residual_m}}});
@@ -109,7 +131,9 @@ std::string TrialText(const pipeline::TrialAnalysis& r) {
   std::ostringstream os;
   os << "Trial " << r.spec.id << " (" << r.spec.surface << ", " << num(r.spec.surface_angle_deg)
      << " deg): ";
-  if (!r.success) {
+  if (r.no_impact) {
+    os << "no impact in the clip (e is not measured): " << r.error << "\n";
+  } else if (!r.success) {
     os << "FAILED: " << r.error << "\n";
   } else {
     const auto& k = r.impact;
@@ -130,12 +154,34 @@ std::string TrialText(const pipeline::TrialAnalysis& r) {
        << num(k.before.rms_residual_m * 1e6, Kind::kError) << " / "
        << num(k.after.rms_residual_m * 1e6, Kind::kError) << " µm\n";
   }
+  if (r.no_impact) {
+    const auto& m = r.motion;
+    os << "  motion  " << m.frames_tracked << " frames tracked; speed "
+       << format::WithError(m.speed_px_per_frame, m.speed_se_px_per_frame) << " px per frame, "
+       << format::WithError(m.speed_m_s, m.speed_se_m_s) << " m/s; rms residual about its "
+       << (m.gravity_fit ? "gravity" : "straight-line") << " fit "
+       << num(m.rms_residual_px, Kind::kError) << " px\n";
+  }
   if (r.surface_angle_measured_deg)
     os << "  surface angle measured " << num(*r.surface_angle_measured_deg) << " deg\n";
-  os << "  scale " << num(r.m_per_px_used)
-     << " m/px (from the markers: " << num(r.m_per_px_from_markers) << ")\n";
-  os << "  projected marker distance changes by " << num(100 * r.out_of_plane_change, Kind::kError)
-     << " % (noise " << num(100 * r.out_of_plane_noise, Kind::kError) << " %)\n";
+  if (r.spec.body.is_silhouette()) {
+    os << "  body    silhouette, " << r.spec.body.shape << ", "
+       << tracking::PolarityName(r.silhouette.polarity);
+    if (r.spec.body.is_ball())
+      os << ", diameter " << format::WithError(r.body_diameter_px, r.body_diameter_se_px) << " px";
+    os << "\n";
+    os << "  scale " << format::WithError(r.m_per_px_used, r.m_per_px_se) << " m/px from "
+       << r.scale_source;
+    if (r.scale_source != "body.diameter_m" && std::isfinite(r.m_per_px_from_body))
+      os << " (from the ball's diameter: " << num(r.m_per_px_from_body) << ")";
+    os << "\n";
+  } else {
+    os << "  scale " << num(r.m_per_px_used) << " m/px from " << r.scale_source
+       << " (from the markers: " << num(r.m_per_px_from_markers) << ")\n";
+    os << "  projected marker distance changes by "
+       << num(100 * r.out_of_plane_change, Kind::kError) << " % (noise "
+       << num(100 * r.out_of_plane_noise, Kind::kError) << " %)\n";
+  }
   if (!r.flags.empty()) {
     os << "  flags:";
     for (const auto& f : r.flags) os << " " << f;
@@ -147,6 +193,36 @@ std::string TrialText(const pipeline::TrialAnalysis& r) {
 
 std::string TracksCsv(const pipeline::TrialAnalysis& r) {
   std::ostringstream os;
+  if (r.spec.body.is_silhouette()) {
+    // Per frame: the silhouette's centre (px) with its s.d., its orientation and diameter.
+    os << "trial,frame,t_s,status,x_px,y_px,sd_x_px,sd_y_px,angle_I_rad,angle_se_rad,"
+          "diameter_px,diameter_se_px,edge_points,edge_points_rejected,rms_residual_px,"
+          "pose_valid,p_WE_x_m,p_WE_y_m,theta_W_rad\n";
+    for (std::size_t f = 0; f < r.silhouette.frames.size(); ++f) {
+      const auto& o = r.silhouette.frames[f];
+      os << io::CsvEscape(r.spec.id) << "," << f << ","
+         << io::CsvNumber(static_cast<double>(f) / r.spec.fps) << "," << io::CsvEscape(o.status);
+      if (o.found) {
+        os << "," << io::CsvNumber(o.p_I.x()) << "," << io::CsvNumber(o.p_I.y()) << ","
+           << io::CsvNumber(std::sqrt(o.cov_p_I(0, 0))) << ","
+           << io::CsvNumber(std::sqrt(o.cov_p_I(1, 1))) << ","
+           << (o.has_orientation ? io::CsvNumber(o.angle_I_rad) : "") << ","
+           << (o.has_orientation ? io::CsvNumber(o.angle_se_rad) : "") << ","
+           << (o.has_orientation ? "" : io::CsvNumber(o.diameter_px)) << ","
+           << (o.has_orientation ? "" : io::CsvNumber(o.diameter_se_px)) << "," << o.edge_points
+           << "," << o.edge_points_rejected << "," << io::CsvNumber(o.rms_residual_px);
+      } else {
+        os << ",,,,,,,,,,,";
+      }
+      if (f < r.poses.size() && r.poses[f].valid)
+        os << ",1," << io::CsvNumber(r.poses[f].p_WE.x()) << ","
+           << io::CsvNumber(r.poses[f].p_WE.y()) << "," << io::CsvNumber(r.poses[f].theta_W_rad);
+      else
+        os << ",0,,,";
+      os << "\n";
+    }
+    return os.str();
+  }
   os << "trial,frame,t_s";
   for (const auto& n : r.tracks.names)
     os << "," << n << "_x_px," << n << "_y_px," << n << "_status," << n << "_quality";

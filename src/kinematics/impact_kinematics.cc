@@ -307,6 +307,7 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
        << poses.size() << ", and it does not come down before it and rebound after it with "
        << options.min_fit_frames << " or more frames on each side";
     k.message = os.str();
+    k.no_impact = true;
     return k;
   }
   const int bounce_frame = SecondBounce(poses, valid, lowest, S, v_up - v_down);

@@ -56,7 +56,10 @@ struct FlightFit {
 /// Everything measured about one impact. Vectors in S are [along the surface, normal].
 struct ImpactKinematics {
   bool success = false;
-  std::string message;                ///< why it failed
+  std::string message;  ///< why it failed
+  /// The failure is that the motion holds no impact (it does not come down and rebound with
+  /// enough frames on each side), not a fault of the data.
+  bool no_impact = false;
   std::vector<std::string> warnings;  ///< e.g. a second bounce, naming the frame
   std::vector<std::string> flags;     ///< short machine-readable tags ("second_bounce", ...)
 

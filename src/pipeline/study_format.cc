@@ -98,8 +98,10 @@ void CheckFormat(const json& j, const std::string& expected, const fs::path& fil
   if (f != expected) Fail(file, "format", "is \"" + f + "\", expected \"" + expected + "\"");
 }
 
+/// A specimen's fields; `markers_B_m` may be left out where `markers_required` is false (the
+/// inline specimen of a trial tracked by its silhouette).
 SpecimenSpec ParseSpecimen(const json& s, const fs::path& file, const std::string& prefix,
-                           std::vector<std::string>& warnings) {
+                           std::vector<std::string>& warnings, bool markers_required = true) {
   WarnUnknown(s,
               {"mass_kg", "inertia_kg_m2", "end_radius_m", "d_EC_m", "length_m", "width_m",
                "thickness_m", "markers_B_m"},
@@ -112,6 +114,7 @@ SpecimenSpec ParseSpecimen(const json& s, const fs::path& file, const std::strin
   if (s.contains("length_m")) spec.length_m = Number(s, "length_m", file, prefix, true);
   if (s.contains("width_m")) spec.width_m = Number(s, "width_m", file, prefix, true);
   if (s.contains("thickness_m")) spec.thickness_m = Number(s, "thickness_m", file, prefix, true);
+  if (!markers_required && !s.contains("markers_B_m")) return spec;
   const json& markers = Require(s, "markers_B_m", file, prefix);
   if (!markers.is_object() || markers.size() < 2)
     Fail(file, prefix + "markers_B_m", "must name two or more markers, found " + markers.dump());
@@ -263,7 +266,8 @@ CameraSpec ParseCamera(const json& camera, const fs::path& file,
   CameraSpec out;
   WarnUnknown(camera, {"m_per_px", "gravity_image", "distortion", "camera_matrix"}, file, "camera.",
               warnings);
-  out.m_per_px = Number(camera, "m_per_px", file, "camera.", true);
+  // Required unless a ball's known diameter gives the scale (checked by ReadTrial).
+  if (camera.contains("m_per_px")) out.m_per_px = Number(camera, "m_per_px", file, "camera.", true);
   if (camera.contains("gravity_image")) {
     const Eigen::Vector2d g = Pair(camera.at("gravity_image"), file, "camera.gravity_image");
     if (!(g.norm() > 0)) Fail(file, "camera.gravity_image", "must not be zero");
@@ -278,6 +282,38 @@ CameraSpec ParseCamera(const json& camera, const fs::path& file,
   return out;
 }
 
+/// trial.json's "body": the body model, and for a silhouette its shape, polarity and (a ball)
+/// known diameter.
+BodySpec ParseBody(const json& body, const fs::path& file, std::vector<std::string>& warnings) {
+  BodySpec out;
+  WarnUnknown(body, {"model", "shape", "polarity", "diameter_m"}, file, "body.", warnings);
+  out.model = Text(body, "model", file, "body.");
+  if (out.model == "markers") {
+    for (const char* key : {"shape", "polarity", "diameter_m"})
+      if (body.contains(key))
+        Fail(file, std::string("body.") + key, "applies to the \"silhouette\" model only");
+    return out;
+  }
+  if (out.model != "silhouette")
+    Fail(file, "body.model", "is \"" + out.model + "\": must be \"markers\" or \"silhouette\"");
+  out.shape = Text(body, "shape", file, "body.");
+  if (out.shape != "ball" && out.shape != "outline")
+    Fail(file, "body.shape", "is \"" + out.shape + "\": must be \"ball\" or \"outline\"");
+  if (body.contains("polarity")) {
+    out.polarity = Text(body, "polarity", file, "body.");
+    if (out.polarity != "auto" && out.polarity != "dark_on_bright" &&
+        out.polarity != "bright_on_dark")
+      Fail(file, "body.polarity",
+           "is \"" + out.polarity +
+               "\": must be \"auto\", \"dark_on_bright\" (back-lit) or \"bright_on_dark\"");
+  }
+  if (body.contains("diameter_m")) {
+    if (out.shape != "ball") Fail(file, "body.diameter_m", "applies to a ball only");
+    out.diameter_m = Number(body, "diameter_m", file, "body.", true);
+  }
+  return out;
+}
+
 TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
   const fs::path file = trial_dir / "trial.json";
   const json j = ReadJson(file);
@@ -285,18 +321,30 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
   t.dir = trial_dir;
   WarnUnknown(j,
               {"format", "id", "specimen", "specimen_parameters", "surface", "surface_angle_deg",
-               "fps", "frames", "camera", "surface_line_px", "nominal_speed_m_s", "notes"},
+               "fps", "frames", "camera", "surface_line_px", "nominal_speed_m_s", "notes", "body"},
               file, "", t.warnings);
   CheckFormat(j, "hoofimpact-trial/1", file);
   t.id = Text(j, "id", file, "");
   if (const std::string why = IdProblem(t.id); !why.empty()) Fail(file, "id", why);
-  t.specimen_id = Text(j, "specimen", file, "");
-  if (j.contains("specimen_parameters")) {
+  if (j.contains("body")) t.body = ParseBody(j.at("body"), file, t.warnings);
+  if (t.body.is_ball() && !j.contains("specimen") && !j.contains("specimen_parameters")) {
+    // A ball is its own specimen: its radius from its diameter (when given; else from the
+    // fitted diameter at the trial's scale), its centre of mass at its centre, its mass and
+    // inertia unknown.
+    t.specimen_id = "ball";
+    t.specimen.mass_kg = t.specimen.inertia_kg_m2 = std::numeric_limits<double>::quiet_NaN();
+    t.specimen.end_radius_m = t.body.diameter_m / 2;
+    t.specimen.d_EC_m = 0.0;
+  } else if (j.contains("specimen_parameters")) {
+    t.specimen_id = t.body.is_ball() && !j.contains("specimen") ? std::string("ball")
+                                                                : Text(j, "specimen", file, "");
     // Extension: a trial may carry its specimen inline (same fields as in study.json), so a
-    // single trial folder can be measured without a study around it.
-    t.specimen =
-        ParseSpecimen(j.at("specimen_parameters"), file, "specimen_parameters.", t.warnings);
+    // single trial folder can be measured without a study around it. A silhouette needs no
+    // marker layout.
+    t.specimen = ParseSpecimen(j.at("specimen_parameters"), file, "specimen_parameters.",
+                               t.warnings, !t.body.is_silhouette());
   } else {
+    t.specimen_id = Text(j, "specimen", file, "");
     const auto sp = study.specimens.find(t.specimen_id);
     if (sp == study.specimens.end())
       Fail(file, "specimen",
@@ -312,6 +360,13 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
 
   t.frames = ParseFrames(Require(j, "frames", file, ""), file, t.warnings);
   t.camera = ParseCamera(Require(j, "camera", file, ""), file, t.warnings);
+  if (!(t.camera.m_per_px > 0) && !(t.body.is_ball() && t.body.diameter_m > 0))
+    Fail(file, "camera.m_per_px",
+         "is missing (a ball's body.diameter_m can give the scale instead)");
+  if (t.body.is_ball()) {
+    if (t.body.diameter_m > 0) t.specimen.end_radius_m = t.body.diameter_m / 2;
+    t.specimen.d_EC_m = 0.0;  // a ball's centre is its round end's centre and its mass centre
+  }
 
   if (j.contains("surface_line_px")) {
     const json& l = j.at("surface_line_px");

@@ -27,7 +27,9 @@ struct SpecimenSpec : core::SpecimenParameters {
 
 /// Camera of trial.json.
 struct CameraSpec {
-  double m_per_px = 0.0;                               ///< scale in the plane of motion
+  /// Scale in the plane of motion; 0 when trial.json gives none (a ball's `body.diameter_m`
+  /// gives it then).
+  double m_per_px = 0.0;
   Eigen::Vector2d gravity_image{0.0, 1.0};             ///< unit direction of gravity in the image
   std::optional<std::array<double, 5>> distortion;     ///< OpenCV k1 k2 p1 p2 k3
   std::optional<std::array<double, 9>> camera_matrix;  ///< row-major 3x3
@@ -42,6 +44,20 @@ struct FramesSpec {
   bool is_video() const { return !video.empty(); }
 };
 
+/// How the body is tracked: trial.json's optional "body" (docs/format.md). Without it, by its
+/// markers.
+struct BodySpec {
+  std::string model = "markers";  ///< "markers" or "silhouette"
+  std::string shape;              ///< silhouette: "ball" or "outline"
+  /// Silhouette: "auto", "dark_on_bright" (back-lit) or "bright_on_dark".
+  std::string polarity = "auto";
+  /// Ball: its known diameter, a scale (m per px = diameter_m / fitted diameter in px); 0 when
+  /// not given.
+  double diameter_m = 0.0;
+  bool is_silhouette() const { return model == "silhouette"; }
+  bool is_ball() const { return is_silhouette() && shape == "ball"; }
+};
+
 /// One trial: trial.json plus its specimen from study.json.
 struct TrialSpec {
   std::filesystem::path dir;
@@ -53,6 +69,9 @@ struct TrialSpec {
   double fps = 0.0;
   FramesSpec frames;
   CameraSpec camera;
+  /// The body model. A ball needs no specimen: without one, the ball is the specimen (radius
+  /// diameter_m / 2, centre of mass at its centre, mass and inertia unknown: NaN).
+  BodySpec body;
   std::optional<std::array<Eigen::Vector2d, 2>> surface_line_px;
   std::optional<double> nominal_speed_m_s;
   std::string notes;

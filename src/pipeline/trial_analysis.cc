@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/frames.h"
+#include "tracking/camera_file.h"
 #include "tracking/frame_source.h"
 #include "tracking/surface_line.h"
 
@@ -14,8 +15,12 @@ namespace hoof::pipeline {
 namespace {
 
 std::unique_ptr<tracking::FrameSource> OpenFrames(const TrialSpec& spec) {
-  if (spec.frames.is_video())
+  if (spec.frames.is_video()) {
+    // A camera file (.mraw, .cine, .tif) named as the video is read by its own reader.
+    if (tracking::IsCameraFile(spec.frames.video))
+      return tracking::OpenCameraFile(spec.dir / spec.frames.video);
     return std::make_unique<tracking::VideoSource>(spec.dir / spec.frames.video);
+  }
   try {
     return std::make_unique<tracking::ImageSequenceSource>(spec.dir, spec.frames.pattern,
                                                            spec.frames.first, spec.frames.count);
@@ -101,7 +106,165 @@ void CheckOutOfPlane(const TrialSpec& spec, const TrialAnalysisOptions& options,
   }
 }
 
+/// Angle (rad) in W of an image-frame direction at angle `angle_I` (atan2 with y down) at p_I.
+double AngleInWorld(const tracking::ImageToWorld& cam, const Eigen::Vector2d& p_I, double angle_I) {
+  const Eigen::Vector2d d_W =
+      cam.ToWorld(p_I + Eigen::Vector2d(std::cos(angle_I), std::sin(angle_I))) - cam.ToWorld(p_I);
+  return std::atan2(d_W.y(), d_W.x());
+}
+
+tracking::Polarity PolarityOf(const std::string& name) {
+  if (name == "dark_on_bright") return tracking::Polarity::kDarkOnBright;
+  if (name == "bright_on_dark") return tracking::Polarity::kBrightOnDark;
+  return tracking::Polarity::kAuto;
+}
+
+/// A body without markers: the silhouette track, the scale (from a ball's diameter when the
+/// trial states none), the poses, and the motion's straight-line summary. Throws naming the
+/// frames for a body that is not found or does not move.
+void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
+                       const TrialAnalysisOptions& options,
+                       const std::function<void(int)>& progress, TrialAnalysis& out,
+                       std::vector<kinematics::PoseSample>& samples,
+                       core::SpecimenParameters& body) {
+  tracking::SilhouetteOptions so = options.silhouette;
+  so.shape =
+      spec.body.is_ball() ? tracking::SilhouetteShape::kBall : tracking::SilhouetteShape::kOutline;
+  so.polarity = PolarityOf(spec.body.polarity);
+  so.gravity_I = spec.camera.gravity_image;
+  out.silhouette = tracking::TrackSilhouette(source, so, progress);
+  for (const auto& w : out.silhouette.warnings) out.warnings.push_back(w);
+  const std::string frames_named =
+      source.Describe(0) + " .. " + source.Describe(source.count() - 1);
+
+  // The scale: stated, or a ball's known diameter over its fitted diameter.
+  if (spec.body.is_ball()) {
+    std::vector<double> d;
+    for (const auto& o : out.silhouette.frames)
+      if (o.found) d.push_back(o.diameter_px);
+    out.body_diameter_px = Median(d);
+    double ss = 0;
+    for (double x : d) ss += (x - out.body_diameter_px) * (x - out.body_diameter_px);
+    // The frames' diameters drift as well as scatter (a ball nearing the lens, focus), so their
+    // s.d. itself, not over sqrt(n), is taken as the uncertainty of one diameter.
+    out.body_diameter_se_px =
+        d.size() > 1 ? std::sqrt(ss / static_cast<double>(d.size() - 1)) : core::kNaN;
+    if (spec.body.diameter_m > 0)
+      out.m_per_px_from_body = spec.body.diameter_m / out.body_diameter_px;
+  }
+  out.m_per_px_used = spec.camera.m_per_px;
+  out.scale_source = "camera.m_per_px";
+  if (!(spec.camera.m_per_px > 0)) {
+    out.m_per_px_used = out.m_per_px_from_body;
+    out.m_per_px_se = std::isnan(out.body_diameter_se_px)
+                          ? 0.0
+                          : out.m_per_px_used * out.body_diameter_se_px / out.body_diameter_px;
+    out.scale_source = "body.diameter_m";
+  }
+  if (options.scale_from_markers)
+    out.warnings.push_back("--scale-from-markers does not apply to a body without markers");
+  if (spec.body.is_ball() && !(body.end_radius_m > 0))
+    body.end_radius_m = 0.5 * out.body_diameter_px * out.m_per_px_used;
+
+  const tracking::ImageToWorld cam = TrialCamera(spec, out.m_per_px_used);
+  CheckSurface(spec, source.Read(0), cam, options, out);
+  std::vector<std::optional<Eigen::Vector2d>> centres;
+  for (int f = 0; f < out.silhouette.frame_count(); ++f) {
+    const auto& o = out.silhouette.frames[static_cast<std::size_t>(f)];
+    tracking::BodyPose pose;
+    if (o.found) {
+      pose.valid = true;
+      // The centre is the ball's, or the outline's area centroid, taken as the centre of mass
+      // C; E lies d_EC behind it along x_B. A ball's rotation is not seen: its angle stays 0.
+      pose.theta_W_rad = o.has_orientation ? AngleInWorld(cam, o.p_I, o.angle_I_rad) : 0.0;
+      pose.p_WE = cam.ToWorld(o.p_I) - body.d_EC_m * core::BodyRotation(pose.theta_W_rad).x_B();
+      centres.emplace_back(cam.Undistort(o.p_I));
+    } else {
+      centres.emplace_back(std::nullopt);
+    }
+    out.poses.push_back(pose);
+    samples.push_back({f / spec.fps, pose.valid, pose.p_WE, pose.theta_W_rad});
+  }
+  const double g_px = options.kinematics.gravity_m_s2 / out.m_per_px_used / (spec.fps * spec.fps);
+  out.motion = SummarizeTrack(centres, spec.fps, out.m_per_px_used, out.m_per_px_se,
+                              spec.camera.gravity_image, g_px);
+  if (out.motion.frames_tracked < 3)
+    throw std::runtime_error(frames_named + ": the body was found in " +
+                             std::to_string(out.motion.frames_tracked) +
+                             " frames only; its motion needs 3 or more");
+  // A body that does not move: no centre lies farther from the first than half a pixel, or
+  // than 10 times the centres' own standard deviation (a bounce comes back, so this is the
+  // farthest excursion, not the straight line's travel).
+  double travel = 0;
+  std::vector<double> sd;
+  const Eigen::Vector2d* first = nullptr;
+  for (std::size_t f = 0; f < centres.size(); ++f) {
+    if (!centres[f]) continue;
+    if (!first) first = &*centres[f];
+    travel = std::max(travel, (*centres[f] - *first).norm());
+    sd.push_back(std::sqrt(out.silhouette.frames[f].cov_p_I.trace() / 2));
+  }
+  const double noise = Median(sd);
+  if (travel < std::max(0.5, 10 * noise)) {
+    std::ostringstream os;
+    os << frames_named << ": no moving body: the " << (spec.body.is_ball() ? "ball" : "outline")
+       << " found in " << out.motion.frames_tracked << " frames never moves more than " << travel
+       << " px from where it is first seen (its centre's s.d. " << noise << " px)";
+    throw std::runtime_error(os.str());
+  }
+}
+
 }  // namespace
+
+TrackSummary SummarizeTrack(const std::vector<std::optional<Eigen::Vector2d>>& p_px, double fps,
+                            double m_per_px, double m_per_px_se, const Eigen::Vector2d& gravity_dir,
+                            double gravity_px_per_frame2) {
+  TrackSummary s;
+  std::vector<double> f;
+  std::vector<Eigen::Vector2d> p;
+  for (std::size_t i = 0; i < p_px.size(); ++i)
+    if (p_px[i]) {
+      f.push_back(static_cast<double>(i));
+      p.push_back(*p_px[i]);
+    }
+  s.frames_tracked = static_cast<int>(p.size());
+  s.speed_px_per_frame = s.speed_se_px_per_frame = s.speed_m_s = s.speed_se_m_s = core::kNaN;
+  s.rms_residual_px = core::kNaN;
+  if (p.size() < 3) return s;
+  const double n = static_cast<double>(p.size());
+  double f_mean = 0;
+  for (double x : f) f_mean += x / n;
+  s.gravity_fit = gravity_px_per_frame2 > 0 && std::isfinite(gravity_px_per_frame2);
+  // Gravity's known curve about the mean time is taken out; the slope is then the velocity at
+  // the mean time, that is the mean velocity over the frames.
+  Eigen::Vector2d p_mean{0, 0};
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (s.gravity_fit)
+      p[i] -= 0.5 * gravity_px_per_frame2 * std::pow(f[i] - f_mean, 2) * gravity_dir.normalized();
+    p_mean += p[i] / n;
+  }
+  double sff = 0;
+  Eigen::Vector2d sfp{0, 0};
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    sff += std::pow(f[i] - f_mean, 2);
+    sfp += (f[i] - f_mean) * (p[i] - p_mean);
+  }
+  s.v_px_per_frame = sfp / sff;
+  double ssr = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    ssr += (p[i] - p_mean - s.v_px_per_frame * (f[i] - f_mean)).squaredNorm();
+  s.rms_residual_px = std::sqrt(ssr / n);
+  // Residuals pooled over x and y (2n values, 4 parameters), as the flight fits do.
+  const double s2 = ssr / (2 * n - 4);
+  s.speed_px_per_frame = s.v_px_per_frame.norm();
+  s.speed_se_px_per_frame = std::sqrt(s2 / sff);
+  if (m_per_px > 0) {
+    s.speed_m_s = s.speed_px_per_frame * fps * m_per_px;
+    s.speed_se_m_s = s.speed_m_s * std::hypot(s.speed_se_px_per_frame / s.speed_px_per_frame,
+                                              m_per_px_se / m_per_px);
+  }
+  return s;
+}
 
 tracking::ImageToWorld TrialCamera(const TrialSpec& spec, double m_per_px) {
   tracking::ImageToWorld cam;
@@ -120,6 +283,28 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
   out.warnings = spec.warnings;
   try {
     auto source = OpenFrames(spec);
+    if (spec.body.is_silhouette()) {
+      std::vector<kinematics::PoseSample> samples;
+      core::SpecimenParameters body = spec.specimen;
+      AnalyzeSilhouette(spec, *source, options, progress, out, samples, body);
+      out.impact = kinematics::MeasureImpact(samples, spec.fps, spec.surface_angle_deg, body,
+                                             options.kinematics);
+      for (const auto& w : out.impact.warnings) out.warnings.push_back(w);
+      for (const auto& f : out.impact.flags) out.flags.push_back(f);
+      if (spec.body.is_ball() && out.impact.success) {
+        // A ball's rotation is not seen: w is not measured (e and mu_eff come from the
+        // centre's velocities, the contact point's velocity taken as the centre's).
+        auto& k = out.impact;
+        k.w_before_rad_s = k.w_after_rad_s = k.w_before_se_rad_s = k.w_after_se_rad_s = core::kNaN;
+      }
+      out.no_impact = out.impact.no_impact;
+      if (!out.impact.success)
+        out.error = (spec.dir / "trial.json").string() + ": " + out.impact.message;
+      else
+        out.success = true;
+      out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return out;
+    }
     out.tracks = tracking::TrackMarkers(*source, spec.specimen.markers_B_m, spec.camera.m_per_px,
                                         spec.camera.gravity_image, options.tracker, progress);
     for (const auto& w : out.tracks.warnings) out.warnings.push_back(w);
@@ -132,6 +317,7 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
     std::vector<Eigen::Vector2d> layout;
     for (const auto& [name, p] : spec.specimen.markers_B_m) layout.push_back(p);
     out.m_per_px_used = spec.camera.m_per_px;
+    out.scale_source = options.scale_from_markers ? "markers" : "camera.m_per_px";
     // Scale from the marker spacing: median over frames before the lowest point.
     {
       const tracking::ImageToWorld unit = TrialCamera(spec, 1.0);
@@ -166,6 +352,17 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
     for (const auto& w : out.impact.warnings) out.warnings.push_back(w);
     for (const auto& f : out.impact.flags) out.flags.push_back(f);
     CheckOutOfPlane(spec, options, out);
+    out.no_impact = out.impact.no_impact;
+    if (out.no_impact) {
+      // What the motion still tells: E's path in W, in px of the scale used.
+      std::vector<std::optional<Eigen::Vector2d>> p;
+      for (const auto& pose : out.poses)
+        p.push_back(pose.valid ? std::optional<Eigen::Vector2d>(pose.p_WE / out.m_per_px_used)
+                               : std::nullopt);
+      out.motion = SummarizeTrack(
+          p, spec.fps, out.m_per_px_used, 0.0, Eigen::Vector2d(0, -1),
+          options.kinematics.gravity_m_s2 / out.m_per_px_used / (spec.fps * spec.fps));
+    }
     if (!out.impact.success) {
       out.error = (spec.dir / "trial.json").string() + ": " + out.impact.message;
     } else {

@@ -12,12 +12,15 @@
 #include "pipeline/study_format.h"
 #include "tracking/marker_tracker.h"
 #include "tracking/pose.h"
+#include "tracking/silhouette_tracker.h"
 
 namespace hoof::pipeline {
 
 /// Settings of a trial's analysis.
 struct TrialAnalysisOptions {
   tracking::TrackerOptions tracker;
+  /// The silhouette tracker's settings; its shape, polarity and gravity come from the trial.
+  tracking::SilhouetteOptions silhouette;
   kinematics::KinematicsOptions kinematics;
   /// Take the scale from the known marker spacing (median over the frames before the impact)
   /// instead of camera.m_per_px.
@@ -29,17 +32,42 @@ struct TrialAnalysisOptions {
   double surface_angle_tolerance_deg = 1.0;
 };
 
+/// The body's motion over the clip as a straight line in the image (with gravity's known
+/// curve taken out where the scale is known): what a clip that holds no impact still tells.
+struct TrackSummary {
+  int frames_tracked = 0;    ///< frames where the body was found
+  bool gravity_fit = false;  ///< true: p(t) = p0 + v t + g t^2 / 2 with g known; else a line
+  Eigen::Vector2d v_px_per_frame{0, 0};  ///< mean velocity over the tracked frames (image, px)
+  double speed_px_per_frame = 0.0, speed_se_px_per_frame = 0.0;
+  double speed_m_s = 0.0, speed_se_m_s = 0.0;  ///< with the scale's uncertainty; NaN unscaled
+  double rms_residual_px = 0.0;                ///< rms distance of the centres from the fit
+};
+
 /// What a trial's analysis produced. On failure `error` says why, naming the file or frame;
 /// whatever was measured before the failure is kept.
 struct TrialAnalysis {
   TrialSpec spec;
   bool success = false;
   std::string error;
-  tracking::MarkerTracks tracks;
+  /// The clip holds no impact (the body never comes down and rebounds): `error` says so, and
+  /// `motion` what was measured of it; not a fault of the data.
+  bool no_impact = false;
+  tracking::MarkerTracks tracks;          ///< markers model
+  tracking::SilhouetteTrack silhouette;   ///< silhouette model, per frame (image frame, px)
   std::vector<tracking::BodyPose> poses;  ///< per frame, in W
   kinematics::ImpactKinematics impact;
+  TrackSummary motion;  ///< silhouette model, and every trial with no impact
   double m_per_px_used = 0.0;
+  /// Where m_per_px_used comes from: "camera.m_per_px", "markers" (--scale-from-markers) or
+  /// "body.diameter_m" (a ball's known diameter over its fitted diameter).
+  std::string scale_source = "camera.m_per_px";
+  double m_per_px_se = 0.0;            ///< its standard error; 0 for a stated scale
   double m_per_px_from_markers = 0.0;  ///< 0 when it could not be measured
+  /// Ball: the median fitted diameter (px) over the frames and its standard error (the
+  /// scatter of the frames' diameters over sqrt(n)); NaN for other bodies.
+  double body_diameter_px = core::kNaN, body_diameter_se_px = core::kNaN;
+  /// Ball with a known diameter: the scale it gives (m/px), beside a stated one; NaN otherwise.
+  double m_per_px_from_body = core::kNaN;
   std::optional<double> surface_angle_measured_deg;
   std::vector<double>
       marker_distance_ratio;         ///< projected / layout distance per frame (NaN = missing)
@@ -52,6 +80,15 @@ struct TrialAnalysis {
 
 /// The trial's image-to-world calibration at the scale `m_per_px`.
 tracking::ImageToWorld TrialCamera(const TrialSpec& spec, double m_per_px);
+
+/// The straight-line (or, with `gravity_px_per_frame2` > 0, gravity) fit of the body's
+/// positions `p_px` (px, one per frame, invalid ones skipped) with gravity along the unit
+/// `gravity_dir` of the same frame; speeds scaled by `fps` and `m_per_px` (with its s.e.; 0
+/// leaves the speed in m/s NaN). Needs 3 or more valid positions (else frames_tracked says how
+/// many and the speeds are NaN).
+TrackSummary SummarizeTrack(const std::vector<std::optional<Eigen::Vector2d>>& p_px, double fps,
+                            double m_per_px, double m_per_px_se, const Eigen::Vector2d& gravity_dir,
+                            double gravity_px_per_frame2);
 
 /// Analyses one trial. Never throws for bad trial data: failures are recorded in the result.
 /// `progress(frame)` is called as frames are tracked.

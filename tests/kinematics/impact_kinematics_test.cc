@@ -129,6 +129,15 @@ TEST(ImpactKinematicsTest, NoImpactIsReported) {
   const ImpactKinematics k = MeasureImpact(s.poses, 8000, 0, core::SpecimenParameters{});
   EXPECT_FALSE(k.success);
   EXPECT_NE(k.message.find("no impact"), std::string::npos) << k.message;
+  EXPECT_TRUE(k.no_impact);
+}
+
+TEST(ImpactKinematicsTest, TooFewFramesIsNotCalledNoImpact) {
+  Sequence s = MakeSequence(dynamics::Surface::kSteel, 0, 3.0, 0.2, 0.5, 0, 0, 1);
+  s.poses.resize(8);
+  const ImpactKinematics k = MeasureImpact(s.poses, 8000, 0, core::SpecimenParameters{});
+  EXPECT_FALSE(k.success);
+  EXPECT_FALSE(k.no_impact) << k.message;
 }
 
 TEST(ImpactKinematicsTest, SecondBounceIsFlaggedAndLeftOutOfTheFit) {

@@ -1,0 +1,611 @@
+#include "tracking/silhouette_tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <opencv2/imgproc.hpp>
+
+namespace hoof::tracking {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+double MedianOf(std::vector<double>& v) {
+  if (v.empty()) return std::nan("");
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+/// Bilinear sample of a CV_32F image; false outside.
+bool Sample(const cv::Mat& img, double x, double y, double& value) {
+  if (!(x >= 0 && y >= 0 && x <= img.cols - 1.0 && y <= img.rows - 1.0)) return false;
+  const int x0 = std::min(static_cast<int>(x), img.cols - 2);
+  const int y0 = std::min(static_cast<int>(y), img.rows - 2);
+  const double fx = x - x0, fy = y - y0;
+  const float* r0 = img.ptr<float>(y0);
+  const float* r1 = img.ptr<float>(y0 + 1);
+  value =
+      (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) + fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
+  return true;
+}
+
+/// Robust noise s.d. from horizontal neighbour differences of the pixels where `mask` is set
+/// (or all pixels without a mask): 1.4826 MAD / sqrt(2).
+double NoiseOf(const cv::Mat& f, const cv::Mat& mask = cv::Mat()) {
+  std::vector<double> d;
+  for (int y = 0; y < f.rows; ++y) {
+    const float* row = f.ptr<float>(y);
+    const unsigned char* m = mask.empty() ? nullptr : mask.ptr<unsigned char>(y);
+    for (int x = 0; x + 1 < f.cols; ++x)
+      if (!m || (m[x] && m[x + 1])) d.push_back(std::abs(row[x + 1] - row[x]));
+  }
+  if (d.empty()) return 0.0;
+  return 1.4826 * MedianOf(d) / std::sqrt(2.0);
+}
+
+cv::Mat ToFloat(const cv::Mat& grey) {
+  cv::Mat f;
+  grey.convertTo(f, CV_32F);
+  return f;
+}
+
+/// A circle fitted to edge points, with outliers rejected.
+struct CircleFit {
+  bool ok = false;
+  Eigen::Vector2d c{0, 0};
+  double r = 0;
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();  ///< of (cx, cy, r)
+  int n = 0, rejected = 0;
+  double rms = 0;
+};
+
+/// Algebraic (Kasa) circle: x^2 + y^2 + D x + E y + F = 0 in least squares.
+bool KasaFit(const std::vector<Eigen::Vector2d>& p, const std::vector<char>& use,
+             Eigen::Vector2d& c, double& r) {
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  int n = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!use[i]) continue;
+    const Eigen::Vector3d row{p[i].x(), p[i].y(), 1.0};
+    A += row * row.transpose();
+    b -= row * p[i].squaredNorm();
+    ++n;
+  }
+  if (n < 3) return false;
+  const Eigen::Vector3d s = A.ldlt().solve(b);
+  c = {-s(0) / 2, -s(1) / 2};
+  const double r2 = c.squaredNorm() - s(2);
+  if (!(r2 > 0) || !s.allFinite()) return false;
+  r = std::sqrt(r2);
+  return true;
+}
+
+/// Geometric circle fit (Gauss-Newton on the distances to the circle) of the points in use,
+/// starting from (c, r). Returns J^T J of the last step.
+Eigen::Matrix3d GeometricFit(const std::vector<Eigen::Vector2d>& p, const std::vector<char>& use,
+                             Eigen::Vector2d& c, double& r) {
+  Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
+  for (int it = 0; it < 20; ++it) {
+    jtj.setZero();
+    Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (!use[i]) continue;
+      const Eigen::Vector2d d = p[i] - c;
+      const double dist = d.norm();
+      if (!(dist > 0)) continue;
+      const Eigen::Vector3d j{-d.x() / dist, -d.y() / dist, -1.0};
+      jtj += j * j.transpose();
+      jtr += j * (dist - r);
+    }
+    const Eigen::Vector3d step = -jtj.ldlt().solve(jtr);
+    if (!step.allFinite()) break;
+    c += step.head<2>();
+    r += step(2);
+    if (step.norm() < 1e-9) break;
+  }
+  return jtj;
+}
+
+/// Circle through `p` with outliers rejected: algebraic start, geometric fit, then points
+/// farther than max(k sigma, floor) from the circle dropped (sigma from the median absolute
+/// deviation of all the points' distances, so up to half of them may be wrong), until the set
+/// of inliers stops changing.
+CircleFit RobustCircle(const std::vector<Eigen::Vector2d>& p, const SilhouetteOptions& options) {
+  CircleFit fit;
+  std::vector<char> use(p.size(), 1);
+  Eigen::Vector2d c;
+  double r = 0;
+  if (p.size() < 8 || !KasaFit(p, use, c, r)) return fit;
+  Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
+  for (int round = 0; round < 12; ++round) {
+    jtj = GeometricFit(p, use, c, r);
+    std::vector<double> d(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) d[i] = (p[i] - c).norm() - r;
+    std::vector<double> dev;
+    std::vector<double> tmp = d;
+    const double med = MedianOf(tmp);
+    for (double x : d) dev.push_back(std::abs(x - med));
+    const double sigma = 1.4826 * MedianOf(dev);
+    const double threshold = std::max(options.outlier_sigmas * sigma, options.min_outlier_px);
+    std::vector<char> next(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) next[i] = std::abs(d[i]) <= threshold;
+    if (next == use) break;
+    if (std::count(next.begin(), next.end(), 1) < 8) break;
+    use = next;
+  }
+  double ss = 0;
+  int n = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (use[i]) {
+      ss += std::pow((p[i] - c).norm() - r, 2);
+      ++n;
+    }
+  if (n < 8 || !(r > 0)) return fit;
+  fit.ok = true;
+  fit.c = c;
+  fit.r = r;
+  fit.n = n;
+  fit.rejected = static_cast<int>(p.size()) - n;
+  fit.rms = std::sqrt(ss / n);
+  // Each edge point comes from its own ray, spaced about 2 px apart along the edge, so their
+  // errors are taken as independent: the covariance is s^2 (J^T J)^-1.
+  fit.cov = ss / (n - 3) * jtj.inverse();
+  return fit;
+}
+
+/// The ball in `f` (a CV_32F window) near the circle (c0, r0): sub-pixel edge points where
+/// the profile along each ray from the centre crosses the level midway between the body and
+/// its surround (the crossing nearest r0 within +-h), then the robust circle, twice (the
+/// second pass with a narrow band about the first fit). Coordinates are the window's.
+SilhouetteObservation MeasureBall(const cv::Mat& f, Eigen::Vector2d c0, double r0, double search,
+                                  Polarity polarity, const SilhouetteOptions& options) {
+  SilhouetteObservation obs;
+  obs.status = "lost";
+  CircleFit fit;
+  for (int pass = 0; pass < 2; ++pass) {
+    if (!(r0 >= 3.0)) {
+      obs.status = "too small for a circle fit (radius < 3 px)";
+      return obs;
+    }
+    const double h = pass == 0 ? std::max(3.0, search) : 3.0;
+    const int rays = std::clamp(static_cast<int>(std::lround(kPi * r0)), 24, 720);
+    const double r_in = std::max(0.5 * r0, r0 - h - 1.5), r_out = r0 + h + 1.5;
+    std::vector<double> inner, outer;
+    for (int k = 0; k < rays; ++k) {
+      const double a = 2 * kPi * k / rays;
+      const Eigen::Vector2d u{std::cos(a), std::sin(a)};
+      double v = 0;
+      if (Sample(f, c0.x() + r_in * u.x(), c0.y() + r_in * u.y(), v)) inner.push_back(v);
+      if (Sample(f, c0.x() + r_out * u.x(), c0.y() + r_out * u.y(), v)) outer.push_back(v);
+    }
+    if (inner.size() < 8 || outer.size() < 8) return obs;
+    const double in = MedianOf(inner), out = MedianOf(outer);
+    obs.contrast = in - out;
+    if ((polarity == Polarity::kDarkOnBright && !(in < out)) ||
+        (polarity == Polarity::kBrightOnDark && !(in > out))) {
+      obs.status = "the body's polarity does not match the frame";
+      return obs;
+    }
+    const double mid = 0.5 * (in + out);
+    std::vector<Eigen::Vector2d> points;
+    const double step = 0.25;
+    const double r_lo = std::max(0.4 * r0, r0 - h);
+    for (int k = 0; k < rays; ++k) {
+      const double a = 2 * kPi * k / rays;
+      const Eigen::Vector2d u{std::cos(a), std::sin(a)};
+      double best = -1, best_gap = 1e300, prev_v = 0, prev_r = 0;
+      bool have_prev = false;
+      for (double r = r0 + h; r >= r_lo; r -= step) {
+        double v = 0;
+        if (!Sample(f, c0.x() + r * u.x(), c0.y() + r * u.y(), v)) {
+          have_prev = false;
+          continue;
+        }
+        if (have_prev && (prev_v - mid) * (v - mid) <= 0 && prev_v != v) {
+          const double rc = prev_r + (r - prev_r) * (mid - prev_v) / (v - prev_v);
+          if (std::abs(rc - r0) < best_gap) {
+            best_gap = std::abs(rc - r0);
+            best = rc;
+          }
+        }
+        prev_v = v;
+        prev_r = r;
+        have_prev = true;
+      }
+      if (best > 0) points.push_back(c0 + best * u);
+    }
+    fit = RobustCircle(points, options);
+    if (!fit.ok) {
+      obs.status = "too few edge points for a circle";
+      return obs;
+    }
+    c0 = fit.c;
+    r0 = fit.r;
+  }
+  // Noise on the surround, for the significance rule.
+  {
+    cv::Mat ring(f.size(), CV_8U, cv::Scalar(0));
+    cv::circle(
+        ring,
+        cv::Point(static_cast<int>(std::lround(c0.x())), static_cast<int>(std::lround(c0.y()))),
+        static_cast<int>(std::lround(r0 + 8)), cv::Scalar(255), cv::FILLED);
+    cv::circle(
+        ring,
+        cv::Point(static_cast<int>(std::lround(c0.x())), static_cast<int>(std::lround(c0.y()))),
+        static_cast<int>(std::lround(r0 + 3)), cv::Scalar(0), cv::FILLED);
+    obs.noise = NoiseOf(f, ring);
+  }
+  if (std::abs(obs.contrast) < options.min_significance * obs.noise) {
+    obs.status = "no significant contrast at the edge";
+    return obs;
+  }
+  obs.found = true;
+  obs.status = "ok";
+  obs.p_I = fit.c;
+  obs.cov_p_I = fit.cov.topLeftCorner<2, 2>();
+  obs.diameter_px = 2 * fit.r;
+  obs.diameter_se_px = 2 * std::sqrt(fit.cov(2, 2));
+  obs.edge_points = fit.n;
+  obs.edge_points_rejected = fit.rejected;
+  obs.rms_residual_px = fit.rms;
+  return obs;
+}
+
+/// The region (holes filled) of `mask` that is the body: the largest one of at least
+/// `min_area` not touching the border (for a ball, round enough: 4 pi A / P^2 > 0.5), or, when
+/// `near` is given, the one whose centroid is nearest it. Empty when none.
+std::vector<cv::Point> PickRegion(const cv::Mat& mask, const SilhouetteOptions& options,
+                                  const std::optional<Eigen::Vector2d>& near) {
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+  std::vector<cv::Point> best;
+  double best_score = -1e300;
+  for (auto& c : contours) {
+    const cv::Rect box = cv::boundingRect(c);
+    if (!near && (box.x <= 0 || box.y <= 0 || box.x + box.width >= mask.cols ||
+                  box.y + box.height >= mask.rows))
+      continue;
+    const double area = cv::contourArea(c);
+    if (area < options.min_area_px) continue;
+    if (options.shape == SilhouetteShape::kBall) {
+      const double perimeter = cv::arcLength(c, true);
+      if (!(4 * kPi * area / (perimeter * perimeter) > 0.5)) continue;
+    }
+    double score = area;
+    if (near) {
+      const cv::Moments m = cv::moments(c);
+      score = -(Eigen::Vector2d(m.m10 / m.m00, m.m01 / m.m00) - *near).norm();
+    }
+    if (score > best_score) {
+      best_score = score;
+      best = c;
+    }
+  }
+  return best;
+}
+
+/// Median of `f` where `mask` is set.
+double MedianWhere(const cv::Mat& f, const cv::Mat& mask) {
+  std::vector<double> v;
+  for (int y = 0; y < f.rows; ++y) {
+    const float* row = f.ptr<float>(y);
+    const unsigned char* m = mask.ptr<unsigned char>(y);
+    for (int x = 0; x < f.cols; ++x)
+      if (m[x]) v.push_back(row[x]);
+  }
+  return MedianOf(v);
+}
+
+cv::Mat Disk(int radius) {
+  return cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
+}
+
+/// An elongated body in `f` (a CV_32F window) whose filled region is `filled`: the centroid
+/// and principal axis of the coverage, where a pixel well inside counts 1, one well outside 0,
+/// and one in the 2-px band about the edge (I - out) / (in - out) clipped to [0, 1], with the
+/// levels in and out measured just inside and just outside the edge. For an anti-aliased edge
+/// that weight is the pixel's coverage, so the moments are the outline's. The uncertainty is
+/// the noise of the band's weights carried through the moments.
+SilhouetteObservation MeasureOutline(const cv::Mat& f, const cv::Mat& filled) {
+  SilhouetteObservation obs;
+  obs.status = "lost";
+  cv::Mat in2, in4, out3, out7;
+  cv::erode(filled, in2, Disk(2));
+  cv::erode(filled, in4, Disk(4));
+  cv::dilate(filled, out3, Disk(3));
+  cv::dilate(filled, out7, Disk(7));
+  const cv::Mat ring = out7 & ~out3;
+  if (cv::countNonZero(in4) < 4 || cv::countNonZero(ring) < 4) return obs;
+  const double in = MedianWhere(f, in4), out = MedianWhere(f, ring);
+  obs.contrast = in - out;
+  obs.noise = NoiseOf(f, ring);
+  if (!(std::abs(in - out) > 0)) return obs;
+  cv::Mat band_outer;
+  cv::dilate(filled, band_outer, Disk(2));
+  double m00 = 0, m10 = 0, m01 = 0;
+  struct Px {
+    double x, y, w;
+    bool band;
+  };
+  std::vector<Px> px;
+  for (int y = 0; y < f.rows; ++y) {
+    const float* row = f.ptr<float>(y);
+    const unsigned char* inner = in2.ptr<unsigned char>(y);
+    const unsigned char* outer = band_outer.ptr<unsigned char>(y);
+    for (int x = 0; x < f.cols; ++x) {
+      if (!outer[x]) continue;
+      const bool band = !inner[x];
+      const double w = band ? std::clamp((row[x] - out) / (in - out), 0.0, 1.0) : 1.0;
+      px.push_back({static_cast<double>(x), static_cast<double>(y), w, band});
+      m00 += w;
+      m10 += w * x;
+      m01 += w * y;
+    }
+  }
+  if (!(m00 > 0)) return obs;
+  const Eigen::Vector2d c{m10 / m00, m01 / m00};
+  double mu20 = 0, mu02 = 0, mu11 = 0;
+  for (const auto& p : px) {
+    const double dx = p.x - c.x(), dy = p.y - c.y();
+    mu20 += p.w * dx * dx;
+    mu02 += p.w * dy * dy;
+    mu11 += p.w * dx * dy;
+  }
+  mu20 /= m00;
+  mu02 /= m00;
+  mu11 /= m00;
+  const double a = mu20 - mu02, b = 2 * mu11;
+  const double angle = 0.5 * std::atan2(b, a);
+  const double common = std::sqrt(a * a + b * b);
+  const double l1 = 0.5 * (mu20 + mu02 + common), l2 = 0.5 * (mu20 + mu02 - common);
+  // Uncertainty: only the band's weights are noisy, each with s.d. noise / |in - out|.
+  const double sw = obs.noise / std::abs(in - out);
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  double var_angle = 0;
+  for (const auto& p : px) {
+    if (!p.band) continue;
+    const Eigen::Vector2d d{p.x - c.x(), p.y - c.y()};
+    cov += d * d.transpose();
+    const double da = ((d.x() * d.x() - d.y() * d.y()) - a) / m00;
+    const double db = 2 * (d.x() * d.y() - mu11) / m00;
+    const double dtheta = 0.5 * (a * db - b * da) / (a * a + b * b);
+    var_angle += dtheta * dtheta;
+  }
+  obs.found = true;
+  obs.status = "ok";
+  obs.p_I = c;
+  obs.cov_p_I = sw * sw * cov / (m00 * m00);
+  obs.has_orientation = true;
+  obs.angle_I_rad = angle;
+  obs.angle_se_rad = sw * std::sqrt(var_angle);
+  obs.length_px = std::sqrt(12 * std::max(0.0, l1));
+  obs.width_px = std::sqrt(12 * std::max(0.0, l2));
+  return obs;
+}
+
+/// The significance of a region: |median inside - median of the surround| over the noise.
+bool Significant(const cv::Mat& f, const cv::Mat& filled, const SilhouetteOptions& options) {
+  cv::Mat in2, out3, out8;
+  cv::erode(filled, in2, Disk(2));
+  cv::dilate(filled, out3, Disk(3));
+  cv::dilate(filled, out8, Disk(8));
+  const cv::Mat ring = out8 & ~out3;
+  if (cv::countNonZero(in2) < 4 || cv::countNonZero(ring) < 4) return false;
+  const double contrast = std::abs(MedianWhere(f, in2) - MedianWhere(f, ring));
+  return contrast > options.min_significance * NoiseOf(f, ring) && contrast > 0;
+}
+
+/// Orients an outline's axis: against gravity without a previous angle, else nearest it.
+void OrientAxis(SilhouetteObservation& obs, const SilhouetteOptions& options,
+                const std::optional<double>& previous) {
+  if (!obs.has_orientation) return;
+  const Eigen::Vector2d x_B{std::cos(obs.angle_I_rad), std::sin(obs.angle_I_rad)};
+  bool flip = false;
+  if (previous)
+    flip = x_B.dot(Eigen::Vector2d(std::cos(*previous), std::sin(*previous))) < 0;
+  else
+    flip = x_B.dot(-options.gravity_I) < 0;
+  if (flip) obs.angle_I_rad += obs.angle_I_rad > 0 ? -kPi : kPi;
+}
+
+/// Measures the body in the window `f` (CV_32F) whose filled region is `region`; adds `offset`
+/// (the window's origin) to the position.
+SilhouetteObservation MeasureRegion(const cv::Mat& f, const std::vector<cv::Point>& region,
+                                    const cv::Point& offset, Polarity polarity,
+                                    const SilhouetteOptions& options) {
+  cv::Mat filled(f.size(), CV_8U, cv::Scalar(0));
+  cv::drawContours(filled, std::vector<std::vector<cv::Point>>{region}, 0, cv::Scalar(255),
+                   cv::FILLED);
+  SilhouetteObservation obs;
+  if (options.shape == SilhouetteShape::kBall) {
+    const cv::Moments m = cv::moments(filled, true);
+    const Eigen::Vector2d c{m.m10 / m.m00, m.m01 / m.m00};
+    obs = MeasureBall(f, c, std::sqrt(m.m00 / kPi), 4.0, polarity, options);
+  } else {
+    obs = MeasureOutline(f, filled);
+  }
+  obs.p_I += Eigen::Vector2d(offset.x, offset.y);
+  return obs;
+}
+
+/// Otsu's split of `f` (levels from its own percentiles), lightly smoothed: the bright mask.
+cv::Mat BrightMask(const cv::Mat& f) {
+  const auto [lo, hi] = FrameLevels(f);
+  cv::Mat u8;
+  if (!(hi > lo)) return cv::Mat(f.size(), CV_8U, cv::Scalar(0));
+  cv::Mat smooth;
+  cv::GaussianBlur(f, smooth, cv::Size(0, 0), 1.0);
+  smooth.convertTo(u8, CV_8U, 255.0 / (hi - lo), -255.0 * lo / (hi - lo));
+  cv::Mat bin;
+  cv::threshold(u8, bin, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
+  return bin;
+}
+
+}  // namespace
+
+std::string PolarityName(Polarity polarity) {
+  switch (polarity) {
+    case Polarity::kDarkOnBright:
+      return "dark_on_bright";
+    case Polarity::kBrightOnDark:
+      return "bright_on_dark";
+    default:
+      return "auto";
+  }
+}
+
+void SilhouetteOptions::Validate() const {
+  if (!(min_area_px > 0)) throw std::invalid_argument("silhouette min_area_px must be > 0");
+  if (!(min_significance > 0))
+    throw std::invalid_argument("silhouette min_significance must be > 0");
+  if (!(outlier_sigmas > 0)) throw std::invalid_argument("silhouette outlier_sigmas must be > 0");
+  if (!(min_outlier_px >= 0)) throw std::invalid_argument("silhouette min_outlier_px must be >= 0");
+  if (!(gravity_I.allFinite() && gravity_I.norm() > 0))
+    throw std::invalid_argument("silhouette gravity_I must be a non-zero direction");
+}
+
+std::pair<double, double> FrameLevels(const cv::Mat& grey) {
+  // A sample of at most about 65536 pixels on a regular grid.
+  const int step =
+      std::max(1, static_cast<int>(std::sqrt(static_cast<double>(grey.total()) / 65536.0)));
+  std::vector<double> v;
+  v.reserve(grey.total() / static_cast<std::size_t>(step * step) + 1);
+  cv::Mat f = grey.depth() == CV_32F ? grey : ToFloat(grey);
+  for (int y = 0; y < f.rows; y += step) {
+    const float* row = f.ptr<float>(y);
+    for (int x = 0; x < f.cols; x += step) v.push_back(row[x]);
+  }
+  if (v.empty()) return {0.0, 0.0};
+  const auto at = [&](double q) {
+    const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
+    std::nth_element(v.begin(), v.begin() + k, v.end());
+    return v[static_cast<std::size_t>(k)];
+  };
+  const double lo = at(0.005), hi = at(0.995);
+  return {lo, hi};
+}
+
+SilhouetteObservation FindSilhouette(const cv::Mat& grey, const SilhouetteOptions& options,
+                                     Polarity* polarity_found) {
+  options.Validate();
+  const cv::Mat f = ToFloat(grey);
+  const cv::Mat bright = BrightMask(f);
+  SilhouetteObservation best;
+  best.status = "lost";
+  double best_area = 0;
+  for (Polarity p : {Polarity::kDarkOnBright, Polarity::kBrightOnDark}) {
+    if (options.polarity != Polarity::kAuto && options.polarity != p) continue;
+    const cv::Mat mask = p == Polarity::kBrightOnDark ? bright : ~bright;
+    const std::vector<cv::Point> region = PickRegion(mask, options, std::nullopt);
+    if (region.empty()) continue;
+    cv::Mat filled(f.size(), CV_8U, cv::Scalar(0));
+    cv::drawContours(filled, std::vector<std::vector<cv::Point>>{region}, 0, cv::Scalar(255),
+                     cv::FILLED);
+    if (!Significant(f, filled, options)) continue;
+    const double area = cv::contourArea(region);
+    if (area <= best_area) continue;
+    SilhouetteObservation obs = MeasureRegion(f, region, cv::Point(0, 0), p, options);
+    if (!obs.found) continue;
+    best = obs;
+    best_area = area;
+    if (polarity_found) *polarity_found = p;
+  }
+  if (best.found) OrientAxis(best, options, std::nullopt);
+  return best;
+}
+
+SilhouetteObservation MeasureSilhouetteNear(const cv::Mat& grey, const SilhouetteOptions& options,
+                                            Polarity polarity, const Eigen::Vector2d& predicted_I,
+                                            const SilhouetteObservation& previous,
+                                            double search_px) {
+  const double extent = options.shape == SilhouetteShape::kBall
+                            ? 0.5 * previous.diameter_px
+                            : 0.5 * std::max(previous.length_px, previous.width_px) + 4;
+  const int half = static_cast<int>(std::ceil(extent + search_px + 10));
+  const cv::Rect window =
+      cv::Rect(static_cast<int>(std::floor(predicted_I.x())) - half,
+               static_cast<int>(std::floor(predicted_I.y())) - half, 2 * half + 1, 2 * half + 1) &
+      cv::Rect(0, 0, grey.cols, grey.rows);
+  SilhouetteObservation obs;
+  obs.status = "lost";
+  if (window.width < 8 || window.height < 8) return obs;
+  const cv::Mat f = ToFloat(grey(window));
+  const Eigen::Vector2d offset(window.x, window.y);
+  if (options.shape == SilhouetteShape::kBall) {
+    obs = MeasureBall(f, predicted_I - offset, 0.5 * previous.diameter_px, search_px, polarity,
+                      options);
+    if (obs.found) obs.p_I += offset;
+  } else {
+    const cv::Mat bright = BrightMask(f);
+    const cv::Mat mask = polarity == Polarity::kBrightOnDark ? bright : ~bright;
+    SilhouetteOptions near_options = options;
+    near_options.min_area_px =
+        std::max(options.min_area_px, 0.25 * previous.length_px * previous.width_px);
+    const std::vector<cv::Point> region =
+        PickRegion(mask, near_options, Eigen::Vector2d(predicted_I - offset));
+    if (region.empty()) return obs;
+    obs = MeasureRegion(f, region, window.tl(), polarity, options);
+    if (obs.found && !(obs.length_px < 1.5 * previous.length_px + 4)) {
+      obs.found = false;
+      obs.status = "the outline grew (joined by another region)";
+    }
+  }
+  if (obs.found && obs.has_orientation) OrientAxis(obs, options, previous.angle_I_rad);
+  return obs;
+}
+
+SilhouetteTrack TrackSilhouette(FrameSource& source, const SilhouetteOptions& options,
+                                const std::function<void(int)>& progress) {
+  options.Validate();
+  SilhouetteTrack track;
+  track.polarity = options.polarity;
+  int found_frames = 0;
+  for (int i = 0; i < source.count(); ++i) {
+    const cv::Mat grey = source.Read(i);
+    SilhouetteObservation obs;
+    const int n = static_cast<int>(track.frames.size());
+    const bool have_last = n >= 1 && track.frames[static_cast<std::size_t>(n - 1)].found;
+    if (have_last) {
+      const auto& last = track.frames[static_cast<std::size_t>(n - 1)];
+      Eigen::Vector2d predicted = last.p_I;
+      double displacement = 0;
+      if (n >= 2 && track.frames[static_cast<std::size_t>(n - 2)].found) {
+        const Eigen::Vector2d d = last.p_I - track.frames[static_cast<std::size_t>(n - 2)].p_I;
+        predicted += d;
+        displacement = d.norm();
+      }
+      // The velocity reverses at an impact, so the prediction can miss by two displacements.
+      obs = MeasureSilhouetteNear(grey, options, track.polarity, predicted, last,
+                                  std::max(4.0, 3.0 * displacement + 2.0));
+    }
+    if (!obs.found) {
+      SilhouetteOptions find = options;
+      find.polarity = track.polarity;
+      Polarity p = track.polarity;
+      obs = FindSilhouette(grey, find, &p);
+      if (obs.found) track.polarity = p;
+      if (obs.found && obs.has_orientation && have_last)
+        OrientAxis(obs, options, track.frames[static_cast<std::size_t>(n - 1)].angle_I_rad);
+    }
+    if (obs.found)
+      ++found_frames;
+    else if (found_frames > 0)
+      track.warnings.push_back(source.Describe(i) + ": the body was not found (" + obs.status +
+                               ")");
+    track.frames.push_back(obs);
+    if (progress) progress(i);
+  }
+  if (found_frames == 0)
+    throw std::runtime_error(source.Describe(0) + " (and the other " +
+                             std::to_string(source.count() - 1) +
+                             " frames): no body found: no region of either polarity, clear of "
+                             "the frame's border, stands out from its surround");
+  return track;
+}
+
+}  // namespace hoof::tracking
