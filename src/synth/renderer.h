@@ -45,6 +45,20 @@ struct FrameTruth {
   std::string defect;                       ///< "", "dropped_before" or "duplicate".
   std::vector<Eigen::Vector2d> markers_px;  ///< Recorded (distorted) image.
   std::vector<Eigen::Vector2d> markers_px_undistorted;  ///< Ideal image.
+  /// Image of the centre of mass C at t_s (the ball's centre), recorded and ideal (px).
+  Eigen::Vector2d center_px{0.0, 0.0}, center_px_undistorted{0.0, 0.0};
+  /// Flicker: the light's brightness averaged over this frame's exposure (1 without flicker).
+  double light_factor = 1.0;
+  int impact = 0;  ///< Index into TrialTruth::impacts of the impact whose segment holds t_s.
+};
+
+/// One impact of a clip (several with TrialSpec::bounces > 1).
+struct ImpactTruth {
+  double touch_time_s = 0.0;  ///< Since capture 0 (s).
+  /// Where the contact point of this touch lies on the surface line: x along x_S from the
+  /// first touch (m). The impact's own S frame is the first one shifted by this.
+  double x_S_m = 0.0;
+  dynamics::ImpactResult result;  ///< In the impact's own S and time; without samples.
 };
 
 /// Everything known about a rendered trial.
@@ -59,7 +73,12 @@ struct TrialTruth {
   std::vector<FrameTruth> frames;
   /// Per written frame, the poses integrated over the exposure (one without motion blur).
   std::vector<std::vector<BodyPose>> exposure_poses;
-  int first_frame_after_touch = 0;  ///< Index of the first written frame with t_s >= touch.
+  int first_frame_after_touch = 0;          ///< Index of the first written frame with t_s >= touch.
+  std::vector<ImpactTruth> impacts;         ///< Every impact in time order; [0] is `impact`.
+  std::vector<int> dropped_captures;        ///< Captures never written (their times are skipped).
+  double flicker_phase_rad = 0.0;           ///< psi of the flicker (0 without flicker).
+  int blur_samples_used = 1;                ///< Sub-samples per exposure actually drawn.
+  int frames_before = 0, frames_after = 0;  ///< The clip's counts (from flight, or the options').
 };
 
 /// Samples the model at the capture and exposure times and places the scene in the frame:
@@ -81,6 +100,12 @@ struct TrialResult {
 TrialResult RenderTrial(const TrialSpec& spec, const SpecimenGeometry& geometry,
                         const RenderOptions& options, const SceneAssets& assets,
                         const std::filesystem::path& trial_dir, bool overwrite = false);
+
+/// Writes one frame of a trial: frames/%06d.png under `trial_dir` (8- or 16-bit grey PNG). The
+/// one place a frame file is written, and the seam for other containers (MRAW, CINE): a writer
+/// that streams frames would be called here instead, frame by frame, in index order.
+void WriteFrame(const std::filesystem::path& trial_dir, int index, const cv::Mat& image,
+                const RenderOptions& options);
 
 /// Frames of a planned trial as 8- or 16-bit grey images, without writing them.
 std::vector<cv::Mat> RenderFrames(const TrialTruth& truth, const SpecimenGeometry& geometry,
