@@ -211,6 +211,7 @@ void CheckArgs(const SynthArgs& a) {
   if (a.design.trials_per_cell < 1) Bad("--trials-per-cell", "must be >= 1");
   if (a.bounces < 1 || a.bounces > 20)
     Bad("--bounces", "must be in [1, 20], got " + std::to_string(a.bounces));
+  if (a.bounces > 1 && a.study) Bad("--bounces", "applies to one trial, not to --study");
   const synth::CameraEffects& c = a.render.camera;
   if (c.drop_frames < 0) Bad("--drop-frames", "must be >= 0");
   if (c.duplicate_frames < 0) Bad("--duplicate-frames", "must be >= 0");
