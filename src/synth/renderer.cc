@@ -28,6 +28,9 @@ namespace {
 
 using core::kRadPerDeg;
 
+/// Largest motion of the body between two exposure sub-samples (px) before more are drawn.
+constexpr double kMaxBlurStepPx = 2.0;
+
 /// Which capture each written frame shows, and its defect.
 struct CaptureSchedule {
   std::vector<int> capture;
@@ -385,8 +388,10 @@ TrialTruth PlanTrial(const TrialSpec& spec, const SpecimenGeometry& geometry,
   std::vector<double> times;
   for (int j = 0; j < count; ++j)
     times.push_back(schedule.capture[j] / options.fps - t.impact_time_s);
-  // Exposure sub-samples: blur_samples, or more where the body moves more than a pixel between
-  // two of them (at low frame rates with long exposures).
+  // Exposure sub-samples: blur_samples, or more where the body would move more than
+  // kMaxBlurStepPx between two of them (at low frame rates with long exposures). At the
+  // default 8000 fps and scale no speed the options allow gets there, so those renders keep
+  // blur_samples.
   const CameraEffects& cam = options.camera;
   t.blur_samples_used = cam.motion_blur ? cam.blur_samples : 1;
   if (cam.motion_blur) {
@@ -400,8 +405,8 @@ TrialTruth PlanTrial(const TrialSpec& spec, const SpecimenGeometry& geometry,
     for (const auto& s : centres.samples)
       speed = std::max(speed, s.body.v_SC.norm() + std::abs(s.body.w_rad_s) * reach);
     const double step_px = speed * cam.exposure_s / options.m_per_px;  // over the exposure
-    t.blur_samples_used = std::clamp(static_cast<int>(std::ceil(step_px / 1.0)), cam.blur_samples,
-                                     std::max(cam.blur_samples, 4096));
+    t.blur_samples_used = std::clamp(static_cast<int>(std::ceil(step_px / kMaxBlurStepPx)),
+                                     cam.blur_samples, std::max(cam.blur_samples, 4096));
   }
   const std::vector<double> offsets = ExposureOffsets(cam, t.blur_samples_used);
   for (int j = 0; j < count; ++j)
