@@ -91,7 +91,7 @@ std::vector<synth::Marker> ParseMarkers(const std::string& text) {
 
 /// Reads --study-config (synth::ReadStudyConfig) over the design: its design, hidden effects and
 /// markers. A bad file is bad input (exit 1) naming the file.
-void ApplyStudyConfig(const std::string& path, SynthArgs& a) {
+void ApplyStudyConfig(const std::string& path, SynthArgs& a, CLI::App* cmd) {
   synth::StudyConfig c;
   try {
     c = synth::ReadStudyConfig(path, a.design);
@@ -99,7 +99,20 @@ void ApplyStudyConfig(const std::string& path, SynthArgs& a) {
     throw std::invalid_argument(std::string("--study-config ") + e.what());
   }
   a.design = std::move(c.design);
-  if (c.markers_B_m) a.geometry.markers = std::move(*c.markers_B_m);
+  // An option given on the command line wins over the file's key.
+  const auto given = [cmd](const char* option) { return cmd->count(option) > 0; };
+  if (given("--markers-b-m")) c.markers_B_m.reset();
+  if (given("--body")) c.body.reset();
+  if (given("--ball-diameter-m")) c.ball_diameter_m.reset();
+  if (given("--ball-mass-kg")) c.ball_mass_kg.reset();
+  if (given("--flicker-hz")) c.flicker_hz.reset();
+  if (given("--flicker-depth")) c.flicker_depth.reset();
+  if (given("--drop-frames")) c.drop_frames.reset();
+  if (given("--duplicate-frames")) c.duplicate_frames.reset();
+  synth::ApplyStudyConfig(c, a.geometry);
+  synth::ApplyStudyConfig(c, a.render.camera);
+  if (c.body) a.body = synth::ToString(*c.body);
+  if (c.lighting && !given("--lighting")) a.lighting = synth::ToString(*c.lighting);
 }
 
 void AddCameraOptions(CLI::App* cmd, SynthArgs& a) {
@@ -315,7 +328,7 @@ void ApplyOptions(SynthArgs& a, CLI::App* cmd) {
 
 void Run(SynthArgs& a, RunState& state, CLI::App* cmd) {
   while (a.output.size() > 1 && a.output.back() == '/') a.output.pop_back();
-  if (!a.study_config.empty()) ApplyStudyConfig(a.study_config, a);  // a bad file: exit 1
+  if (!a.study_config.empty()) ApplyStudyConfig(a.study_config, a, cmd);  // a bad file: exit 1
   // The options: an out-of-range value is a command-line error (exit 2) naming the option.
   ValidateOptions(cmd, [&] { ApplyOptions(a, cmd); });
   const bool tty = ::isatty(STDERR_FILENO) == 1;
