@@ -229,9 +229,9 @@ void CheckArgs(const SynthArgs& a) {
   if (c.drop_frames < 0) Bad("--drop-frames", "must be >= 0");
   if (c.duplicate_frames < 0) Bad("--duplicate-frames", "must be >= 0");
   if (c.flicker_hz != 0 && !(c.flicker_hz >= 1 && c.flicker_hz <= 1000))
-    Bad("--flicker-hz", "must be 0 (none) or in [1, 1000], got " + std::to_string(c.flicker_hz));
+    Bad("--flicker-hz", "must be 0 (none) or in [1, 1000], got " + format::Number(c.flicker_hz));
   if (!(c.flicker_depth >= 0 && c.flicker_depth < 1))
-    Bad("--flicker-depth", "must be in [0, 1), got " + std::to_string(c.flicker_depth));
+    Bad("--flicker-depth", "must be in [0, 1), got " + format::Number(c.flicker_depth));
   if (c.flicker_depth > 0 && c.flicker_hz == 0) Bad("--flicker-depth", "needs --flicker-hz");
   if (!(a.geometry.ball_diameter_m >= 1e-3 && a.geometry.ball_diameter_m <= 0.2))
     Bad("--ball-diameter-m", "must be in [0.001, 0.2]");

@@ -5,8 +5,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <iomanip>
 #include <numbers>
 #include <random>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
 #include <utility>
@@ -27,6 +29,13 @@ namespace fs = std::filesystem;
 namespace {
 
 using core::kRadPerDeg;
+
+/// A number in a message: four significant digits (synth does not link hoof::format).
+std::string Num4(double v) {
+  std::ostringstream os;
+  os << std::setprecision(4) << v;
+  return os.str();
+}
 
 /// Largest motion of the body between two exposure sub-samples (px) before more are drawn.
 constexpr double kMaxBlurStepPx = 2.0;
@@ -98,7 +107,7 @@ std::pair<double, dynamics::BodyState> NextTouch(const dynamics::ImpactResult& r
   const double v_n = s0.v_SC.y() - d * std::cos(s0.theta_S_rad) * s0.w_rad_s;
   if (!(v_n > 1e-3))
     throw std::invalid_argument("--bounces: after impact " + std::to_string(impact + 1) +
-                                " the body leaves the surface at " + std::to_string(v_n) +
+                                " the body leaves the surface at " + Num4(v_n) +
                                 " m/s: it does not bounce again");
   const auto state = [&](double t) {
     return dynamics::PropagateFlight(s0, g_S, t - r.t_separation_s);
@@ -130,9 +139,9 @@ std::pair<double, dynamics::BodyState> NextTouch(const dynamics::ImpactResult& r
     if (std::abs(tilt) > limit)
       throw std::invalid_argument(
           "--bounces: at touch " + std::to_string(impact + 2) + " the specimen is turned " +
-          std::to_string(tilt / kRadPerDeg) +
+          Num4(tilt / kRadPerDeg) +
           " deg from upright, beyond where its round end is what touches (" +
-          std::to_string(limit / kRadPerDeg) + " deg); the model cannot represent it");
+          Num4(limit / kRadPerDeg) + " deg); the model cannot represent it");
   }
   return {b, s};
 }
