@@ -160,7 +160,10 @@ void RenderOptions::Validate() const {
   if (texture_oversampling % 2 == 0)
     Throw(kOwner, "texture_oversampling", texture_oversampling, "must be odd");
   camera.Validate();
-  if (camera.drop_frames + camera.duplicate_frames > frames_before + frames_after - 1)
+  // (With frames_from_flight the counts are known only when the trial is planned; PlanTrial
+  // checks them there.)
+  if (!frames_from_flight &&
+      camera.drop_frames + camera.duplicate_frames > frames_before + frames_after - 1)
     Throw("camera", "drop_frames + duplicate_frames", camera.drop_frames + camera.duplicate_frames,
           "must leave the first frame: at most frames_before + frames_after - 1");
   if (camera.motion_blur && camera.exposure_s > 1.0 / fps * (1 + 1e-12))

@@ -215,6 +215,21 @@ TEST(NuisanceTest, SixtyFpsClipShowsFlightArcsOnBothSides) {
   EXPECT_GE(after, 8);
 }
 
+// Counted faults are checked against the clip's own length when it comes from the flight: 15
+// repeats fit the 24 frames of a 2 m/s drop at 60 fps, though not the 6 + 6 of the options.
+TEST(NuisanceTest, FrameFaultCountsAreCheckedAgainstTheClipFromTheFlight) {
+  RenderOptions o = Small(60, 2e-3);
+  o.camera = CameraEffects::Clean();
+  o.frames_from_flight = true;
+  o.camera.duplicate_frames = 15;
+  const TrialTruth t = PlanTrial(Ball(2.0, 8), BallGeometry(), o);
+  EXPECT_EQ(std::count_if(t.frames.begin(), t.frames.end(),
+                          [](const FrameTruth& f) { return f.defect == "duplicate"; }),
+            15);
+  o.camera.duplicate_frames = 40;
+  EXPECT_THROW(PlanTrial(Ball(2.0, 8), BallGeometry(), o), std::invalid_argument);
+}
+
 TEST(NuisanceTest, LongExposureAtLowFrameRateUsesEnoughBlurSubSamples) {
   RenderOptions o = Small(60, 5e-4);
   o.camera = CameraEffects::Clean();
