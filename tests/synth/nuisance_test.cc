@@ -242,6 +242,36 @@ TEST(NuisanceTest, LongExposureAtLowFrameRateUsesEnoughBlurSubSamples) {
   EXPECT_EQ(t.exposure_poses.front().size(), static_cast<std::size_t>(t.blur_samples_used));
 }
 
+// The real back-lit ball clip's setting (issue 16): a 2.5 mm sphere at 30 000 fps, 20 um/px,
+// 1.56 m/s. The centre moves v / fps / m_per_px = 2.6 px a frame, and the disc is the ball's
+// size: its dark area is pi r^2 with r = 62.5 px.
+TEST(NuisanceTest, ThirtyThousandFpsBallMovesItsSpeedPerFrameAtItsSize) {
+  RenderOptions o = Small(30000, 2e-5);
+  o.width_px = o.height_px = 192;
+  o.frames_before = 2;
+  o.frames_after = 1;
+  o.camera = CameraEffects::Clean();
+  o.camera.motion_blur = true;
+  o.camera.exposure_s = 1.0 / 60000;
+  o.lighting = Lighting::kBacklit;
+  const SpecimenGeometry g = BallGeometry(0.0025);
+  const TrialTruth t = PlanTrial(Ball(1.56, 12), g, o);
+  const double tau0 = t.impact_time_s - t.frames[0].t_s, tau1 = t.impact_time_s - t.frames[1].t_s;
+  const double step_m = 1.56 * (tau0 - tau1) - kG * (tau0 * tau0 - tau1 * tau1) / 2;
+  EXPECT_NEAR(t.frames[1].center_px.y() - t.frames[0].center_px.y(), step_m / o.m_per_px, 1e-9);
+  EXPECT_NEAR(step_m / o.m_per_px, 1.56 / 30000 / 2e-5, 0.001);
+  const cv::Mat f = Frames(t, g, o).front();
+  // Dark: below half-way between the silhouette and the back light, above the surface line.
+  const double threshold = 255 * (0.015 + 0.985 * (0.03 + 0.92) / 2);
+  int dark = 0;
+  for (int y = 0; y < static_cast<int>(t.contact_px.y()) - 2; ++y)
+    for (int x = 0; x < o.width_px; ++x) dark += f.at<std::uint8_t>(y, x) < threshold;
+  const double r = 62.5;
+  // The bright spot at the centre (radius about 0.12 r above the threshold) is not dark.
+  const double spot = std::numbers::pi * std::pow(0.1 * r, 2) * 2 * std::log(0.8 / 0.445);
+  EXPECT_NEAR(dark, std::numbers::pi * r * r - spot, 2 * std::numbers::pi * r);
+}
+
 TEST(NuisanceTest, CountedDuplicatesRepeatTheImageAndDropsSkipTheirTimes) {
   RenderOptions o = Small(4000, 2e-4);
   o.frames_before = 8;
