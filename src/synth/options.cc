@@ -167,7 +167,8 @@ void RenderOptions::Validate() const {
     Throw("camera", "drop_frames + duplicate_frames", camera.drop_frames + camera.duplicate_frames,
           "must leave the first frame: at most frames_before + frames_after - 1");
   if (camera.motion_blur && camera.exposure_s > 1.0 / fps * (1 + 1e-12))
-    Throw("camera", "exposure_s", camera.exposure_s, "must not exceed the frame period 1/fps");
+    Throw("camera", "exposure_s", camera.exposure_s,
+          "must not exceed the frame period (one over the frame rate)");
 }
 
 void TrialSpec::Validate() const {

@@ -232,6 +232,9 @@ TEST(SynthCommandTest, BadBodyLightingAndFaultOptionsNameTheOption) {
       {"--study --bounces 2", "--bounces"},
       {"--flicker-hz 100 --flicker-depth 1.5", "--flicker-depth"},
       {"--drop-frames -1", "--drop-frames"},
+      // The default exposure (1/16000 s) is longer than a frame at 30 000 fps: the message
+      // names --exposure-s (it named --fps, found as the word 'fps' in '1/fps').
+      {"--fps 30000", "--exposure-s: must not exceed the frame period"},
       {"--frames-before 2 --frames-after 2 --duplicate-frames 4", "duplicate_frames"},
   };
   for (const auto& [args, name] : cases) {
