@@ -228,10 +228,8 @@ TEST(SynthCommandTest, BadBodyLightingAndFaultOptionsNameTheOption) {
   const std::string out = Fresh("bad-new").string();
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"--body cube", "--body"},
-      {"--lighting side", "--lighting"},
       {"--study --bounces 2", "--bounces"},
       {"--flicker-hz 100 --flicker-depth 1.5", "--flicker-depth"},
-      {"--drop-frames -1", "--drop-frames"},
       // The default exposure (1/16000 s) is longer than a frame at 30 000 fps: the message
       // names --exposure-s (it named --fps, found as the word 'fps' in '1/fps').
       {"--fps 30000", "--exposure-s: must not exceed the frame period"},
