@@ -60,7 +60,7 @@ struct SynthArgs {
   int threads = 0;
   bool json = false;
   std::string contact_sheet;
-  std::string body = "markers", lighting = "front";
+  std::string body = "markers", lighting = "front", frame_format = "png";
   int bounces = 1;
 };
 
@@ -113,6 +113,7 @@ void ApplyStudyConfig(const std::string& path, SynthArgs& a, CLI::App* cmd) {
   synth::ApplyStudyConfig(c, a.render.camera);
   if (c.body) a.body = synth::ToString(*c.body);
   if (c.lighting && !given("--lighting")) a.lighting = synth::ToString(*c.lighting);
+  if (c.frame_format && !given("--frame-format")) a.frame_format = synth::ToString(*c.frame_format);
 }
 
 void AddCameraOptions(CLI::App* cmd, SynthArgs& a) {
@@ -225,6 +226,8 @@ void CheckArgs(const SynthArgs& a) {
   if (a.bounces < 1 || a.bounces > 20)
     Bad("--bounces", "must be in [1, 20], got " + std::to_string(a.bounces));
   if (a.bounces > 1 && a.study) Bad("--bounces", "applies to one trial, not to --study");
+  if (!a.contact_sheet.empty() && a.render.frame_format != synth::FrameFormat::kPng)
+    Bad("--contact-sheet", "reads PNG frames, and these frames are written as " + a.frame_format);
   const synth::CameraEffects& c = a.render.camera;
   if (c.drop_frames < 0) Bad("--drop-frames", "must be >= 0");
   if (c.duplicate_frames < 0) Bad("--duplicate-frames", "must be >= 0");
@@ -315,6 +318,11 @@ void ApplyOptions(SynthArgs& a, CLI::App* cmd) {
     a.render.lighting = synth::ParseLighting(a.lighting);
   } catch (const std::invalid_argument& e) {
     Bad("--lighting", e.what());
+  }
+  try {
+    a.render.frame_format = synth::ParseFrameFormat(a.frame_format);
+  } catch (const std::invalid_argument& e) {
+    Bad("--frame-format", e.what());
   }
   ApplyCameraSwitches(a);
   CheckArgs(a);
@@ -432,7 +440,12 @@ void RegisterSynth(CLI::App& app, RunState& state) {
       ->capture_default_str();
   cmd->add_option("--width-px", a.render.width_px, "Frame width (px)")->capture_default_str();
   cmd->add_option("--height-px", a.render.height_px, "Frame height (px)")->capture_default_str();
-  cmd->add_option("--bit-depth", a.render.bit_depth, "8 or 16 bits per pixel")
+  cmd->add_option("--bit-depth", a.render.bit_depth,
+                  "8 or 16 bits per pixel; 12 (0..4095) with --frame-format mraw or cine")
+      ->capture_default_str();
+  cmd->add_option("--frame-format", a.frame_format,
+                  "png (frames/%06d.png), mraw (one Photron clip.mraw + clip.cihx) or cine (one "
+                  "Phantom clip.cine with time stamps)")
       ->capture_default_str();
   cmd->add_option("--m-per-px", a.render.m_per_px, "Scale in the plane of motion (m/px)")
       ->capture_default_str();

@@ -54,6 +54,24 @@ Lighting ParseLighting(const std::string& name) {
   throw std::invalid_argument("lighting '" + name + "' must be front or backlit");
 }
 
+const char* ToString(FrameFormat format) {
+  switch (format) {
+    case FrameFormat::kPng:
+      return "png";
+    case FrameFormat::kMraw:
+      return "mraw";
+    case FrameFormat::kCine:
+      return "cine";
+  }
+  return "png";
+}
+
+FrameFormat ParseFrameFormat(const std::string& name) {
+  for (FrameFormat f : {FrameFormat::kPng, FrameFormat::kMraw, FrameFormat::kCine})
+    if (name == ToString(f)) return f;
+  throw std::invalid_argument("frame format '" + name + "' must be png, mraw or cine");
+}
+
 dynamics::SpecimenParameters SpecimenGeometry::Simulated() const {
   if (body != Body::kBall) return dynamics;
   dynamics::SpecimenParameters p;
@@ -150,7 +168,13 @@ void RenderOptions::Validate() const {
   constexpr std::string_view kOwner = "render";
   RequireRange(kOwner, "width_px", width_px, 64, 4096);
   RequireRange(kOwner, "height_px", height_px, 64, 4096);
-  if (bit_depth != 8 && bit_depth != 16) Throw(kOwner, "bit_depth", bit_depth, "must be 8 or 16");
+  if (bit_depth != 8 && bit_depth != 12 && bit_depth != 16)
+    Throw(kOwner, "bit_depth", bit_depth, "must be 8, 12 or 16");
+  if (bit_depth == 12 && frame_format == FrameFormat::kPng)
+    Throw(kOwner, "bit_depth", bit_depth,
+          "must be 8 or 16 for PNG frames (12 needs the mraw or cine frame format)");
+  if (bit_depth == 12 && frame_format == FrameFormat::kMraw && width_px % 2 != 0)
+    Throw(kOwner, "width_px", width_px, "must be even for 12-bit packed MRAW");
   RequireRange(kOwner, "m_per_px", m_per_px, 2e-5, 2e-3);
   RequireRange(kOwner, "fps", fps, 1.0, 1e7);
   RequireRange(kOwner, "frames_before", frames_before, 1, 100000);

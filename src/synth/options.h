@@ -34,6 +34,17 @@ enum class Lighting {
 const char* ToString(Lighting lighting);
 Lighting ParseLighting(const std::string& name);
 
+/// How a trial's frames are stored (docs/synthetic-trials.md, "Frame files").
+enum class FrameFormat {
+  kPng,   ///< frames/%06d.png, one grey PNG per frame (the default).
+  kMraw,  ///< One Photron clip.mraw with its clip.cihx header.
+  kCine,  ///< One Phantom clip.cine with per-frame time stamps.
+};
+/// "png", "mraw" or "cine".
+const char* ToString(FrameFormat format);
+/// Parses ToString's names; std::invalid_argument naming the value otherwise.
+FrameFormat ParseFrameFormat(const std::string& name);
+
 /// One white dot on its black square patch, at p_BM in the body frame B (origin E, x_B toward
 /// C), on the face of the specimen that looks at the camera.
 struct Marker {
@@ -138,9 +149,11 @@ struct HiddenEffects {
 
 /// Image geometry, timing and file settings.
 struct RenderOptions {
-  int width_px = 512;       ///< Frame width (px); in [64, 4096].
-  int height_px = 384;      ///< Frame height (px); in [64, 4096].
-  int bit_depth = 8;        ///< 8 or 16 bits per pixel (grey PNG).
+  int width_px = 512;   ///< Frame width (px); in [64, 4096].
+  int height_px = 384;  ///< Frame height (px); in [64, 4096].
+  /// Bits per pixel: 8 or 16 (grey PNG); 12 (values 0..4095) with an MRAW (12-bit packed, even
+  /// width) or CINE (16-bit storage recording 12 bits) frame format only.
+  int bit_depth = 8;
   double m_per_px = 2e-4;   ///< Scale in the plane of motion (m/px); in [2e-5, 2e-3].
   double fps = 8000.0;      ///< Frame rate (1/s); > 0.
   int frames_before = 30;   ///< Frames before first touch; >= 1.
@@ -153,6 +166,7 @@ struct RenderOptions {
   /// pixel wide turns bilinear sampling into area coverage.
   int texture_oversampling = 5;
   Lighting lighting = Lighting::kFront;
+  FrameFormat frame_format = FrameFormat::kPng;  ///< How the frames are stored.
   /// Choose frames_before from the fall since release at rest (speed / g) and frames_after to
   /// end at the apex of the rebound after the last impact, instead of the fixed counts.
   bool frames_from_flight = false;

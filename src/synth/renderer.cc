@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <iomanip>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -23,6 +24,7 @@
 #include "synth/camera_model.h"
 #include "synth/frame_renderer.h"
 #include "synth/trial_files.h"
+#include "tracking/camera_file.h"
 
 namespace hoof::synth {
 namespace fs = std::filesystem;
@@ -43,6 +45,7 @@ constexpr double kMaxBlurStepPx = 2.0;
 /// Which capture each written frame shows, and its defect.
 struct CaptureSchedule {
   std::vector<int> capture;
+  std::vector<int> slot;  ///< The capture slot each frame was written in (see FrameTruth).
   std::vector<std::string> defect;
   std::vector<int> dropped;  ///< Captures skipped by a drop.
 };
@@ -64,7 +67,8 @@ CaptureSchedule ScheduleCaptures(int count, const CameraEffects& cam, std::mt199
     }
   }
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  CaptureSchedule s{std::vector<int>(count), std::vector<std::string>(count), {}};
+  CaptureSchedule s{
+      std::vector<int>(count), std::vector<int>(count), std::vector<std::string>(count), {}};
   int next = 0;
   for (int j = 0; j < count; ++j) {
     const double drop = unit(rng), duplicate = unit(rng);  // always drawn: stable streams
@@ -76,10 +80,12 @@ CaptureSchedule ScheduleCaptures(int count, const CameraEffects& cam, std::mt199
     if (j > 0 && s.defect[j].empty() &&
         (duplicate < cam.duplicate_frame_probability || force[j] == 2)) {
       s.capture[j] = s.capture[j - 1];  // the previous image again; this capture is lost
+      s.slot[j] = next;
       s.defect[j] = "duplicate";
       ++next;
       continue;
     }
+    s.slot[j] = next;
     s.capture[j] = next++;
   }
   return s;
@@ -253,14 +259,15 @@ std::array<Eigen::Vector2d, 2> SurfaceLine(const Eigen::Vector2d& c, double phi,
 /// A folder written under a temporary name and renamed into place by Commit().
 class TemporaryFolder {
  public:
-  explicit TemporaryFolder(const fs::path& target) : target_(target) {
+  /// `frames`: with the frames/ folder of PNG frames.
+  TemporaryFolder(const fs::path& target, bool frames) : target_(target) {
     static std::atomic<int> counter{0};
     temp_ = target.parent_path() / ("." + target.filename().string() + ".tmp-" +
                                     std::to_string(::getpid()) + "-" + std::to_string(counter++));
     const io::CreatingTemporary creating;
     io::TrackTemporary(temp_);  // an interrupt removes it
     std::error_code ec;
-    fs::create_directories(temp_ / "frames", ec);
+    fs::create_directories(frames ? temp_ / "frames" : temp_, ec);
     if (ec)
       throw std::runtime_error("cannot create output folder '" + temp_.parent_path().string() +
                                "': " + ec.message());
@@ -316,6 +323,77 @@ void WriteFrame(const fs::path& trial_dir, int index, const cv::Mat& image,
   char name[32];
   std::snprintf(name, sizeof(name), "%06d.png", index);
   WritePng(trial_dir / "frames" / name, image, options);
+}
+
+std::string ClipFileName(FrameFormat format) {
+  switch (format) {
+    case FrameFormat::kMraw:
+      return "clip.mraw";
+    case FrameFormat::kCine:
+      return "clip.cine";
+    case FrameFormat::kPng:
+      break;
+  }
+  return "";
+}
+
+struct FrameWriter::Impl {
+  fs::path trial_dir;
+  RenderOptions options;
+  int next = 0;
+  std::optional<tracking::MrawWriter> mraw;
+  std::optional<tracking::CineWriter> cine;
+};
+
+FrameWriter::FrameWriter(const fs::path& trial_dir, const TrialTruth& truth,
+                         const RenderOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.trial_dir = trial_dir;
+  m.options = options;
+  if (options.frame_format == FrameFormat::kPng) return;
+  tracking::CameraFileSpec spec;
+  spec.width = options.width_px;
+  spec.height = options.height_px;
+  spec.frame_count = static_cast<int>(truth.frames.size());
+  spec.fps = options.fps;
+  // The shutter is open for the exposure; without motion blur the renderer draws one instant,
+  // so no shutter time is recorded.
+  if (options.camera.motion_blur) spec.shutter_s = options.camera.exposure_s;
+  spec.camera = "hoofimpact synth";
+  const fs::path clip = trial_dir / ClipFileName(options.frame_format);
+  if (options.frame_format == FrameFormat::kMraw) {
+    spec.bits = options.bit_depth;  // 8, 12 (packed) or 16
+    m.mraw.emplace(clip, spec);
+  } else {
+    // CINE: 8-bit, or 16-bit storage that records 12 or 16 significant bits.
+    spec.bits = options.bit_depth == 8 ? 8 : 16;
+    spec.effective_bits = options.bit_depth;
+    for (const FrameTruth& f : truth.frames) spec.times_s.push_back(f.stamp_s);
+    m.cine.emplace(clip, spec);
+  }
+}
+
+FrameWriter::~FrameWriter() = default;
+
+void FrameWriter::Write(int index, const cv::Mat& image) {
+  Impl& m = *impl_;
+  if (index != m.next)
+    throw std::logic_error("FrameWriter: frame " + std::to_string(index) + " written when " +
+                           std::to_string(m.next) + " was next");
+  ++m.next;
+  if (m.mraw)
+    m.mraw->Write(image);
+  else if (m.cine)
+    m.cine->Write(image);
+  else
+    WriteFrame(m.trial_dir, index, image, m.options);
+}
+
+void FrameWriter::Finish() {
+  Impl& m = *impl_;
+  if (m.mraw) m.mraw->Finish();
+  if (m.cine) m.cine->Finish();
 }
 
 const SurfaceTexture& SceneAssets::Surface(dynamics::Surface surface) const {
@@ -455,6 +533,8 @@ TrialTruth PlanTrial(const TrialSpec& spec, const SpecimenGeometry& geometry,
     FrameTruth f;
     f.capture_index = schedule.capture[j];
     f.t_s = schedule.capture[j] / options.fps;
+    f.slot_index = schedule.slot[j];
+    f.stamp_s = schedule.slot[j] / options.fps;
     f.pose = centres[j];
     f.p_WC = core::SurfaceRotation(phi).ToW(s.body.p_SC);
     f.phase = dynamics::ToString(s.phase);
@@ -512,15 +592,17 @@ TrialResult RenderTrial(const TrialSpec& spec, const SpecimenGeometry& geometry,
   result.truth = PlanTrial(spec, geometry, options);
   result.path = trial_dir;
   const TrialTruth& truth = result.truth;
-  TemporaryFolder folder(trial_dir);
+  TemporaryFolder folder(trial_dir, options.frame_format == FrameFormat::kPng);
   const FrameRenderer renderer(truth, geometry, options, assets);
+  FrameWriter writer(folder.path(), truth, options);  // the frame-file seam
   cv::Mat previous;
   for (std::size_t j = 0; j < truth.frames.size(); ++j) {
     const bool duplicate = truth.frames[j].defect == "duplicate" && j > 0;
     cv::Mat image = duplicate ? previous : renderer.Render(static_cast<int>(j));
-    WriteFrame(folder.path(), static_cast<int>(j), image, options);  // the frame-file seam
+    writer.Write(static_cast<int>(j), image);
     previous = image;
   }
+  writer.Finish();
   io::WriteTextAtomically(folder.path() / "trial.json",
                           TrialJson(truth, options, geometry).dump(2) + "\n");
   io::WriteTextAtomically(folder.path() / "truth.json",

@@ -3,11 +3,12 @@
 /// The synthetic high-speed trial renderer (docs/synthetic-trials.md). It samples the dynamics
 /// library's ImpactSimulator at the frame and exposure sub-sample times, draws each frame as a
 /// camera would record it, and writes a trial folder per docs/format.md: trial.json,
-/// frames/%06d.png and truth.json. It draws; it never detects.
+/// frames/%06d.png (or one MRAW or CINE clip) and truth.json. It draws; it never detects.
 
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -39,7 +40,12 @@ struct FrameTruth {
   int capture_index = 0;  ///< Index of the capture shown (differs from the file's index after
                           ///< dropped frames).
   double t_s = 0.0;       ///< Mid-exposure time since capture 0 (s).
-  BodyPose pose;          ///< Pose at t_s.
+  /// The capture slot this frame was written in, and its time slot_index / fps: what a camera's
+  /// clock stamps on the frame (a CINE's time stamp). Equal to capture_index and t_s except on
+  /// a duplicate, which repeats the previous image in the slot of the capture it lost.
+  int slot_index = 0;
+  double stamp_s = 0.0;
+  BodyPose pose;                            ///< Pose at t_s.
   Eigen::Vector2d p_WC{0.0, 0.0};           ///< Centre of mass in W (m).
   std::string phase;                        ///< Contact phase at t_s (dynamics::ToString).
   std::string defect;                       ///< "", "dropped_before" or "duplicate".
@@ -101,11 +107,35 @@ TrialResult RenderTrial(const TrialSpec& spec, const SpecimenGeometry& geometry,
                         const RenderOptions& options, const SceneAssets& assets,
                         const std::filesystem::path& trial_dir, bool overwrite = false);
 
-/// Writes one frame of a trial: frames/%06d.png under `trial_dir` (8- or 16-bit grey PNG). The
-/// one place a frame file is written, and the seam for other containers (MRAW, CINE): a writer
-/// that streams frames would be called here instead, frame by frame, in index order.
+/// Writes one frame of a trial: frames/%06d.png under `trial_dir` (8- or 16-bit grey PNG).
 void WriteFrame(const std::filesystem::path& trial_dir, int index, const cv::Mat& image,
                 const RenderOptions& options);
+
+/// The clip file of a trial in a camera-file format ("clip.mraw", "clip.cine"); "" for PNG.
+std::string ClipFileName(FrameFormat format);
+
+/// Writes the frames of one trial in options.frame_format, one frame at a time in index order
+/// (never the whole clip in memory): PNG files through WriteFrame, or one camera file through
+/// tracking/camera_file.h's MrawWriter or CineWriter with the trial's frame rate, size, bit
+/// depth, shutter (the exposure) and, for CINE, each frame's stamp_s. The camera file is
+/// written under a temporary name and renamed by Finish(); a writer destroyed before Finish()
+/// leaves nothing.
+class FrameWriter {
+ public:
+  /// Throws std::invalid_argument for a bad frame count or size (checked by the writers).
+  FrameWriter(const std::filesystem::path& trial_dir, const TrialTruth& truth,
+              const RenderOptions& options);
+  ~FrameWriter();
+  FrameWriter(const FrameWriter&) = delete;
+  FrameWriter& operator=(const FrameWriter&) = delete;
+  /// Frame `index` (0, 1, 2, ... in order): one channel, CV_8U at 8 bits, else CV_16U.
+  void Write(int index, const cv::Mat& image);
+  void Finish();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 /// Frames of a planned trial as 8- or 16-bit grey images, without writing them.
 std::vector<cv::Mat> RenderFrames(const TrialTruth& truth, const SpecimenGeometry& geometry,

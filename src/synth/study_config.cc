@@ -87,6 +87,12 @@ bool ReadKey(const std::string& key, const nlohmann::json& value, const std::str
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(file + ": " + e.what());
     }
+  } else if (key == "frame_format") {
+    try {
+      c.frame_format = ParseFrameFormat(value.get<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(file + ": " + e.what());
+    }
   } else if (key == "ball_diameter_m") {
     c.ball_diameter_m = value.get<double>();
   } else if (key == "ball_mass_kg") {

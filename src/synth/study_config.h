@@ -26,6 +26,8 @@ struct StudyConfig {
   std::optional<Lighting> lighting;
   std::optional<double> flicker_hz, flicker_depth;
   std::optional<int> drop_frames, duplicate_frames;
+  /// `frame_format`: "png", "mraw" or "cine" (RenderOptions::frame_format).
+  std::optional<FrameFormat> frame_format;
 };
 
 /// The surfaces named in `names`; std::invalid_argument "WHERE: ..." for a name that is not one
@@ -37,7 +39,8 @@ std::vector<dynamics::Surface> ParseSurfaces(const std::vector<std::string>& nam
 /// design (`name`, `seed`, `surfaces`, `angles_deg`, `speeds_m_s`, `trials_per_cell`, `cells`,
 /// `scatter_parameters`, `scatter_scale`, `out_of_plane_random_deg`, `markers_B_m`, and
 /// `hidden_effects` with a key of every contact extension and `tilt_deg`, `roll_deg`,
-/// `tilt_rate_deg_s`, `roll_rate_deg_s`), and the body and nuisance keys of StudyConfig. The
+/// `tilt_rate_deg_s`, `roll_rate_deg_s`), and the body, nuisance and frame_format keys of
+/// StudyConfig. The
 /// design and those values are validated. Every error names the file:
 /// one that cannot be read, JSON that does not parse or is not an object, an unknown key, a value
 /// of the wrong type (std::invalid_argument), or a value out of range (std::runtime_error, from

@@ -103,7 +103,7 @@ nlohmann::json TrialJson(const TrialTruth& t, const RenderOptions& o, const Spec
                       std::to_string(t.spec.seed) + "); ground truth in truth.json";
   if (g.body != Body::kMarkers || o.lighting != Lighting::kFront)
     notes += std::string("; body: ") + ToString(g.body) + ", lighting: " + ToString(o.lighting);
-  return {
+  nlohmann::json trial = {
       {"format", "hoofimpact-trial/1"},
       {"id", t.spec.id},
       {"specimen", "A"},
@@ -116,6 +116,13 @@ nlohmann::json TrialJson(const TrialTruth& t, const RenderOptions& o, const Spec
       {"nominal_speed_m_s", t.spec.speed_m_s},
       {"notes", notes},
   };
+  if (o.frame_format != FrameFormat::kPng) {
+    // The camera file records its frame rate, so trial.json leaves it to the file.
+    trial.erase("fps");
+    trial["frames"] = {
+        {"camera_file", ClipFileName(o.frame_format)}, {"first", 0}, {"count", t.frames.size()}};
+  }
+  return trial;
 }
 
 nlohmann::json HiddenEffectsJson(const HiddenEffects& h) {
@@ -173,7 +180,7 @@ nlohmann::json TruthJson(const TrialTruth& t, const SpecimenGeometry& g, const R
   nlohmann::json effects = CameraEffectsJson(o.camera);
   effects["motion_blur"]["samples_used"] = t.blur_samples_used;
   effects["flicker"]["phase_rad"] = t.flicker_phase_rad;
-  return {
+  nlohmann::json truth = {
       {"body", BodyJson(g)},
       {"lighting", ToString(o.lighting)},
       {"impacts", impacts},
@@ -214,6 +221,20 @@ nlohmann::json TruthJson(const TrialTruth& t, const SpecimenGeometry& g, const R
       {"frame_defects", defects},
       {"frames", frames},
   };
+  if (o.frame_format != FrameFormat::kPng) {
+    // What the camera file records beyond the frames: its stamps (CINE) are the capture slots'
+    // times, frames[i].t_s except on a duplicate (docs/synthetic-trials.md, "Frame files").
+    nlohmann::json file = {{"format", ToString(o.frame_format)},
+                           {"file", ClipFileName(o.frame_format)},
+                           {"bit_depth", o.bit_depth}};
+    if (o.frame_format == FrameFormat::kCine) {
+      nlohmann::json stamps = nlohmann::json::array();
+      for (const FrameTruth& f : t.frames) stamps.push_back(f.stamp_s);
+      file["time_stamps_s"] = stamps;
+    }
+    truth["frame_file"] = file;
+  }
+  return truth;
 }
 
 nlohmann::json StudyJson(const std::string& name, const SpecimenGeometry& g,

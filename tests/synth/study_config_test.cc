@@ -96,7 +96,8 @@ TEST(StudyConfigTest, ABrokenConfigNamesTheFileAndTheKey) {
 TEST(StudyConfigTest, BodyAndNuisanceKeysLandInTheirFields) {
   const fs::path p = WriteConfig("nuisance", R"({
     "body": "ball", "ball_diameter_m": 0.0025, "ball_mass_kg": 0.0001, "lighting": "backlit",
-    "flicker_hz": 120, "flicker_depth": 0.25, "drop_frames": 2, "duplicate_frames": 3})");
+    "flicker_hz": 120, "flicker_depth": 0.25, "drop_frames": 2, "duplicate_frames": 3,
+    "frame_format": "cine"})");
   const auto c = ReadStudyConfig(p);
   hoof::synth::SpecimenGeometry g;
   hoof::synth::CameraEffects cam;
@@ -111,6 +112,8 @@ TEST(StudyConfigTest, BodyAndNuisanceKeysLandInTheirFields) {
   EXPECT_EQ(cam.flicker_depth, 0.25);
   EXPECT_EQ(cam.drop_frames, 2);
   EXPECT_EQ(cam.duplicate_frames, 3);
+  ASSERT_TRUE(c.frame_format.has_value());
+  EXPECT_EQ(*c.frame_format, hoof::synth::FrameFormat::kCine);
   // Keys left out leave the fields alone.
   hoof::synth::SpecimenGeometry g2;
   hoof::synth::ApplyStudyConfig(ReadStudyConfig(WriteConfig("none", "{}")), g2);
@@ -120,6 +123,7 @@ TEST(StudyConfigTest, BodyAndNuisanceKeysLandInTheirFields) {
   ExpectError(WriteConfig("bad_lighting", R"({"lighting": "side"})"), "lighting 'side'");
   ExpectError(WriteConfig("bad_flicker", R"({"flicker_depth": 1.5})"), "flicker_depth");
   ExpectError(WriteConfig("bad_ball", R"({"ball_diameter_m": 2})"), "ball_diameter_m");
+  ExpectError(WriteConfig("bad_format", R"({"frame_format": "tiff"})"), "frame format 'tiff'");
 }
 
 }  // namespace

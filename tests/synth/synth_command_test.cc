@@ -224,6 +224,23 @@ TEST(SynthCommandTest, BouncingBackLitBallWithFrameFaultsAndFlicker) {
   EXPECT_NE(trial["notes"].get<std::string>().find("ball"), std::string::npos);
 }
 
+// --frame-format mraw writes one clip that trial.json names, and no frames/ folder.
+TEST(SynthCommandTest, FrameFormatMrawWritesOneClipThatTrialJsonNames) {
+  const fs::path out = Fresh("mraw");
+  const auto r = RunHoofimpact("synth -o " + out.string() +
+                               " --frame-format mraw --width-px 96 --height-px 96 --m-per-px 4e-4 "
+                               "--frames-before 3 --frames-after 3 --seed 2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::is_regular_file(out / "clip.mraw"));
+  EXPECT_TRUE(fs::is_regular_file(out / "clip.cihx"));
+  EXPECT_FALSE(fs::exists(out / "frames"));
+  EXPECT_EQ(fs::file_size(out / "clip.mraw"), 6u * 96 * 96);  // 6 frames of 8 bits
+  const auto trial = nlohmann::json::parse(std::ifstream(out / "trial.json"));
+  EXPECT_EQ(trial["frames"]["camera_file"], "clip.mraw");
+  EXPECT_EQ(trial["frames"]["count"], 6);
+  EXPECT_FALSE(trial.contains("fps"));
+}
+
 TEST(SynthCommandTest, BadBodyLightingAndFaultOptionsNameTheOption) {
   const std::string out = Fresh("bad-new").string();
   const std::vector<std::pair<std::string, std::string>> cases = {
@@ -234,6 +251,10 @@ TEST(SynthCommandTest, BadBodyLightingAndFaultOptionsNameTheOption) {
       // names --exposure-s (it named --fps, found as the word 'fps' in '1/fps').
       {"--fps 30000", "--exposure-s: must not exceed the frame period"},
       {"--frames-before 2 --frames-after 2 --duplicate-frames 4", "duplicate_frames"},
+      {"--frame-format avi", "--frame-format"},
+      {"--bit-depth 12", "--bit-depth: must be 8 or 16 for PNG frames"},
+      {"--frame-format mraw --bit-depth 12 --width-px 511", "--width-px: must be even"},
+      {"--frame-format cine --contact-sheet x.png", "--contact-sheet reads PNG frames"},
   };
   for (const auto& [args, name] : cases) {
     const auto r = RunHoofimpact("synth -o " + out + " " + args);
