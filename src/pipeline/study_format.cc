@@ -246,7 +246,12 @@ FramesSpec ParseFrames(const json& frames, const fs::path& file,
 /// compared where it does.
 void CheckCameraFile(TrialSpec& t, const fs::path& file, const std::optional<double>& fps) {
   const fs::path clip = t.dir / t.frames.camera_file;
-  const auto source = tracking::OpenCameraFile(clip);
+  std::unique_ptr<tracking::CameraFileSource> source;
+  try {
+    source = tracking::OpenCameraFile(clip);
+  } catch (const std::exception& e) {  // the clip's own message, with the trial that names it
+    Fail(file, "frames.camera_file", "names a clip that cannot be read: " + std::string(e.what()));
+  }
   const tracking::CameraFileInfo& info = source->info();
   FramesSpec& f = t.frames;
   if (f.first >= info.frame_count)

@@ -188,6 +188,12 @@ TEST(StudyFormatTest, ACameraFileGivesTheFramesAndTheirRate) {
         ReadTrial(clip_dir("format_camera_missing",
                            with_frames(R"({"camera_file": "other.cine"})", true)));
       },
+      "trial.json: field \"frames.camera_file\" names a clip that cannot be read: ");
+  ExpectError(
+      [&] {
+        ReadTrial(clip_dir("format_camera_missing",
+                           with_frames(R"({"camera_file": "other.cine"})", true)));
+      },
       "other.cine: file is missing");
 }
 
