@@ -54,10 +54,22 @@ void UnpackRow(const std::uint8_t* in, int width, Packing packing, void* out) {
       return;
     }
     case Packing::k12PackedBe: {
-      // Bytes a b c hold two pixels: aaaaaaaa bbbb | bbbb cccccccc.
+      // Bytes a b c hold two pixels: aaaaaaaa bbbb | bbbb cccccccc. Four pixels (six bytes)
+      // at a time from one 8-byte big-endian load while two more bytes lie within the row.
       auto* o = static_cast<std::uint16_t*>(out);
       const int pairs = width / 2;
-      for (int k = 0; k < pairs; ++k, in += 3) {
+      int k = 0;
+      for (; 3 * k + 8 <= 3 * pairs; k += 2, in += 6, o += 4) {
+        std::uint64_t v;
+        std::memcpy(&v, in, 8);
+        if constexpr (std::endian::native == std::endian::little) v = __builtin_bswap64(v);
+        o[0] = static_cast<std::uint16_t>(v >> 52);
+        o[1] = static_cast<std::uint16_t>((v >> 40) & 0xfff);
+        o[2] = static_cast<std::uint16_t>((v >> 28) & 0xfff);
+        o[3] = static_cast<std::uint16_t>((v >> 16) & 0xfff);
+      }
+      o -= 2 * k;
+      for (; k < pairs; ++k, in += 3) {
         o[2 * k] = static_cast<std::uint16_t>((in[0] << 4) | (in[1] >> 4));
         o[2 * k + 1] = static_cast<std::uint16_t>(((in[1] & 0x0f) << 8) | in[2]);
       }

@@ -2,6 +2,8 @@
 /// @file
 /// Frame sources: image sequences (8- or 16-bit, grey or colour, any format OpenCV reads) and
 /// video files. Frames stream one at a time, so memory does not grow with the sequence length.
+/// Camera files (Photron MRAW, Phantom CINE, multi-page TIFF) are sources too:
+/// tracking/camera_file.h.
 
 #include <filesystem>
 #include <memory>

@@ -4,6 +4,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cstdarg>
 #include <cstdio>
 #include <limits>
@@ -36,6 +37,9 @@ class TiffSource : public CameraFileSource {
  public:
   explicit TiffSource(fs::path path) : path_(std::move(path)) {
     if (!fs::exists(path_)) throw std::runtime_error(path_.string() + ": file is missing");
+    if (!fs::is_regular_file(path_))
+      throw std::runtime_error(path_.string() + ": is not a regular file");
+    file_size_ = fs::file_size(path_);
     TIFFOpenOptions* opts = TIFFOpenOptionsAlloc();
     TIFFOpenOptionsSetErrorHandlerExtR(opts, &TiffSource::OnError, this);
     TIFFOpenOptionsSetWarningHandlerExtR(opts, &TiffSource::OnWarning, this);
@@ -146,6 +150,14 @@ class TiffSource : public CameraFileSource {
                                std::to_string(p.height) + " is not within 1 to 65536 a side");
     if (static_cast<std::int64_t>(p.width) * p.height > detail::kMaxFramePixels)
       throw std::runtime_error(where + ": has more than 2^30 pixels");
+    // A frame is allocated before libtiff decodes it: a page may not claim far more than the
+    // file could hold even at the best compression ratio (deflate's is about 1032:1).
+    const std::uint64_t frame_bytes =
+        std::uint64_t{p.width} * p.height * (p.bits / 8u) * std::max<std::uint16_t>(p.samples, 1);
+    if (frame_bytes > (std::uint64_t{64} << 20) && frame_bytes / 4096 > file_size_)
+      throw std::runtime_error(where + ": claims " + std::to_string(p.width) + " x " +
+                               std::to_string(p.height) + " pixels, far more than its " +
+                               std::to_string(file_size_) + " bytes can hold");
     if (p.bits != 8 && p.bits != 16)
       throw std::runtime_error(where + ": " + std::to_string(p.bits) +
                                " bits per sample; 8 and 16 are read");
@@ -166,6 +178,7 @@ class TiffSource : public CameraFileSource {
   }
 
   fs::path path_;
+  std::uint64_t file_size_ = 0;
   TIFF* tif_ = nullptr;
   std::string errors_;
   Page first_;

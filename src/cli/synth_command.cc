@@ -60,6 +60,8 @@ struct SynthArgs {
   int threads = 0;
   bool json = false;
   std::string contact_sheet;
+  std::string body = "markers", lighting = "front", frame_format = "png";
+  int bounces = 1;
 };
 
 [[noreturn]] void Bad(const std::string& option, const std::string& what) {
@@ -89,7 +91,7 @@ std::vector<synth::Marker> ParseMarkers(const std::string& text) {
 
 /// Reads --study-config (synth::ReadStudyConfig) over the design: its design, hidden effects and
 /// markers. A bad file is bad input (exit 1) naming the file.
-void ApplyStudyConfig(const std::string& path, SynthArgs& a) {
+void ApplyStudyConfig(const std::string& path, SynthArgs& a, CLI::App* cmd) {
   synth::StudyConfig c;
   try {
     c = synth::ReadStudyConfig(path, a.design);
@@ -97,7 +99,21 @@ void ApplyStudyConfig(const std::string& path, SynthArgs& a) {
     throw std::invalid_argument(std::string("--study-config ") + e.what());
   }
   a.design = std::move(c.design);
-  if (c.markers_B_m) a.geometry.markers = std::move(*c.markers_B_m);
+  // An option given on the command line wins over the file's key.
+  const auto given = [cmd](const char* option) { return cmd->count(option) > 0; };
+  if (given("--markers-b-m")) c.markers_B_m.reset();
+  if (given("--body")) c.body.reset();
+  if (given("--ball-diameter-m")) c.ball_diameter_m.reset();
+  if (given("--ball-mass-kg")) c.ball_mass_kg.reset();
+  if (given("--flicker-hz")) c.flicker_hz.reset();
+  if (given("--flicker-depth")) c.flicker_depth.reset();
+  if (given("--drop-frames")) c.drop_frames.reset();
+  if (given("--duplicate-frames")) c.duplicate_frames.reset();
+  synth::ApplyStudyConfig(c, a.geometry);
+  synth::ApplyStudyConfig(c, a.render.camera);
+  if (c.body) a.body = synth::ToString(*c.body);
+  if (c.lighting && !given("--lighting")) a.lighting = synth::ToString(*c.lighting);
+  if (c.frame_format && !given("--frame-format")) a.frame_format = synth::ToString(*c.frame_format);
 }
 
 void AddCameraOptions(CLI::App* cmd, SynthArgs& a) {
@@ -136,6 +152,18 @@ void AddCameraOptions(CLI::App* cmd, SynthArgs& a) {
       ->capture_default_str();
   cmd->add_option("--duplicate-frame-probability", c.duplicate_frame_probability,
                   "Chance per frame that the previous image repeats (recorded in truth)")
+      ->capture_default_str();
+  cmd->add_option("--drop-frames", c.drop_frames,
+                  "Drop exactly this many captures, at seeded frames (recorded in truth)")
+      ->capture_default_str();
+  cmd->add_option("--duplicate-frames", c.duplicate_frames,
+                  "Repeat the previous image at exactly this many seeded frames (in truth)")
+      ->capture_default_str();
+  cmd->add_option("--flicker-hz", c.flicker_hz,
+                  "Mains light flicker frequency, e.g. 100 or 120 Hz (0 = none)")
+      ->capture_default_str();
+  cmd->add_option("--flicker-depth", c.flicker_depth,
+                  "Flicker depth D in [0, 1): brightness 1 + D sin(2 pi F t + phase)")
       ->capture_default_str();
 }
 
@@ -195,6 +223,23 @@ void CheckArgs(const SynthArgs& a) {
     if (!(s >= 0 && s <= 60))
       Bad("--angles-deg", "must each be in [0, 60], got " + std::to_string(s));
   if (a.design.trials_per_cell < 1) Bad("--trials-per-cell", "must be >= 1");
+  if (a.bounces < 1 || a.bounces > 20)
+    Bad("--bounces", "must be in [1, 20], got " + std::to_string(a.bounces));
+  if (a.bounces > 1 && a.study) Bad("--bounces", "applies to one trial, not to --study");
+  if (!a.contact_sheet.empty() && a.render.frame_format != synth::FrameFormat::kPng)
+    Bad("--contact-sheet", "reads PNG frames, and these frames are written as " + a.frame_format);
+  const synth::CameraEffects& c = a.render.camera;
+  if (c.drop_frames < 0) Bad("--drop-frames", "must be >= 0");
+  if (c.duplicate_frames < 0) Bad("--duplicate-frames", "must be >= 0");
+  if (c.flicker_hz != 0 && !(c.flicker_hz >= 1 && c.flicker_hz <= 1000))
+    Bad("--flicker-hz", "must be 0 (none) or in [1, 1000], got " + format::Number(c.flicker_hz));
+  if (!(c.flicker_depth >= 0 && c.flicker_depth < 1))
+    Bad("--flicker-depth", "must be in [0, 1), got " + format::Number(c.flicker_depth));
+  if (c.flicker_depth > 0 && c.flicker_hz == 0) Bad("--flicker-depth", "needs --flicker-hz");
+  if (!(a.geometry.ball_diameter_m >= 1e-3 && a.geometry.ball_diameter_m <= 0.2))
+    Bad("--ball-diameter-m", "must be in [0.001, 0.2]");
+  if (!(a.geometry.ball_mass_kg > 0 && a.geometry.ball_mass_kg <= 100))
+    Bad("--ball-mass-kg", "must be in (0, 100]");
 }
 
 /// Creates the output's folder (or its parent, for a trial), once every value is checked: a
@@ -264,6 +309,21 @@ void ApplyOptions(SynthArgs& a, CLI::App* cmd) {
   if (d.out_of_plane_random_deg < 0 || d.out_of_plane_random_deg >= 60)
     Bad("--out-of-plane-random-deg", "must be in [0, 60)");
   if (!a.markers.empty()) a.geometry.markers = ParseMarkers(a.markers);
+  try {
+    a.geometry.body = synth::ParseBody(a.body);
+  } catch (const std::invalid_argument& e) {
+    Bad("--body", e.what());
+  }
+  try {
+    a.render.lighting = synth::ParseLighting(a.lighting);
+  } catch (const std::invalid_argument& e) {
+    Bad("--lighting", e.what());
+  }
+  try {
+    a.render.frame_format = synth::ParseFrameFormat(a.frame_format);
+  } catch (const std::invalid_argument& e) {
+    Bad("--frame-format", e.what());
+  }
   ApplyCameraSwitches(a);
   CheckArgs(a);
   a.render.Validate();
@@ -276,7 +336,7 @@ void ApplyOptions(SynthArgs& a, CLI::App* cmd) {
 
 void Run(SynthArgs& a, RunState& state, CLI::App* cmd) {
   while (a.output.size() > 1 && a.output.back() == '/') a.output.pop_back();
-  if (!a.study_config.empty()) ApplyStudyConfig(a.study_config, a);  // a bad file: exit 1
+  if (!a.study_config.empty()) ApplyStudyConfig(a.study_config, a, cmd);  // a bad file: exit 1
   // The options: an out-of-range value is a command-line error (exit 2) naming the option.
   ValidateOptions(cmd, [&] { ApplyOptions(a, cmd); });
   const bool tty = ::isatty(STDERR_FILENO) == 1;
@@ -313,6 +373,7 @@ void Run(SynthArgs& a, RunState& state, CLI::App* cmd) {
     spec.scatter_parameters = !a.no_scatter;
     spec.scatter_scale = a.scatter_scale;
     spec.hidden = a.hidden;
+    spec.bounces = a.bounces;
     spec.id = a.id.empty() ? fs::path(a.output).filename().string() : a.id;
     const synth::SceneAssets assets =
         synth::BuildSceneAssets(a.geometry, a.render, {spec.surface}, a.seed);
@@ -379,7 +440,12 @@ void RegisterSynth(CLI::App& app, RunState& state) {
       ->capture_default_str();
   cmd->add_option("--width-px", a.render.width_px, "Frame width (px)")->capture_default_str();
   cmd->add_option("--height-px", a.render.height_px, "Frame height (px)")->capture_default_str();
-  cmd->add_option("--bit-depth", a.render.bit_depth, "8 or 16 bits per pixel")
+  cmd->add_option("--bit-depth", a.render.bit_depth,
+                  "8 or 16 bits per pixel; 12 (0..4095) with --frame-format mraw or cine")
+      ->capture_default_str();
+  cmd->add_option("--frame-format", a.frame_format,
+                  "png (frames/%06d.png), mraw (one Photron clip.mraw + clip.cihx) or cine (one "
+                  "Phantom clip.cine with time stamps)")
       ->capture_default_str();
   cmd->add_option("--m-per-px", a.render.m_per_px, "Scale in the plane of motion (m/px)")
       ->capture_default_str();
@@ -392,6 +458,23 @@ void RegisterSynth(CLI::App& app, RunState& state) {
       ->capture_default_str();
   cmd->add_option("--markers-b-m", a.markers,
                   "Markers in the body frame, e.g. \"M1=0.006,0;M2=0.024,0\" (m)");
+  cmd->add_option("--body", a.body,
+                  "markers (the specimen with its dots), unmarked (no dots) or ball")
+      ->capture_default_str();
+  cmd->add_option("--ball-diameter-m", a.geometry.ball_diameter_m, "Diameter of the ball (m)")
+      ->capture_default_str();
+  cmd->add_option("--ball-mass-kg", a.geometry.ball_mass_kg,
+                  "Mass of the ball (kg; a solid sphere's inertia)")
+      ->capture_default_str();
+  cmd->add_option("--lighting", a.lighting,
+                  "front (lit body on a dark studio) or backlit (dark silhouette on bright)")
+      ->capture_default_str();
+  cmd->add_option("--bounces", a.bounces,
+                  "Impacts per clip (trial only); frames-after grows to hold them all")
+      ->capture_default_str();
+  cmd->add_flag("--frames-from-flight", a.render.frames_from_flight,
+                "Frame counts from the flight: from release at rest to the apex after the last "
+                "impact (for low frame rates)");
   AddCameraOptions(cmd, a);
   AddHiddenOptions(cmd, a);
   cmd->add_flag("--study", a.study,

@@ -55,13 +55,6 @@ fs::path FindTrialDir(const studyfile::TrialResult& r, const fs::path& study_dir
                            compare::replay::NotFoundMessage(s, !moved_study_dir.empty()));
 }
 
-std::unique_ptr<tracking::FrameSource> OpenFrames(const pipeline::TrialSpec& spec) {
-  if (spec.frames.is_video())
-    return std::make_unique<tracking::VideoSource>(spec.dir / spec.frames.video);
-  return std::make_unique<tracking::ImageSequenceSource>(spec.dir, spec.frames.pattern,
-                                                         spec.frames.first, spec.frames.count);
-}
-
 /// Everything RenderTrialOverlay needs from the study file and the trial folder.
 struct TrialData {
   studyfile::TrialResult result;
@@ -438,7 +431,7 @@ OverlaySummary RenderTrialOverlay(const fs::path& h5, const std::string& id,
                                   const OverlayOptions& opt) {
   opt.Validate();
   const TrialData d = LoadTrial(h5, id, opt.study_dir);
-  auto source = OpenFrames(d.spec);
+  auto source = pipeline::OpenFrames(d.spec);  // image sequence, video or camera file
   OverlaySummary sum;
   sum.trial_dir = d.dir;
   sum.pace = PlanVideo(d.spec.fps, opt.slowdown);

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tracking/camera_file.h"
 #include "tracking/frame_source.h"
 
 namespace hoof::pipeline {
@@ -187,12 +188,44 @@ StudySpec ReadStudy(const fs::path& dir) {
   return study;
 }
 
-/// trial.json's "frames": a video, or a pattern with the first frame and the count.
+/// An integer of trial.json in [low, INT_MAX], compared as 64-bit before narrowing, so
+/// 4294967297 is refused, not read as 1.
+int FrameNumber(const json& v, std::int64_t low, const fs::path& file, const std::string& field) {
+  constexpr std::int64_t kMaxInt = std::numeric_limits<int>::max();
+  bool ok = v.is_number_integer();
+  if (ok && v.is_number_unsigned())
+    ok = v.get<std::uint64_t>() <= static_cast<std::uint64_t>(kMaxInt) &&
+         static_cast<std::int64_t>(v.get<std::uint64_t>()) >= low;
+  else if (ok)
+    ok = v.get<std::int64_t>() >= low && v.get<std::int64_t>() <= kMaxInt;
+  if (!ok)
+    Fail(file, field,
+         "must be an integer in [" + std::to_string(low) + ", " + std::to_string(kMaxInt) +
+             "], found " + v.dump());
+  return v.get<int>();
+}
+
+/// trial.json's "frames": a camera file (with an optional range), a video, or a pattern with
+/// the first frame and the count.
 FramesSpec ParseFrames(const json& frames, const fs::path& file,
                        std::vector<std::string>& warnings) {
   FramesSpec out;
-  WarnUnknown(frames, {"pattern", "first", "count", "video"}, file, "frames.", warnings);
-  if (frames.contains("video")) {
+  WarnUnknown(frames, {"pattern", "first", "count", "video", "camera_file"}, file, "frames.",
+              warnings);
+  if (frames.contains("camera_file")) {
+    out.camera_file = Text(frames, "camera_file", file, "frames.");
+    if (out.camera_file.empty() || !tracking::IsCameraFile(out.camera_file))
+      Fail(file, "frames.camera_file",
+           "\"" + out.camera_file +
+               "\" must name a camera file: .mraw (or its .cihx/.cih), .cine, .tif or .tiff");
+    if (frames.contains("pattern") || frames.contains("video"))
+      Fail(file, "frames.camera_file", "cannot be given with frames.pattern or frames.video");
+    // The range within the clip; the clip's own length is checked when it is opened.
+    if (frames.contains("first"))
+      out.first = FrameNumber(frames.at("first"), 0, file, "frames.first");
+    if (frames.contains("count"))
+      out.count = FrameNumber(frames.at("count"), 1, file, "frames.count");
+  } else if (frames.contains("video")) {
     out.video = Text(frames, "video", file, "frames.");
   } else {
     out.pattern = Text(frames, "pattern", file, "frames.");
@@ -205,27 +238,43 @@ FramesSpec ParseFrames(const json& frames, const fs::path& file,
            "\"" + out.pattern +
                "\" must hold exactly one integer conversion such as %06d (and %% for a "
                "percent sign)");
-    const json& first = Require(frames, "first", file, "frames.");
-    const json& count = Require(frames, "count", file, "frames.");
-    // Compared as 64-bit integers before narrowing, so 4294967297 is refused, not read as 1.
-    constexpr std::int64_t kMaxInt = std::numeric_limits<int>::max();
-    const auto in_range = [&](const json& v, std::int64_t low) {
-      if (!v.is_number_integer()) return false;
-      if (v.is_number_unsigned())
-        return v.get<std::uint64_t>() <= static_cast<std::uint64_t>(kMaxInt) &&
-               static_cast<std::int64_t>(v.get<std::uint64_t>()) >= low;
-      return v.get<std::int64_t>() >= low && v.get<std::int64_t>() <= kMaxInt;
-    };
-    if (!in_range(first, 0))
-      Fail(file, "frames.first",
-           "must be an integer in [0, " + std::to_string(kMaxInt) + "], found " + first.dump());
-    if (!in_range(count, 1))
-      Fail(file, "frames.count",
-           "must be an integer in [1, " + std::to_string(kMaxInt) + "], found " + count.dump());
-    out.first = first.get<int>();
-    out.count = count.get<int>();
+    out.first = FrameNumber(Require(frames, "first", file, "frames."), 0, file, "frames.first");
+    out.count = FrameNumber(Require(frames, "count", file, "frames."), 1, file, "frames.count");
   }
   return out;
+}
+
+/// A trial's camera file: its frame range is checked against the clip (and completed when
+/// trial.json gives no count), and its frame rate taken where trial.json gives none or
+/// compared where it does.
+void CheckCameraFile(TrialSpec& t, const fs::path& file, const std::optional<double>& fps) {
+  const fs::path clip = t.dir / t.frames.camera_file;
+  std::unique_ptr<tracking::CameraFileSource> source;
+  try {
+    source = tracking::OpenCameraFile(clip);
+  } catch (const std::exception& e) {  // the clip's own message, with the trial that names it
+    Fail(file, "frames.camera_file", "names a clip that cannot be read: " + std::string(e.what()));
+  }
+  const tracking::CameraFileInfo& info = source->info();
+  FramesSpec& f = t.frames;
+  if (f.first >= info.frame_count)
+    Fail(file, "frames.first",
+         "is " + std::to_string(f.first) + " but " + clip.string() + " holds " +
+             std::to_string(info.frame_count) + " frames");
+  if (f.count == 0) f.count = info.frame_count - f.first;
+  if (f.count > info.frame_count - f.first)
+    Fail(file, "frames.count",
+         "asks for frames " + std::to_string(f.first) + " to " +
+             std::to_string(static_cast<std::int64_t>(f.first) + f.count - 1) + " but " +
+             clip.string() + " holds " + std::to_string(info.frame_count) + " frames");
+  const bool recorded = std::isfinite(info.fps) && info.fps > 0;
+  if (!fps && !recorded)
+    Fail(file, "fps", "is missing, and " + clip.string() + " does not record its frame rate");
+  if (fps && recorded && std::abs(*fps - info.fps) > 1e-6 * info.fps)
+    Fail(file, "fps",
+         "is " + json(*fps).dump() + " but " + clip.string() + " records " + json(info.fps).dump() +
+             " frames per second");
+  t.fps = fps ? *fps : info.fps;
 }
 
 /// camera.distortion: OpenCV's [k1, k2, p1, p2, k3].
@@ -356,9 +405,15 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
   t.surface_angle_deg = Number(j, "surface_angle_deg", file, "", false);
   if (std::abs(t.surface_angle_deg) >= 90)
     Fail(file, "surface_angle_deg", "must be within (-90, 90)");
-  t.fps = Number(j, "fps", file, "", true);
-
   t.frames = ParseFrames(Require(j, "frames", file, ""), file, t.warnings);
+  // The frame rate: required, unless a camera file records it (then both must agree).
+  if (t.frames.is_camera_file()) {
+    std::optional<double> fps;
+    if (j.contains("fps")) fps = Number(j, "fps", file, "", true);
+    CheckCameraFile(t, file, fps);
+  } else {
+    t.fps = Number(j, "fps", file, "", true);
+  }
   t.camera = ParseCamera(Require(j, "camera", file, ""), file, t.warnings);
   if (!(t.camera.m_per_px > 0) && !(t.body.is_ball() && t.body.diameter_m > 0))
     Fail(file, "camera.m_per_px",
@@ -400,6 +455,33 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const std::optional<fs::path>& st
     }
   }
   return ReadTrial(trial_dir, ReadStudy(study_dir));
+}
+
+std::unique_ptr<tracking::FrameSource> OpenFrames(const TrialSpec& spec) {
+  const fs::path trial_json = spec.dir / "trial.json";
+  if (spec.frames.is_camera_file()) {
+    auto clip = tracking::OpenCameraFile(spec.dir / spec.frames.camera_file);
+    if (spec.frames.first == 0 && spec.frames.count == clip->count()) return clip;
+    try {
+      return std::make_unique<tracking::FrameRangeSource>(std::move(clip), spec.frames.first,
+                                                          spec.frames.count);
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(trial_json.string() + ": frames of " +
+                               (spec.dir / spec.frames.camera_file).string() + ": " + e.what());
+    }
+  }
+  if (spec.frames.is_video()) {
+    // A camera file (.mraw, .cine, .tif) named as a video is read by its own reader.
+    if (tracking::IsCameraFile(spec.frames.video))
+      return tracking::OpenCameraFile(spec.dir / spec.frames.video);
+    return std::make_unique<tracking::VideoSource>(spec.dir / spec.frames.video);
+  }
+  try {
+    return std::make_unique<tracking::ImageSequenceSource>(spec.dir, spec.frames.pattern,
+                                                           spec.frames.first, spec.frames.count);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(trial_json.string() + ": " + e.what());
+  }
 }
 
 }  // namespace hoof::pipeline

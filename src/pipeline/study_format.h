@@ -6,6 +6,7 @@
 #include <array>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include <Eigen/Core>
 
 #include "core/specimen.h"
+#include "tracking/frame_source.h"
 
 namespace hoof::pipeline {
 
@@ -35,13 +37,24 @@ struct CameraSpec {
   std::optional<std::array<double, 9>> camera_matrix;  ///< row-major 3x3
 };
 
-/// Where the frames are: an image sequence or a video file.
+/// Where the frames are: an image sequence, a video file or a camera file.
 struct FramesSpec {
   std::string pattern;  ///< printf pattern relative to the trial folder, e.g. frames/%06d.png
+  /// Pattern: the first frame's number. Camera file: the first frame used (0-based).
   int first = 0;
+  /// Pattern: the number of frames. Camera file: the frames used (all from `first` on when
+  /// trial.json does not say).
   int count = 0;
   std::string video;  ///< video file relative to the trial folder (instead of a pattern)
+  /// Camera file (.mraw/.cihx/.cih, .cine, .tif/.tiff) relative to the trial folder
+  /// (tracking/camera_file.h), instead of a pattern.
+  std::string camera_file;
   bool is_video() const { return !video.empty(); }
+  bool is_camera_file() const { return !camera_file.empty(); }
+  /// The pattern, video or camera file, as trial.json names it.
+  const std::string& Source() const {
+    return is_camera_file() ? camera_file : is_video() ? video : pattern;
+  }
 };
 
 /// How the body is tracked: trial.json's optional "body" (docs/format.md). Without it, by its
@@ -86,6 +99,10 @@ struct StudySpec {
   std::vector<std::filesystem::path> trial_dirs;
   std::vector<std::string> warnings;
 };
+
+/// Opens the frames of a trial: its image sequence, video, or camera file (the range that
+/// trial.json selects). Throws std::runtime_error naming the file.
+std::unique_ptr<tracking::FrameSource> OpenFrames(const TrialSpec& spec);
 
 /// Reads `dir/study.json`. Throws std::runtime_error naming the file and the field.
 StudySpec ReadStudy(const std::filesystem::path& dir);

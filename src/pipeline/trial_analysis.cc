@@ -14,21 +14,6 @@
 namespace hoof::pipeline {
 namespace {
 
-std::unique_ptr<tracking::FrameSource> OpenFrames(const TrialSpec& spec) {
-  if (spec.frames.is_video()) {
-    // A camera file (.mraw, .cine, .tif) named as the video is read by its own reader.
-    if (tracking::IsCameraFile(spec.frames.video))
-      return tracking::OpenCameraFile(spec.dir / spec.frames.video);
-    return std::make_unique<tracking::VideoSource>(spec.dir / spec.frames.video);
-  }
-  try {
-    return std::make_unique<tracking::ImageSequenceSource>(spec.dir, spec.frames.pattern,
-                                                           spec.frames.first, spec.frames.count);
-  } catch (const std::invalid_argument& e) {
-    throw std::runtime_error((spec.dir / "trial.json").string() + ": " + e.what());
-  }
-}
-
 double Median(std::vector<double> v) {
   if (v.empty()) return core::kNaN;
   auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);

@@ -64,12 +64,7 @@ fs::path TrialFolder(const studyfile::TrialResult& t, const std::string& study_d
 std::vector<std::string> EncodeFrames(const fs::path& trial_dir, int first, int last,
                                       const HtmlReportOptions& o, double& scale) {
   const pipeline::TrialSpec spec = pipeline::ReadTrial(trial_dir);
-  std::unique_ptr<tracking::FrameSource> source;
-  if (spec.frames.is_video())
-    source = std::make_unique<tracking::VideoSource>(spec.dir / spec.frames.video);
-  else
-    source = std::make_unique<tracking::ImageSequenceSource>(spec.dir, spec.frames.pattern,
-                                                             spec.frames.first, spec.frames.count);
+  const std::unique_ptr<tracking::FrameSource> source = pipeline::OpenFrames(spec);
   std::vector<cv::Mat> frames;
   double lo = 1e300, hi = -1e300;
   for (int f = first; f < last && f < source->count(); ++f) {

@@ -101,7 +101,7 @@ void SerializeMetadata(Archive&& a, T& r) {
   a.MaybeNumber("nominal_speed_m_s", s.nominal_speed_m_s, "m/s",
                 "nominal impact speed (trial.json; NaN when not given)");
   if constexpr (std::remove_cvref_t<Archive>::kWriting)
-    a.Text("frames_source", s.frames.is_video() ? s.frames.video : s.frames.pattern,
+    a.Text("frames_source", s.frames.Source(),
            "image pattern or video file, relative to the trial folder");
   a.Integer("frames_first", s.frames.first, "frame", "first frame number");
   a.Integer("frames_count", s.frames.count, "frame", "number of frames");

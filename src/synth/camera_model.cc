@@ -128,13 +128,13 @@ struct Bits {
 cv::Mat Sensor(const cv::Mat& radiance, const CameraEffects& camera, int bit_depth,
                std::uint64_t noise_seed) {
   CV_Assert(radiance.type() == CV_32F && radiance.isContinuous());
-  const float full = bit_depth == 16 ? 65535.0f : 255.0f;
+  const float full = static_cast<float>((1 << bit_depth) - 1);  // 255, 4095 or 65535
   const float black = static_cast<float>(camera.black_level);
   const float gain = full * (1 - black), offset = full * black;
   const float fw = static_cast<float>(camera.full_well_e);
   const float read2 = static_cast<float>(camera.read_noise_e * camera.read_noise_e);
   const std::vector<float>& quantile = NormalQuantiles();
-  cv::Mat out(radiance.size(), bit_depth == 16 ? CV_16U : CV_8U);
+  cv::Mat out(radiance.size(), bit_depth > 8 ? CV_16U : CV_8U);
   const float* in = radiance.ptr<float>();
   const std::size_t n = radiance.total();
   Bits bits{noise_seed};
@@ -149,7 +149,7 @@ cv::Mat Sensor(const cv::Mat& radiance, const CameraEffects& camera, int bit_dep
       v = (electrons + z * std::sqrt(electrons + read2)) / fw;
     }
     const float dn = std::clamp(std::nearbyint(offset + gain * v), 0.0f, full);
-    if (bit_depth == 16)
+    if (bit_depth > 8)
       out.ptr<std::uint16_t>()[i] = static_cast<std::uint16_t>(dn);
     else
       out.ptr<std::uint8_t>()[i] = static_cast<std::uint8_t>(dn);

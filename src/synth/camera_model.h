@@ -49,8 +49,9 @@ cv::Mat IlluminationField(const CameraEffects& camera, int width_px, int height_
 
 /// Turns radiance (CV_32F, 1 = full scale) into recorded counts: electrons = radiance *
 /// full_well, Gaussian noise of variance electrons + read^2 (Poisson-like), black level,
-/// rounding and clipping to 8 or 16 bits. The normal deviates come from a 65536-entry quantile
-/// table indexed by a SplitMix64 stream seeded with `noise_seed` (tails cut at 4.3 s.d.).
+/// rounding and clipping to 8, 12 or 16 bits (12 in CV_16U, 0..4095). The normal deviates come from
+/// a 65536-entry quantile table indexed by a SplitMix64 stream seeded with `noise_seed` (tails cut
+/// at 4.3 s.d.).
 cv::Mat Sensor(const cv::Mat& radiance, const CameraEffects& camera, int bit_depth,
                std::uint64_t noise_seed);
 

@@ -24,21 +24,32 @@ FrameRenderer::FrameRenderer(const TrialTruth& truth, const SpecimenGeometry& ge
       lens_(options.camera, options.width_px, options.height_px) {
   view_.m_per_px = options.m_per_px;
   view_.contact_px = truth.contact_px;
-  view_.d_EC_m = geometry.dynamics.d_EC_m;
+  view_.d_EC_m = geometry.Simulated().d_EC_m;
   const cv::Size frame(options.width_px, options.height_px);
   SurfacePlacement placement;
   placement.angle_rad = core::DegToRad(truth.spec.angle_deg);
   placement.contact_px = truth.contact_px;
   placement.u_offset_px = truth.surface_u_offset_px;
-  const cv::Mat background = RenderBackground(assets.Surface(truth.spec.surface), placement, frame,
-                                              MixSeed(truth.spec.seed, 77));
+  const cv::Mat background = options.lighting == Lighting::kBacklit
+                                 ? RenderBacklitBackground(placement, frame)
+                                 : RenderBackground(assets.Surface(truth.spec.surface), placement,
+                                                    frame, MixSeed(truth.spec.seed, 77));
   illumination_ = IlluminationField(options.camera, frame.width, frame.height);
   background_lit_ = background.mul(illumination_);
   if (lens_.distorts()) {
     lens_.BuildRemapMaps(frame.width, frame.height, map_x_, map_y_);
     RemapBilinear(background_lit_, map_x_, map_y_, background_recorded_);
   }
-  out_of_plane_ = truth.spec.hidden.out_of_plane.Any();
+  ball_ = geometry.body == Body::kBall;
+  out_of_plane_ = truth.spec.hidden.out_of_plane.Any() && !ball_;
+}
+
+BodyPose FrameRenderer::Drawn(const BodyPose& pose) const {
+  if (!ball_) return pose;
+  // A sphere looks the same in every orientation: its shading stays with the lights.
+  BodyPose p = pose;
+  p.theta_W_rad = p.tilt_rad = p.roll_rad = 0.0;
+  return p;
 }
 
 cv::Matx23d FrameRenderer::TextureToImage(const BodyPose& pose, double z_B_m) const {
@@ -103,10 +114,10 @@ void FrameRenderer::AccumulatePose(const BodyPose& pose, const cv::Rect& roi, cv
 cv::Rect FrameRenderer::Composite(int j, cv::Mat& ideal) const {
   const auto& poses = truth_.exposure_poses.at(j);
   cv::Rect roi;
-  for (const BodyPose& p : poses) roi |= PoseBounds(p);
+  for (const BodyPose& p : poses) roi |= PoseBounds(Drawn(p));
   if (roi.area() == 0) return roi;
   cv::Mat acc = cv::Mat::zeros(roi.size(), CV_32FC2);
-  for (const BodyPose& p : poses) AccumulatePose(p, roi, acc);
+  for (const BodyPose& p : poses) AccumulatePose(Drawn(p), roi, acc);
   const float inv_n = 1.0f / static_cast<float>(poses.size());
   for (int r = 0; r < roi.height; ++r) {
     const auto* a = acc.ptr<cv::Vec2f>(r);
@@ -154,6 +165,7 @@ cv::Mat FrameRenderer::Render(int j) const {
   if (cam.defocus)
     cv::GaussianBlur(image, image, cv::Size(0, 0), cam.defocus_sigma_px, cam.defocus_sigma_px,
                      cv::BORDER_REPLICATE);
+  if (cam.flicker_hz > 0) image *= truth_.frames.at(j).light_factor;  // every light flickers
   return Sensor(image, cam, options_.bit_depth,
                 MixSeed(truth_.spec.seed, 1000 + static_cast<std::uint64_t>(j)));
 }

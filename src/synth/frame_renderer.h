@@ -34,6 +34,8 @@ class FrameRenderer {
   /// Composites the specimen of frame j into `ideal` (a copy of the lit background); returns
   /// the rectangle that changed (empty when the specimen is out of view).
   cv::Rect Composite(int j, cv::Mat& ideal) const;
+  /// The pose the texture is drawn at: the ball's without rotation.
+  BodyPose Drawn(const BodyPose& pose) const;
   /// Texture -> ideal image affine map for the face at z_B.
   cv::Matx23d TextureToImage(const BodyPose& pose, double z_B_m) const;
 
@@ -48,6 +50,7 @@ class FrameRenderer {
   cv::Mat map_x_, map_y_;        ///< Recorded pixel -> ideal image point (when distorting).
   cv::Mat background_recorded_;  ///< background_lit_ through the lens (when distorting).
   bool out_of_plane_ = false;
+  bool ball_ = false;
 };
 
 /// Bilinear resampling of a CV_32F image at the points of two CV_32F maps, in double

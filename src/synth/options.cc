@@ -26,9 +26,69 @@ void RequireRange(std::string_view owner, std::string_view field, double value, 
 
 }  // namespace
 
+const char* ToString(Body body) {
+  switch (body) {
+    case Body::kMarkers:
+      return "markers";
+    case Body::kUnmarked:
+      return "unmarked";
+    case Body::kBall:
+      return "ball";
+  }
+  return "markers";
+}
+
+Body ParseBody(const std::string& name) {
+  for (Body b : {Body::kMarkers, Body::kUnmarked, Body::kBall})
+    if (name == ToString(b)) return b;
+  throw std::invalid_argument("body '" + name + "' must be markers, unmarked or ball");
+}
+
+const char* ToString(Lighting lighting) {
+  return lighting == Lighting::kBacklit ? "backlit" : "front";
+}
+
+Lighting ParseLighting(const std::string& name) {
+  for (Lighting l : {Lighting::kFront, Lighting::kBacklit})
+    if (name == ToString(l)) return l;
+  throw std::invalid_argument("lighting '" + name + "' must be front or backlit");
+}
+
+const char* ToString(FrameFormat format) {
+  switch (format) {
+    case FrameFormat::kPng:
+      return "png";
+    case FrameFormat::kMraw:
+      return "mraw";
+    case FrameFormat::kCine:
+      return "cine";
+  }
+  return "png";
+}
+
+FrameFormat ParseFrameFormat(const std::string& name) {
+  for (FrameFormat f : {FrameFormat::kPng, FrameFormat::kMraw, FrameFormat::kCine})
+    if (name == ToString(f)) return f;
+  throw std::invalid_argument("frame format '" + name + "' must be png, mraw or cine");
+}
+
+dynamics::SpecimenParameters SpecimenGeometry::Simulated() const {
+  if (body != Body::kBall) return dynamics;
+  dynamics::SpecimenParameters p;
+  const double r = ball_diameter_m / 2;
+  p.mass_kg = ball_mass_kg;
+  p.inertia_kg_m2 = 0.4 * ball_mass_kg * r * r;
+  p.end_radius_m = r;
+  p.d_EC_m = 0.0;
+  return p;
+}
+
 void SpecimenGeometry::Validate() const {
   constexpr std::string_view kOwner = "specimen";
   dynamics.Validate();
+  RequireRange(kOwner, "ball_diameter_m", ball_diameter_m, 1e-3, 0.2);
+  if (!(ball_mass_kg > 0 && ball_mass_kg <= 100))
+    Throw(kOwner, "ball_mass_kg", ball_mass_kg, "must be in (0, 100]");
   const double r = dynamics.end_radius_m;
   RequireRange(kOwner, "length_m", length_m, 2 * r + 1e-6, 1.0);
   RequireRange(kOwner, "width_m", width_m, 1e-4, 1.0);
@@ -89,6 +149,11 @@ void CameraEffects::Validate() const {
   RequireRange(kOwner, "lighting_gradient_fraction", lighting_gradient_fraction, 0.0, 0.9);
   RequireRange(kOwner, "drop_frame_probability", drop_frame_probability, 0.0, 0.5);
   RequireRange(kOwner, "duplicate_frame_probability", duplicate_frame_probability, 0.0, 0.5);
+  RequireRange(kOwner, "drop_frames", drop_frames, 0, 100000);
+  RequireRange(kOwner, "duplicate_frames", duplicate_frames, 0, 100000);
+  if (flicker_hz != 0) RequireRange(kOwner, "flicker_hz", flicker_hz, 1.0, 1000.0);
+  if (!(flicker_depth >= 0 && flicker_depth < 1))
+    Throw(kOwner, "flicker_depth", flicker_depth, "must be in [0, 1)");
 }
 
 void OutOfPlane::Validate() const {
@@ -103,7 +168,13 @@ void RenderOptions::Validate() const {
   constexpr std::string_view kOwner = "render";
   RequireRange(kOwner, "width_px", width_px, 64, 4096);
   RequireRange(kOwner, "height_px", height_px, 64, 4096);
-  if (bit_depth != 8 && bit_depth != 16) Throw(kOwner, "bit_depth", bit_depth, "must be 8 or 16");
+  if (bit_depth != 8 && bit_depth != 12 && bit_depth != 16)
+    Throw(kOwner, "bit_depth", bit_depth, "must be 8, 12 or 16");
+  if (bit_depth == 12 && frame_format == FrameFormat::kPng)
+    Throw(kOwner, "bit_depth", bit_depth,
+          "must be 8 or 16 for PNG frames (12 needs the mraw or cine frame format)");
+  if (bit_depth == 12 && frame_format == FrameFormat::kMraw && width_px % 2 != 0)
+    Throw(kOwner, "width_px", width_px, "must be even for 12-bit packed MRAW");
   RequireRange(kOwner, "m_per_px", m_per_px, 2e-5, 2e-3);
   RequireRange(kOwner, "fps", fps, 1.0, 1e7);
   RequireRange(kOwner, "frames_before", frames_before, 1, 100000);
@@ -113,8 +184,15 @@ void RenderOptions::Validate() const {
   if (texture_oversampling % 2 == 0)
     Throw(kOwner, "texture_oversampling", texture_oversampling, "must be odd");
   camera.Validate();
+  // (With frames_from_flight the counts are known only when the trial is planned; PlanTrial
+  // checks them there.)
+  if (!frames_from_flight &&
+      camera.drop_frames + camera.duplicate_frames > frames_before + frames_after - 1)
+    Throw("camera", "drop_frames + duplicate_frames", camera.drop_frames + camera.duplicate_frames,
+          "must leave the first frame: at most frames_before + frames_after - 1");
   if (camera.motion_blur && camera.exposure_s > 1.0 / fps * (1 + 1e-12))
-    Throw("camera", "exposure_s", camera.exposure_s, "must not exceed the frame period 1/fps");
+    Throw("camera", "exposure_s", camera.exposure_s,
+          "must not exceed the frame period (one over the frame rate)");
 }
 
 void TrialSpec::Validate() const {
@@ -127,6 +205,7 @@ void TrialSpec::Validate() const {
   if (e && !(*e > 0 && *e < 1)) Throw(kOwner, "e", *e, "must be in (0, 1)");
   if (mu && !(*mu >= 0 && std::isfinite(*mu))) Throw(kOwner, "mu", *mu, "must be >= 0");
   RequireRange(kOwner, "scatter_scale", scatter_scale, 0.0, 4.0);
+  RequireRange(kOwner, "bounces", bounces, 1, 20);
   hidden.contact.Validate();
   hidden.out_of_plane.Validate();
 }

@@ -15,6 +15,36 @@
 
 namespace hoof::synth {
 
+/// What body the camera sees (docs/synthetic-trials.md, "Bodies").
+enum class Body {
+  kMarkers,   ///< The hoof-wall specimen with its dot markers (the default).
+  kUnmarked,  ///< The same specimen without markers: hoof-wall texture and outline only.
+  kBall,      ///< A shaded sphere; its rotation is not visible.
+};
+/// "markers", "unmarked" or "ball".
+const char* ToString(Body body);
+/// Parses ToString's names; std::invalid_argument naming the value otherwise.
+Body ParseBody(const std::string& name);
+
+/// How the scene is lit.
+enum class Lighting {
+  kFront,    ///< Lights in front, upper left: a lit body on a dark studio (the default).
+  kBacklit,  ///< A bright, near-saturated background; body and surface block dark silhouettes.
+};
+const char* ToString(Lighting lighting);
+Lighting ParseLighting(const std::string& name);
+
+/// How a trial's frames are stored (docs/synthetic-trials.md, "Frame files").
+enum class FrameFormat {
+  kPng,   ///< frames/%06d.png, one grey PNG per frame (the default).
+  kMraw,  ///< One Photron clip.mraw with its clip.cihx header.
+  kCine,  ///< One Phantom clip.cine with per-frame time stamps.
+};
+/// "png", "mraw" or "cine".
+const char* ToString(FrameFormat format);
+/// Parses ToString's names; std::invalid_argument naming the value otherwise.
+FrameFormat ParseFrameFormat(const std::string& name);
+
 /// One white dot on its black square patch, at p_BM in the body frame B (origin E, x_B toward
 /// C), on the face of the specimen that looks at the camera.
 struct Marker {
@@ -33,6 +63,18 @@ struct SpecimenGeometry {
   double patch_size_m = 0.006;            ///< Side of the black square under each dot (m); > dot.
   /// Marker centres in B; two or more, each patch inside the bar outline.
   std::vector<Marker> markers = {{"M1", {0.006, 0.0}}, {"M2", {0.024, 0.0}}};
+
+  Body body = Body::kMarkers;  ///< What is drawn and simulated.
+  /// Ball diameter (m); in [1e-3, 0.2]. Used when body is kBall.
+  double ball_diameter_m = 0.02;
+  /// Ball mass (kg); in (0, 100]. The default equals the specimen's 8 g, so the paper's (k, b)
+  /// give the paper's e (the e draw's mean depends on the mass, synth/contact_draw.h).
+  double ball_mass_kg = 0.008;
+
+  /// What the simulator sees: `dynamics` for the specimen; for the ball a solid sphere, its
+  /// round end the whole ball (R = diameter / 2, d = 0: E is the centre C, so the contact
+  /// point is R below C) and I_C = 2/5 m R^2.
+  dynamics::SpecimenParameters Simulated() const;
 
   /// Throws std::invalid_argument naming the field (e.g. "markers_B_m.M2") and its value.
   void Validate() const;
@@ -67,6 +109,16 @@ struct CameraEffects {
 
   double drop_frame_probability = 0.0;       ///< Per frame, a capture skipped; in [0, 0.5].
   double duplicate_frame_probability = 0.0;  ///< Per frame, the previous image repeated.
+  /// Exactly this many captures dropped / images repeated, at seeded frame indices (>= 1,
+  /// distinct, never both at one frame); besides the probabilities above. >= 0.
+  int drop_frames = 0;
+  int duplicate_frames = 0;
+
+  /// Mains-powered lights: brightness 1 + D sin(2 pi F t + psi), psi seeded, integrated over
+  /// the exposure (docs/synthetic-trials.md, "Flicker"). 0 Hz is off; else F in [1, 1000] Hz
+  /// and D in [0, 1).
+  double flicker_hz = 0.0;
+  double flicker_depth = 0.0;
 
   /// Everything off: an ideal pinhole camera, no noise, point-in-time exposure.
   static CameraEffects Clean();
@@ -97,9 +149,11 @@ struct HiddenEffects {
 
 /// Image geometry, timing and file settings.
 struct RenderOptions {
-  int width_px = 512;       ///< Frame width (px); in [64, 4096].
-  int height_px = 384;      ///< Frame height (px); in [64, 4096].
-  int bit_depth = 8;        ///< 8 or 16 bits per pixel (grey PNG).
+  int width_px = 512;   ///< Frame width (px); in [64, 4096].
+  int height_px = 384;  ///< Frame height (px); in [64, 4096].
+  /// Bits per pixel: 8 or 16 (grey PNG); 12 (values 0..4095) with an MRAW (12-bit packed, even
+  /// width) or CINE (16-bit storage recording 12 bits) frame format only.
+  int bit_depth = 8;
   double m_per_px = 2e-4;   ///< Scale in the plane of motion (m/px); in [2e-5, 2e-3].
   double fps = 8000.0;      ///< Frame rate (1/s); > 0.
   int frames_before = 30;   ///< Frames before first touch; >= 1.
@@ -111,6 +165,11 @@ struct RenderOptions {
   /// Texels per image pixel of the specimen texture; odd, in [3, 9]. A box prefilter one
   /// pixel wide turns bilinear sampling into area coverage.
   int texture_oversampling = 5;
+  Lighting lighting = Lighting::kFront;
+  FrameFormat frame_format = FrameFormat::kPng;  ///< How the frames are stored.
+  /// Choose frames_before from the fall since release at rest (speed / g) and frames_after to
+  /// end at the apex of the rebound after the last impact, instead of the fixed counts.
+  bool frames_from_flight = false;
   CameraEffects camera;
 
   /// Throws std::invalid_argument naming the field.
@@ -132,6 +191,9 @@ struct TrialSpec {
   double scatter_scale = 1.0;
   std::optional<double> e;   ///< Fixes the drawn normal restitution; in (0, 1).
   std::optional<double> mu;  ///< Fixes the friction coefficient; >= 0.
+  /// Impacts in the clip; in [1, 20]. After each separation the body flies until its round
+  /// end touches the surface again and the simulator is restarted from that flight state.
+  int bounces = 1;
   HiddenEffects hidden;
 
   /// Throws std::invalid_argument naming the field.

@@ -37,8 +37,51 @@ struct Outline {
 
 }  // namespace
 
+SpecimenTexture BuildBallTexture(const SpecimenGeometry& g, double m_per_px, int oversampling,
+                                 Lighting lighting) {
+  SpecimenTexture t;
+  t.texel_m = m_per_px / oversampling;
+  const double r = g.ball_diameter_m / 2, margin = 3 * m_per_px;
+  t.origin_B_m = {-r - margin, -r - margin};
+  const int n = static_cast<int>(std::ceil((2 * r + 2 * margin) / t.texel_m)) + 1;
+  // Light from the upper left, in front (W axes: x right, y up, z toward the camera).
+  const double norm = std::sqrt(0.45 * 0.45 + 0.55 * 0.55 + 0.7 * 0.7);
+  const double lx = -0.45 / norm, ly = 0.55 / norm, lz = 0.7 / norm;
+  const double spot = kBallSpotSigma * r;
+  constexpr int kSub = 4;
+  t.premultiplied.create(n, n, CV_32FC2);
+  for (int j = 0; j < n; ++j) {
+    auto* out = t.premultiplied.ptr<cv::Vec2f>(j);
+    for (int i = 0; i < n; ++i) {
+      double alpha = 0, value = 0;
+      for (int sj = 0; sj < kSub; ++sj)
+        for (int si = 0; si < kSub; ++si) {
+          const double x = t.origin_B_m.x() + (i + (si + 0.5) / kSub - 0.5) * t.texel_m;
+          const double y = t.origin_B_m.y() + (j + (sj + 0.5) / kSub - 0.5) * t.texel_m;
+          const double rho2 = x * x + y * y;
+          if (rho2 > r * r) continue;
+          alpha += 1;
+          if (lighting == Lighting::kBacklit) {
+            value += kSilhouetteRadiance + kBallSpotRadiance * std::exp(-rho2 / (2 * spot * spot));
+          } else {
+            const double z = std::sqrt(r * r - rho2);
+            value += kBallAmbient + kBallDiffuse * std::max(0.0, (x * lx + y * ly + z * lz) / r);
+          }
+        }
+      out[i] = cv::Vec2f(static_cast<float>(value / (kSub * kSub)),
+                         static_cast<float>(alpha / (kSub * kSub)));
+    }
+  }
+  cv::blur(t.premultiplied, t.premultiplied, cv::Size(oversampling, oversampling),
+           cv::Point(-1, -1), cv::BORDER_CONSTANT);
+  return t;
+}
+
 SpecimenTexture BuildSpecimenTexture(const SpecimenGeometry& g, double m_per_px, int oversampling,
-                                     std::uint64_t seed) {
+                                     std::uint64_t seed, Lighting lighting) {
+  if (g.body == Body::kBall) return BuildBallTexture(g, m_per_px, oversampling, lighting);
+  const bool markers = g.body == Body::kMarkers && lighting == Lighting::kFront;
+  const bool silhouette = lighting == Lighting::kBacklit;
   SpecimenTexture t;
   t.texel_m = m_per_px / oversampling;
   const Outline outline{g.dynamics.end_radius_m, g.length_m - g.dynamics.end_radius_m,
@@ -78,12 +121,13 @@ SpecimenTexture BuildSpecimenTexture(const SpecimenGeometry& g, double m_per_px,
           const double y = yc + ((sj + 0.5) / kSub - 0.5) * t.texel_m;
           if (!outline.Inside(x, y)) continue;
           alpha += 1;
-          double v = wall;
-          for (const Marker& m : g.markers) {
-            const double dx = x - m.p_BM_m.x(), dy = y - m.p_BM_m.y();
-            if (std::abs(dx) <= patch_h && std::abs(dy) <= patch_h)
-              v = dx * dx + dy * dy <= dot_r * dot_r ? kDotRadiance : kPatchRadiance;
-          }
+          double v = silhouette ? kSilhouetteRadiance : wall;
+          if (markers)
+            for (const Marker& m : g.markers) {
+              const double dx = x - m.p_BM_m.x(), dy = y - m.p_BM_m.y();
+              if (std::abs(dx) <= patch_h && std::abs(dy) <= patch_h)
+                v = dx * dx + dy * dy <= dot_r * dot_r ? kDotRadiance : kPatchRadiance;
+            }
           value += v;
         }
       out[i] = cv::Vec2f(static_cast<float>(value / (kSub * kSub)),

@@ -25,11 +25,26 @@ struct SpecimenTexture {
 
 /// Draws the texture with `oversampling` texels per image pixel of size m_per_px. The
 /// tubule pattern comes from `seed`; markers and outline are exact (4 x 4 samples per texel).
+/// The body is geometry.body's: the specimen with markers, without (kUnmarked), or the ball
+/// (BuildBallTexture). Back-lit, the specimen is a dark silhouette (kSilhouetteRadiance).
 SpecimenTexture BuildSpecimenTexture(const SpecimenGeometry& geometry, double m_per_px,
-                                     int oversampling, std::uint64_t seed);
+                                     int oversampling, std::uint64_t seed,
+                                     Lighting lighting = Lighting::kFront);
+
+/// The ball in W-aligned body axes (x right, y up; it is drawn without rotation), centre at the
+/// origin, radius diameter / 2. Front-lit: a Lambertian sphere lit from the upper left and
+/// front, kBallAmbient + kBallDiffuse max(0, n.l). Back-lit: a dark disc (kSilhouetteRadiance)
+/// with the bright spot at its centre that a back-lit sphere shows: kBallSpotRadiance
+/// exp(-r^2 / (2 (kBallSpotSigma R)^2)) added.
+SpecimenTexture BuildBallTexture(const SpecimenGeometry& geometry, double m_per_px,
+                                 int oversampling, Lighting lighting);
 
 /// Radiance of the white dots and of the black patches (before lighting), for tests and docs.
 inline constexpr float kDotRadiance = 0.88f;
 inline constexpr float kPatchRadiance = 0.035f;
+/// A body seen against the back light.
+inline constexpr float kSilhouetteRadiance = 0.03f;
+inline constexpr double kBallAmbient = 0.06, kBallDiffuse = 0.74;
+inline constexpr double kBallSpotRadiance = 0.8, kBallSpotSigma = 0.1;
 
 }  // namespace hoof::synth

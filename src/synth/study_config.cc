@@ -75,6 +75,36 @@ bool ReadKey(const std::string& key, const nlohmann::json& value, const std::str
     c.markers_B_m = std::move(markers);
   } else if (key == "hidden_effects") {
     ReadHiddenEffects(value, file, d.hidden);
+  } else if (key == "body") {
+    try {
+      c.body = ParseBody(value.get<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(file + ": " + e.what());
+    }
+  } else if (key == "lighting") {
+    try {
+      c.lighting = ParseLighting(value.get<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(file + ": " + e.what());
+    }
+  } else if (key == "frame_format") {
+    try {
+      c.frame_format = ParseFrameFormat(value.get<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(file + ": " + e.what());
+    }
+  } else if (key == "ball_diameter_m") {
+    c.ball_diameter_m = value.get<double>();
+  } else if (key == "ball_mass_kg") {
+    c.ball_mass_kg = value.get<double>();
+  } else if (key == "flicker_hz") {
+    c.flicker_hz = value.get<double>();
+  } else if (key == "flicker_depth") {
+    c.flicker_depth = value.get<double>();
+  } else if (key == "drop_frames") {
+    c.drop_frames = value.get<int>();
+  } else if (key == "duplicate_frames") {
+    c.duplicate_frames = value.get<int>();
   } else {
     return false;
   }
@@ -87,7 +117,8 @@ StudyConfig ReadStudyConfig(const std::filesystem::path& path, const StudyDesign
   const std::string file = path.string();
   std::ifstream in(path);
   if (!in) throw std::invalid_argument("'" + file + "' cannot be read");
-  StudyConfig c{base, std::nullopt};
+  StudyConfig c;
+  c.design = base;
   try {
     const nlohmann::json j = nlohmann::json::parse(in);
     if (!j.is_object())
@@ -101,10 +132,30 @@ StudyConfig ReadStudyConfig(const std::filesystem::path& path, const StudyDesign
   // The file's values on their own: a bad one names the file and the field.
   try {
     c.design.Validate();
+    SpecimenGeometry g;
+    ApplyStudyConfig(c, g);
+    g.Validate();
+    CameraEffects cam;
+    ApplyStudyConfig(c, cam);
+    cam.Validate();
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(file + ": " + e.what());
   }
   return c;
+}
+
+void ApplyStudyConfig(const StudyConfig& c, SpecimenGeometry& g) {
+  if (c.markers_B_m) g.markers = *c.markers_B_m;
+  if (c.body) g.body = *c.body;
+  if (c.ball_diameter_m) g.ball_diameter_m = *c.ball_diameter_m;
+  if (c.ball_mass_kg) g.ball_mass_kg = *c.ball_mass_kg;
+}
+
+void ApplyStudyConfig(const StudyConfig& c, CameraEffects& cam) {
+  if (c.flicker_hz) cam.flicker_hz = *c.flicker_hz;
+  if (c.flicker_depth) cam.flicker_depth = *c.flicker_depth;
+  if (c.drop_frames) cam.drop_frames = *c.drop_frames;
+  if (c.duplicate_frames) cam.duplicate_frames = *c.duplicate_frames;
 }
 
 }  // namespace hoof::synth

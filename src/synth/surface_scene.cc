@@ -167,4 +167,20 @@ cv::Mat RenderBackground(const SurfaceTexture& texture, const SurfacePlacement& 
   return out;
 }
 
+cv::Mat RenderBacklitBackground(const SurfacePlacement& placement, cv::Size frame) {
+  const double cs = std::cos(placement.angle_rad), sn = std::sin(placement.angle_rad);
+  const Eigen::Vector2d c = placement.contact_px;
+  cv::Mat out(frame, CV_32F);
+  for (int r = 0; r < frame.height; ++r) {
+    auto* o = out.ptr<float>(r);
+    for (int col = 0; col < frame.width; ++col) {
+      const double v = -(col - c.x()) * sn + (r - c.y()) * cs;  // depth below the surface line
+      const double alpha = std::clamp(v + 0.5, 0.0, 1.0);       // area coverage of the edge
+      o[col] = static_cast<float>(alpha * kBacklitBlockRadiance +
+                                  (1 - alpha) * kBacklitBackgroundRadiance);
+    }
+  }
+  return out;
+}
+
 }  // namespace hoof::synth

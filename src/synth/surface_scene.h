@@ -38,4 +38,12 @@ struct SurfacePlacement {
 cv::Mat RenderBackground(const SurfaceTexture& texture, const SurfacePlacement& placement,
                          cv::Size frame, std::uint64_t seed);
 
+/// Radiance of the back light seen around the body, and of the block's silhouette.
+inline constexpr float kBacklitBackgroundRadiance = 0.92f;
+inline constexpr float kBacklitBlockRadiance = 0.04f;
+
+/// Ideal radiance of a back-lit scene: the bright back light above the surface line and the
+/// block as a dark silhouette below it (the line anti-aliased as in RenderBackground).
+cv::Mat RenderBacklitBackground(const SurfacePlacement& placement, cv::Size frame);
+
 }  // namespace hoof::synth

@@ -31,10 +31,45 @@ nlohmann::json FrameJson(const FrameTruth& f, const SpecimenGeometry& g, int ind
       {"out_of_plane_tilt_rad", f.pose.tilt_rad},
       {"out_of_plane_roll_rad", f.pose.roll_rad},
       {"phase", f.phase},
-      {"markers_px", MarkerMap(g, f.markers_px)},
-      {"markers_px_undistorted", MarkerMap(g, f.markers_px_undistorted)},
+      {"center_px", Vec(f.center_px)},
+      {"center_px_undistorted", Vec(f.center_px_undistorted)},
+      {"light_factor", f.light_factor},
+      {"impact", f.impact},
   };
+  if (g.body == Body::kMarkers) {
+    j["markers_px"] = MarkerMap(g, f.markers_px);
+    j["markers_px_undistorted"] = MarkerMap(g, f.markers_px_undistorted);
+  }
   if (!f.defect.empty()) j["defect"] = f.defect;
+  if (f.defect == "duplicate") j["duplicate"] = true;
+  return j;
+}
+
+nlohmann::json ImpactJson(const ImpactTruth& it) {
+  const dynamics::ImpactResult& r = it.result;
+  return {{"touch_time_s", it.touch_time_s},
+          {"x_S_m", it.x_S_m},
+          {"v_SC_before_m_s", Vec(r.at_touch.v_SC)},
+          {"v_SC_after_m_s", Vec(r.at_separation.v_SC)},
+          {"w_before_rad_s", r.at_touch.w_rad_s},
+          {"w_after_rad_s", r.at_separation.w_rad_s},
+          {"v_ST_before_m_s", Vec(r.v_ST_before)},
+          {"v_ST_after_m_s", Vec(r.v_ST_after)},
+          {"theta_S_touch_rad", r.at_touch.theta_S_rad},
+          {"e", Num(r.e)},
+          {"mu_eff", Num(r.mu_eff)},
+          {"contact_duration_s", r.t_separation_s},
+          {"energy_loss_J", r.energy_loss_J}};
+}
+
+nlohmann::json BodyJson(const SpecimenGeometry& g) {
+  nlohmann::json j = {{"kind", ToString(g.body)}};
+  if (g.body == Body::kBall) {
+    const dynamics::SpecimenParameters b = g.Simulated();
+    j["diameter_m"] = g.ball_diameter_m;
+    j["mass_kg"] = b.mass_kg;
+    j["inertia_kg_m2"] = b.inertia_kg_m2;
+  }
   return j;
 }
 
@@ -43,17 +78,18 @@ nlohmann::json FrameJson(const FrameTruth& f, const SpecimenGeometry& g, int ind
 nlohmann::json SpecimenJson(const SpecimenGeometry& g) {
   nlohmann::json markers = nlohmann::json::object();
   for (const Marker& m : g.markers) markers[m.name] = Vec(m.p_BM_m);
-  return {{"mass_kg", g.dynamics.mass_kg},
-          {"inertia_kg_m2", g.dynamics.inertia_kg_m2},
-          {"end_radius_m", g.dynamics.end_radius_m},
-          {"d_EC_m", g.dynamics.d_EC_m},
+  const dynamics::SpecimenParameters body = g.Simulated();  // the ball's, for a ball
+  return {{"mass_kg", body.mass_kg},
+          {"inertia_kg_m2", body.inertia_kg_m2},
+          {"end_radius_m", body.end_radius_m},
+          {"d_EC_m", body.d_EC_m},
           {"length_m", g.length_m},
           {"width_m", g.width_m},
           {"thickness_m", g.thickness_m},
           {"markers_B_m", markers}};
 }
 
-nlohmann::json TrialJson(const TrialTruth& t, const RenderOptions& o) {
+nlohmann::json TrialJson(const TrialTruth& t, const RenderOptions& o, const SpecimenGeometry& g) {
   nlohmann::json camera = {{"m_per_px", o.m_per_px}, {"gravity_image", {0.0, 1.0}}};
   const LensModel lens(o.camera, o.width_px, o.height_px);
   if (lens.distorts()) {
@@ -63,7 +99,11 @@ nlohmann::json TrialJson(const TrialTruth& t, const RenderOptions& o) {
     camera["camera_matrix"] = {
         {lens.focal_px(), 0.0, c.x()}, {0.0, lens.focal_px(), c.y()}, {0.0, 0.0, 1.0}};
   }
-  return {
+  std::string notes = "synthetic trial rendered by hoofimpact synth (seed " +
+                      std::to_string(t.spec.seed) + "); ground truth in truth.json";
+  if (g.body != Body::kMarkers || o.lighting != Lighting::kFront)
+    notes += std::string("; body: ") + ToString(g.body) + ", lighting: " + ToString(o.lighting);
+  nlohmann::json trial = {
       {"format", "hoofimpact-trial/1"},
       {"id", t.spec.id},
       {"specimen", "A"},
@@ -74,9 +114,15 @@ nlohmann::json TrialJson(const TrialTruth& t, const RenderOptions& o) {
       {"camera", camera},
       {"surface_line_px", {Vec(t.surface_line_px[0]), Vec(t.surface_line_px[1])}},
       {"nominal_speed_m_s", t.spec.speed_m_s},
-      {"notes", "synthetic trial rendered by hoofimpact synth (seed " +
-                    std::to_string(t.spec.seed) + "); ground truth in truth.json"},
+      {"notes", notes},
   };
+  if (o.frame_format != FrameFormat::kPng) {
+    // The camera file records its frame rate, so trial.json leaves it to the file.
+    trial.erase("fps");
+    trial["frames"] = {
+        {"camera_file", ClipFileName(o.frame_format)}, {"first", 0}, {"count", t.frames.size()}};
+  }
+  return trial;
 }
 
 nlohmann::json HiddenEffectsJson(const HiddenEffects& h) {
@@ -111,7 +157,10 @@ nlohmann::json CameraEffectsJson(const CameraEffects& c) {
            {{"on", c.lighting_gradient}, {"fraction", c.lighting_gradient_fraction}}},
           {"subpixel_jitter", c.subpixel_jitter},
           {"drop_frame_probability", c.drop_frame_probability},
-          {"duplicate_frame_probability", c.duplicate_frame_probability}};
+          {"duplicate_frame_probability", c.duplicate_frame_probability},
+          {"drop_frames", c.drop_frames},
+          {"duplicate_frames", c.duplicate_frames},
+          {"flicker", {{"hz", c.flicker_hz}, {"depth", c.flicker_depth}}}};
 }
 
 nlohmann::json TruthJson(const TrialTruth& t, const SpecimenGeometry& g, const RenderOptions& o) {
@@ -119,12 +168,25 @@ nlohmann::json TruthJson(const TrialTruth& t, const SpecimenGeometry& g, const R
   const dynamics::ContactParameters& c = t.draw.contact;
   nlohmann::json frames = nlohmann::json::array();
   nlohmann::json defects = nlohmann::json::array();
+  nlohmann::json duplicates = nlohmann::json::array();
   for (std::size_t i = 0; i < t.frames.size(); ++i) {
     frames.push_back(FrameJson(t.frames[i], g, static_cast<int>(i)));
     if (!t.frames[i].defect.empty())
       defects.push_back({{"frame", i}, {"defect", t.frames[i].defect}});
+    if (t.frames[i].defect == "duplicate") duplicates.push_back(i);
   }
-  return {
+  nlohmann::json impacts = nlohmann::json::array();
+  for (const ImpactTruth& it : t.impacts) impacts.push_back(ImpactJson(it));
+  nlohmann::json effects = CameraEffectsJson(o.camera);
+  effects["motion_blur"]["samples_used"] = t.blur_samples_used;
+  effects["flicker"]["phase_rad"] = t.flicker_phase_rad;
+  nlohmann::json truth = {
+      {"body", BodyJson(g)},
+      {"lighting", ToString(o.lighting)},
+      {"impacts", impacts},
+      {"duplicate_frames", duplicates},
+      {"dropped_captures", t.dropped_captures},
+      {"bounces", t.spec.bounces},
       {"format", "hoofimpact-truth/1"},
       {"impact_time_s", t.impact_time_s},
       {"v_SC_before_m_s", Vec(r.at_touch.v_SC)},
@@ -154,11 +216,25 @@ nlohmann::json TruthJson(const TrialTruth& t, const SpecimenGeometry& g, const R
       {"speed_m_s", t.spec.speed_m_s},
       {"contact_point_px_undistorted", Vec(t.contact_px)},
       {"first_frame_after_touch", t.first_frame_after_touch},
-      {"camera_effects", CameraEffectsJson(o.camera)},
+      {"camera_effects", effects},
       {"image", {{"width_px", o.width_px}, {"height_px", o.height_px}, {"bit_depth", o.bit_depth}}},
       {"frame_defects", defects},
       {"frames", frames},
   };
+  if (o.frame_format != FrameFormat::kPng) {
+    // What the camera file records beyond the frames: its stamps (CINE) are the capture slots'
+    // times, frames[i].t_s except on a duplicate (docs/synthetic-trials.md, "Frame files").
+    nlohmann::json file = {{"format", ToString(o.frame_format)},
+                           {"file", ClipFileName(o.frame_format)},
+                           {"bit_depth", o.bit_depth}};
+    if (o.frame_format == FrameFormat::kCine) {
+      nlohmann::json stamps = nlohmann::json::array();
+      for (const FrameTruth& f : t.frames) stamps.push_back(f.stamp_s);
+      file["time_stamps_s"] = stamps;
+    }
+    truth["frame_file"] = file;
+  }
+  return truth;
 }
 
 nlohmann::json StudyJson(const std::string& name, const SpecimenGeometry& g,

@@ -20,7 +20,8 @@ nlohmann::json SpecimenJson(const SpecimenGeometry& geometry);
 /// trial.json: format, id, specimen "A", surface, angle, fps, frames, camera (m_per_px,
 /// gravity_image, and distortion with camera_matrix when the lens distorts),
 /// surface_line_px, nominal_speed_m_s and notes.
-nlohmann::json TrialJson(const TrialTruth& truth, const RenderOptions& options);
+nlohmann::json TrialJson(const TrialTruth& truth, const RenderOptions& options,
+                         const SpecimenGeometry& geometry = {});
 
 /// truth.json: docs/format.md's fields plus markers_px_undistorted, p_WC_m, out-of-plane angles,
 /// model (k, b, mu, zeta, the drawn e, the scatter switch and scale, hidden_effects), camera

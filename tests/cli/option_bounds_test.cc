@@ -106,7 +106,10 @@ TEST(OptionBoundsTest, MessagesUseTheOptionsAndUnitsTheUserTyped) {
       {"analyze " + sample + " -o /nonexistent-dir/x.h5 --fit-frames 2",
        "--fit-frames: must be >= 3, got 2"},
       {"score " + sample + " --max-contact-s 2", "--max-contact-s: must be in [0, 1] s, got 2"},
-      {"synth -o /nonexistent-dir/x --bit-depth 12", "--bit-depth: must be 8 or 16, got 12"},
+      {"synth -o /nonexistent-dir/x --bit-depth 10", "--bit-depth: must be 8, 12 or 16, got 10"},
+      {"synth -o /nonexistent-dir/x --bit-depth 12",
+       "--bit-depth: must be 8 or 16 for PNG frames (12 needs the mraw or cine frame format), got "
+       "12"},
       {"report /nonexistent-dir/x.h5 --replay-frames 1", "--replay-frames: must be in [2, 400]"},
       {"overlay /nonexistent-dir/x.h5 t1 --slowdown 0", "--slowdown: must be in 1..1000000, got 0"},
       {"overlay /nonexistent-dir/x.h5 t1 --residual-scale 0",

@@ -5,8 +5,11 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "support/test_util.h"
+#include "tracking/camera_file.h"
 
 namespace hoof::pipeline {
 namespace {
@@ -109,6 +112,89 @@ TEST(StudyFormatTest, MissingOrWrongFieldsNameFileAndField) {
               "study.json: field \"specimens.A.markers_B_m.M2\" must be [x, y]");
   ExpectError([&] { ReadStudy(fs::path(HOOF_BINARY_DIR) / "no-such-study"); },
               "study.json: cannot open");
+}
+
+// trial.json may name a camera file instead of a pattern; its frame rate comes from the file.
+TEST(StudyFormatTest, ACameraFileGivesTheFramesAndTheirRate) {
+  const std::string base = kTrial;
+  const auto with_frames = [&](const std::string& frames, bool fps) {
+    std::string t = base;
+    const std::size_t a = t.find("\"frames\": {"), b = t.find('}', a);
+    t.replace(a, b + 1 - a, "\"frames\": " + frames);
+    if (!fps) t.replace(t.find("\"fps\": 8000.0,"), 14, "");
+    return t;
+  };
+  const auto clip_dir = [&](const std::string& name, const std::string& trial) {
+    const fs::path dir = Write(name, kStudy, trial);
+    tracking::CameraFileSpec spec;
+    spec.width = 6;
+    spec.height = 4;
+    spec.frame_count = 5;
+    spec.bits = 12;
+    spec.fps = 8000;
+    tracking::MrawWriter w(dir / "t1" / "clip.mraw", spec);
+    for (int i = 0; i < 5; ++i) w.Write(cv::Mat(4, 6, CV_16U, cv::Scalar(100 * i)));
+    w.Finish();
+    return dir / "t1";
+  };
+  {
+    const TrialSpec t =
+        ReadTrial(clip_dir("format_camera", with_frames(R"({"camera_file": "clip.mraw"})", false)));
+    EXPECT_EQ(t.fps, 8000.0);  // from the header: trial.json gives none
+    EXPECT_TRUE(t.frames.is_camera_file());
+    EXPECT_EQ(t.frames.Source(), "clip.mraw");
+    EXPECT_EQ(t.frames.first, 0);
+    EXPECT_EQ(t.frames.count, 5);
+    EXPECT_TRUE(t.warnings.size() == 1u);  // "colour" only
+    EXPECT_EQ(OpenFrames(t)->count(), 5);
+  }
+  {
+    // A range, and a frame rate that agrees with the header.
+    const TrialSpec t = ReadTrial(clip_dir(
+        "format_camera_range", with_frames(R"({"camera_file": "clip.mraw", "first": 2})", true)));
+    EXPECT_EQ(t.frames.first, 2);
+    EXPECT_EQ(t.frames.count, 3);
+    auto frames = OpenFrames(t);
+    ASSERT_EQ(frames->count(), 3);
+    EXPECT_EQ(frames->Read(1).at<std::uint16_t>(0, 0), 300);  // frame 3 of the clip
+  }
+  std::string disagree = with_frames(R"({"camera_file": "clip.mraw"})", true);
+  disagree.replace(disagree.find("8000.0"), 6, "7999.9");
+  ExpectError([&] { ReadTrial(clip_dir("format_camera_fps", disagree)); },
+              "trial.json: field \"fps\" is 7999.9 but ");
+  ExpectError([&] { ReadTrial(clip_dir("format_camera_fps", disagree)); },
+              "clip.mraw records 8000.0 frames per second");
+  ExpectError(
+      [&] {
+        ReadTrial(clip_dir(
+            "format_camera_count",
+            with_frames(R"({"camera_file": "clip.mraw", "first": 2, "count": 4})", false)));
+      },
+      "field \"frames.count\" asks for frames 2 to 5 but");
+  ExpectError(
+      [&] {
+        ReadTrial(
+            clip_dir("format_camera_ext", with_frames(R"({"camera_file": "clip.avi"})", true)));
+      },
+      "field \"frames.camera_file\" \"clip.avi\" must name a camera file");
+  // A TIFF records no frame rate: trial.json must give it.
+  const fs::path tiff =
+      clip_dir("format_camera_tiff", with_frames(R"({"camera_file": "clip.tif"})", false));
+  cv::imwrite((tiff / "clip.tif").string(), cv::Mat(4, 6, CV_16U, cv::Scalar(7)));
+  ExpectError([&] { ReadTrial(tiff); }, "trial.json: field \"fps\" is missing, and ");
+  ExpectError([&] { ReadTrial(tiff); }, "clip.tif does not record its frame rate");
+  ExpectError(
+      [&] {
+        ReadTrial(clip_dir("format_camera_missing",
+                           with_frames(R"({"camera_file": "other.cine"})", true)));
+      },
+      "trial.json: field \"frames.camera_file\" names a clip that cannot be read: ");
+  ExpectError(
+      [&] {
+        ReadTrial(clip_dir("format_camera_missing",
+                           with_frames(R"({"camera_file": "other.cine"})", true)));
+      },
+      "other.cine: file is missing");
 }
 
 // An id names the trial's files (figures, overlay frames), and a trials entry a folder: neither

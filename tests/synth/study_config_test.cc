@@ -93,4 +93,37 @@ TEST(StudyConfigTest, ABrokenConfigNamesTheFileAndTheKey) {
   ExpectError(WriteConfig("out_of_range", R"({"scatter_scale": -0.5})"), "scatter_scale");
 }
 
+TEST(StudyConfigTest, BodyAndNuisanceKeysLandInTheirFields) {
+  const fs::path p = WriteConfig("nuisance", R"({
+    "body": "ball", "ball_diameter_m": 0.0025, "ball_mass_kg": 0.0001, "lighting": "backlit",
+    "flicker_hz": 120, "flicker_depth": 0.25, "drop_frames": 2, "duplicate_frames": 3,
+    "frame_format": "cine"})");
+  const auto c = ReadStudyConfig(p);
+  hoof::synth::SpecimenGeometry g;
+  hoof::synth::CameraEffects cam;
+  hoof::synth::ApplyStudyConfig(c, g);
+  hoof::synth::ApplyStudyConfig(c, cam);
+  EXPECT_EQ(g.body, hoof::synth::Body::kBall);
+  EXPECT_EQ(g.ball_diameter_m, 0.0025);
+  EXPECT_EQ(g.ball_mass_kg, 0.0001);
+  ASSERT_TRUE(c.lighting.has_value());
+  EXPECT_EQ(*c.lighting, hoof::synth::Lighting::kBacklit);
+  EXPECT_EQ(cam.flicker_hz, 120.0);
+  EXPECT_EQ(cam.flicker_depth, 0.25);
+  EXPECT_EQ(cam.drop_frames, 2);
+  EXPECT_EQ(cam.duplicate_frames, 3);
+  ASSERT_TRUE(c.frame_format.has_value());
+  EXPECT_EQ(*c.frame_format, hoof::synth::FrameFormat::kCine);
+  // Keys left out leave the fields alone.
+  hoof::synth::SpecimenGeometry g2;
+  hoof::synth::ApplyStudyConfig(ReadStudyConfig(WriteConfig("none", "{}")), g2);
+  EXPECT_EQ(g2.body, hoof::synth::Body::kMarkers);
+
+  ExpectError(WriteConfig("bad_body", R"({"body": "cube"})"), "body 'cube'");
+  ExpectError(WriteConfig("bad_lighting", R"({"lighting": "side"})"), "lighting 'side'");
+  ExpectError(WriteConfig("bad_flicker", R"({"flicker_depth": 1.5})"), "flicker_depth");
+  ExpectError(WriteConfig("bad_ball", R"({"ball_diameter_m": 2})"), "ball_diameter_m");
+  ExpectError(WriteConfig("bad_format", R"({"frame_format": "tiff"})"), "frame format 'tiff'");
+}
+
 }  // namespace

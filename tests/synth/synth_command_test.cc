@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -196,6 +197,70 @@ TEST(SynthCommandTest, BadInputNamesTheOptionAndFails) {
        {"--speed-m-s", "--angle-deg", "--m-per-px", "--no-noise", "--exposure-s", "--tilt-deg",
         "--hunt-crossley-n-s-m2", "--study", "--trials-per-cell"})
     EXPECT_NE(r.out.find(option), std::string::npos) << option;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// A back-lit ball that bounces three times at 250 fps, with flicker and counted frame faults:
+// the clip is sized from the flight and truth lists every impact and fault.
+TEST(SynthCommandTest, BouncingBackLitBallWithFrameFaultsAndFlicker) {
+  const fs::path out = Fresh("ball");
+  const auto r = RunHoofimpact(
+      "synth -o " + out.string() +
+      " --body ball --ball-diameter-m 0.01 --lighting backlit --bounces 3 --speed-m-s 0.8 "
+      "--fps 250 --m-per-px 4e-4 --width-px 96 --height-px 96 --frames-from-flight --mu 0 "
+      "--flicker-hz 100 --flicker-depth 0.2 --duplicate-frames 2 --drop-frames 1 --seed 4");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto truth = nlohmann::json::parse(std::ifstream(out / "truth.json"));
+  EXPECT_EQ(truth["body"]["kind"], "ball");
+  EXPECT_EQ(truth["lighting"], "backlit");
+  ASSERT_EQ(truth["impacts"].size(), 3u);
+  EXPECT_EQ(truth["impacts"][0]["e"], truth["e"]);  // the single-impact fields: the first
+  EXPECT_EQ(truth["duplicate_frames"].size(), 2u);
+  EXPECT_EQ(truth["dropped_captures"].size(), 1u);
+  // Released at rest 0.8 / g = 0.082 s before touch: 20 frames at 250 fps.
+  EXPECT_EQ(truth["first_frame_after_touch"], 20);
+  const auto trial = nlohmann::json::parse(std::ifstream(out / "trial.json"));
+  EXPECT_EQ(trial["frames"]["count"], truth["frames"].size());
+  EXPECT_NE(trial["notes"].get<std::string>().find("ball"), std::string::npos);
+}
+
+// --frame-format mraw writes one clip that trial.json names, and no frames/ folder.
+TEST(SynthCommandTest, FrameFormatMrawWritesOneClipThatTrialJsonNames) {
+  const fs::path out = Fresh("mraw");
+  const auto r = RunHoofimpact("synth -o " + out.string() +
+                               " --frame-format mraw --width-px 96 --height-px 96 --m-per-px 4e-4 "
+                               "--frames-before 3 --frames-after 3 --seed 2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::is_regular_file(out / "clip.mraw"));
+  EXPECT_TRUE(fs::is_regular_file(out / "clip.cihx"));
+  EXPECT_FALSE(fs::exists(out / "frames"));
+  EXPECT_EQ(fs::file_size(out / "clip.mraw"), 6u * 96 * 96);  // 6 frames of 8 bits
+  const auto trial = nlohmann::json::parse(std::ifstream(out / "trial.json"));
+  EXPECT_EQ(trial["frames"]["camera_file"], "clip.mraw");
+  EXPECT_EQ(trial["frames"]["count"], 6);
+  EXPECT_FALSE(trial.contains("fps"));
+}
+
+TEST(SynthCommandTest, BadBodyLightingAndFaultOptionsNameTheOption) {
+  const std::string out = Fresh("bad-new").string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"--body cube", "--body"},
+      {"--study --bounces 2", "--bounces"},
+      {"--flicker-hz 100 --flicker-depth 1.5", "--flicker-depth"},
+      // The default exposure (1/16000 s) is longer than a frame at 30 000 fps: the message
+      // names --exposure-s (it named --fps, found as the word 'fps' in '1/fps').
+      {"--fps 30000", "--exposure-s: must not exceed the frame period"},
+      {"--frames-before 2 --frames-after 2 --duplicate-frames 4", "duplicate_frames"},
+      {"--frame-format avi", "--frame-format"},
+      {"--bit-depth 12", "--bit-depth: must be 8 or 16 for PNG frames"},
+      {"--frame-format mraw --bit-depth 12 --width-px 511", "--width-px: must be even"},
+      {"--frame-format cine --contact-sheet x.png", "--contact-sheet reads PNG frames"},
+  };
+  for (const auto& [args, name] : cases) {
+    const auto r = RunHoofimpact("synth -o " + out + " " + args);
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(name), std::string::npos) << args << ": " << r.err;
+  }
   EXPECT_FALSE(fs::exists(out));
 }
 

@@ -82,7 +82,21 @@ add_include src/cli/main.cc pipeline/trial_analysis.h >/dev/null
 run_check
 [ "$rc" -eq 0 ] || fail "cli including cli/ and pipeline/: exit $rc, expected 0; output: $out"
 
-# 6. A module that is not in the table is an error (exit 2), not a silent pass.
+# 6. synth may include tracking's camera-file header and no other header of tracking.
+mkdir -p "$scratch/src/synth"
+echo '#include "tracking/camera_file.h"' >"$scratch/src/synth/writer.cc"
+run_check
+[ "$rc" -eq 0 ] || fail "synth including tracking/camera_file.h: exit $rc, expected 0; output: $out"
+line=$(add_include src/synth/writer.cc tracking/pose.h)
+run_check
+[ "$rc" -eq 1 ] || fail "synth -> tracking/pose.h: exit $rc, expected 1"
+want="src/synth/writer.cc:$line: module synth may include only tracking/camera_file.h of module tracking (\"tracking/pose.h\")"
+grep -qxF "$want" <<<"$out" || fail "expected the line: $want
+got:
+$out"
+rm -r "$scratch/src/synth"
+
+# 7. A module that is not in the table is an error (exit 2), not a silent pass.
 mkdir -p "$scratch/src/newmodule"
 echo '#include "cli/commands.h"' >"$scratch/src/newmodule/a.cc"
 run_check

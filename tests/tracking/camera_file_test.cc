@@ -533,7 +533,7 @@ void WriteTiff(const fs::path& path, const std::vector<cv::Mat>& pages) {
     TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, static_cast<std::uint16_t>(1));
     TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK);
     TIFFSetField(t, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
-    TIFFSetField(t, TIFFTAG_COMPRESSION, COMPRESSION_DEFLATE);
+    TIFFSetField(t, TIFFTAG_COMPRESSION, COMPRESSION_ADOBE_DEFLATE);
     TIFFSetField(t, TIFFTAG_ROWSPERSTRIP, static_cast<std::uint32_t>(3));
     for (int y = 0; y < m.rows; ++y)
       ASSERT_GE(
@@ -569,6 +569,43 @@ TEST(CameraFileTest, MultiPageSixteenBitTiffIsReadPageByPage) {
   auto src = OpenCameraFile(dir / "mixed.tiff");
   ExpectError([&] { src->Read(1); }, "mixed.tiff page 1 (frame 1) is 12 x 6");
   EXPECT_EQ(cv::norm(src->Read(2), pages[2], cv::NORM_INF), 0.0);
+  // A 110-byte TIFF whose page claims 30000 x 30000 16-bit pixels: refused before a 1.8 GB
+  // frame is allocated.
+  {
+    std::vector<unsigned char> t = {'I', 'I', 42, 0, 8, 0, 0, 0};
+    const auto u16 = [&](unsigned v) {
+      t.push_back(static_cast<unsigned char>(v & 0xff));
+      t.push_back(static_cast<unsigned char>(v >> 8));
+    };
+    const auto u32 = [&](std::uint32_t v) {
+      u16(v & 0xffff);
+      u16(v >> 16);
+    };
+    const auto entry = [&](unsigned tag, unsigned type, std::uint32_t value) {
+      u16(tag);
+      u16(type);
+      u32(1);
+      if (type == 3) {
+        u16(value);
+        u16(0);
+      } else {
+        u32(value);
+      }
+    };
+    u16(8);
+    entry(256, 4, 30000);       // ImageWidth
+    entry(257, 4, 30000);       // ImageLength
+    entry(258, 3, 16);          // BitsPerSample
+    entry(259, 3, 1);           // Compression: none
+    entry(262, 3, 1);           // Photometric: black is zero
+    entry(273, 4, 8);           // StripOffsets
+    entry(278, 4, 30000);       // RowsPerStrip
+    entry(279, 4, 1800000000);  // StripByteCounts
+    u32(0);
+    WriteBytes(dir / "claims.tif", t);
+  }
+  ExpectError([&] { OpenCameraFile(dir / "claims.tif"); },
+              "claims.tif page 0 (frame 0): claims 30000 x 30000 pixels, far more than its");
   // Not a TIFF at all.
   WriteBytes(dir / "junk.tif", {'n', 'o', 't', ' ', 'a', ' ', 't', 'i', 'f', 'f'});
   ExpectError([&] { OpenCameraFile(dir / "junk.tif"); }, "junk.tif: not a readable TIFF file");
