@@ -23,7 +23,8 @@ constexpr std::uint32_t kBitmapSize = 40;
 constexpr std::uint16_t kSetupLength = 10412;  // the SETUP length current software writes
 constexpr std::uint32_t kBiRgb = 0, kBiPacked10 = 256, kBiPacked12 = 1024;
 constexpr std::uint16_t kTagTimeOnly = 1002;
-constexpr double kTime64 = 4294967296.0;  // TIME64 fractions of a second: 2^32
+constexpr double kTime64 = 4294967296.0;              // TIME64 fractions of a second: 2^32
+constexpr std::uint32_t kEpochSeconds = 1000000000u;  // the writer's image 0 (2001-09-09)
 
 // SETUP fields used (byte offsets from the start of SETUP; the block is packed to 1 byte).
 constexpr std::size_t kFrameRate16 = 0, kMark = 140, kLength = 142, kImWidth = 737, kImHeight = 739,
@@ -340,12 +341,11 @@ CineWriter::CineWriter(fs::path cine, CameraFileSpec spec) {
 
   // Time stamps count from an arbitrary epoch (2001-09-09, image 0); `t` seconds after it is
   // split into whole seconds and 2^-32 fractions without losing precision to the epoch.
-  const std::uint32_t epoch = 1000000000u;
-  const auto time64 = [epoch](double t) {
+  const auto time64 = [](double t) {
     const double sec = std::floor(t);
     const double frac = std::min(std::round((t - sec) * kTime64 / 4) * 4, kTime64 - 4);
     return Time64{static_cast<std::uint32_t>(frac),
-                  static_cast<std::uint32_t>(static_cast<std::int64_t>(epoch) +
+                  static_cast<std::uint32_t>(static_cast<std::int64_t>(kEpochSeconds) +
                                              static_cast<std::int64_t>(sec))};
   };
   const double frame0 = 0;
