@@ -122,6 +122,14 @@ nlohmann::json TrialJson(const TrialTruth& t, const RenderOptions& o, const Spec
     trial["frames"] = {
         {"camera_file", ClipFileName(o.frame_format)}, {"first", 0}, {"count", t.frames.size()}};
   }
+  // A body without markers is tracked by its silhouette (docs/format.md, "body"); the ball's
+  // known diameter is what a user would write, the scale stays camera.m_per_px.
+  // A ball is its own specimen (its radius and mass centre from the diameter), so it names none.
+  if (g.body == Body::kBall) {
+    trial.erase("specimen");
+    trial["body"] = {{"model", "silhouette"}, {"shape", "ball"}, {"diameter_m", g.ball_diameter_m}};
+  } else if (g.body == Body::kUnmarked)
+    trial["body"] = {{"model", "silhouette"}, {"shape", "outline"}};
   return trial;
 }
 
