@@ -182,6 +182,17 @@ BENCHMARK(BM_ReadAndTrack)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+/// Finding the body in a whole frame (the first frame, or when it was lost): FindSilhouette on
+/// the clip's first 16-bit 1024 x 1024 frame.
+void BM_FindInWholeFrame(benchmark::State& state) {
+  const cv::Mat frame = Frame(Path(1)[0], 0);
+  SilhouetteOptions options;
+  double x = 0;
+  for (auto _ : state) x += FindSilhouette(frame, options).p_I.x();
+  benchmark::DoNotOptimize(x);
+}
+BENCHMARK(BM_FindInWholeFrame)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 /// Reading alone, for comparison (as bench/camera_file_bench.cc's BM_Mraw16 on this clip).
 void BM_ReadOnly(benchmark::State& state) {
   const int frames = static_cast<int>(state.range(0));

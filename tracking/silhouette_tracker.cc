@@ -633,6 +633,14 @@ SilhouetteObservation MeasureSilhouetteNear(const cv::Mat& grey, const Silhouett
     const std::vector<cv::Point> region =
         PickRegion(mask, near_options, Eigen::Vector2d(predicted_I - offset));
     if (region.empty()) return obs;
+    // The window reaches past the body's extent and the search distance on every side, so a
+    // region that touches its border is the body joined by something else: a lit surface at
+    // the contact, whose strip the window cuts (so the length test below cannot see it).
+    const cv::Rect box = cv::boundingRect(region);
+    if (box.x <= 0 || box.y <= 0 || box.x + box.width >= f.cols || box.y + box.height >= f.rows) {
+      obs.status = "the outline reaches the edge of its search window (joined by another region)";
+      return obs;
+    }
     obs = MeasureRegion(f, region, window.tl(), polarity, options);
     if (obs.found && !(obs.length_px < 1.5 * previous.length_px + 4)) {
       obs.found = false;
