@@ -2,8 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <condition_variable>
+#include <deque>
+#include <exception>
+#include <mutex>
 #include <numbers>
 #include <stdexcept>
+#include <thread>
 
 #include <Eigen/Dense>
 #include <opencv2/imgproc.hpp>
@@ -446,6 +451,83 @@ cv::Mat BrightMask(const cv::Mat& f) {
   return bin;
 }
 
+/// Reads the frames of a source in order on a thread of its own, up to `depth` frames ahead of
+/// the caller, who takes them with Next(). A frame is handed to the caller as a header without
+/// ownership of the reader's buffer (no reference count), and its owning cv::Mat goes back to the
+/// reader thread, under the lock, when the caller asks for the next frame: so every change to a
+/// buffer's reference count happens on the reader thread or under the lock. That matters because
+/// a source may reuse its one frame buffer when no-one else holds it (tracking/camera_file.cc):
+/// the buffer of a frame the caller is still measuring is never reused, and there is no
+/// unsynchronised access to its count.
+class ReadAhead {
+ public:
+  ReadAhead(FrameSource& source, int depth) : source_(source), depth_(depth) {
+    thread_ = std::thread([this] { Run(); });
+  }
+  ~ReadAhead() {
+    {
+      std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    changed_.notify_all();
+    thread_.join();
+  }
+  ReadAhead(const ReadAhead&) = delete;
+  ReadAhead& operator=(const ReadAhead&) = delete;
+
+  /// The next frame in order (valid until the next call); rethrows the error of reading it.
+  cv::Mat Next() {
+    std::unique_lock lock(mutex_);
+    if (!current_.empty()) returned_.push_back(std::move(current_));
+    changed_.notify_all();
+    changed_.wait(lock, [&] { return !ready_.empty() || error_; });
+    if (ready_.empty()) std::rethrow_exception(error_);
+    current_ = std::move(ready_.front());
+    ready_.pop_front();
+    changed_.notify_all();
+    return cv::Mat(current_.rows, current_.cols, current_.type(), current_.data, current_.step[0]);
+  }
+
+ private:
+  void Run() {
+    for (int i = 0; i < source_.count(); ++i) {
+      std::vector<cv::Mat> done;
+      {
+        std::unique_lock lock(mutex_);
+        changed_.wait(lock, [&] { return stop_ || static_cast<int>(ready_.size()) < depth_; });
+        if (stop_) return;
+        done.swap(returned_);
+      }
+      done.clear();  // the caller's finished frames, released on this thread
+      cv::Mat frame;
+      try {
+        frame = source_.Read(i);
+      } catch (...) {
+        std::lock_guard lock(mutex_);
+        error_ = std::current_exception();
+        changed_.notify_all();
+        return;
+      }
+      {
+        std::lock_guard lock(mutex_);
+        ready_.push_back(std::move(frame));
+      }
+      changed_.notify_all();
+    }
+  }
+
+  FrameSource& source_;
+  const int depth_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<cv::Mat> ready_;      // read, not yet taken
+  std::vector<cv::Mat> returned_;  // taken and finished, to be released by the reader
+  cv::Mat current_;                // the frame the caller is measuring (owning)
+  std::exception_ptr error_;
+  bool stop_ = false;
+  std::thread thread_;  // last: started once the members above exist
+};
+
 }  // namespace
 
 std::string PolarityName(Polarity polarity) {
@@ -467,6 +549,8 @@ void SilhouetteOptions::Validate() const {
   if (!(min_outlier_px >= 0)) throw std::invalid_argument("silhouette min_outlier_px must be >= 0");
   if (!(gravity_I.allFinite() && gravity_I.norm() > 0))
     throw std::invalid_argument("silhouette gravity_I must be a non-zero direction");
+  if (!(read_ahead_frames >= 0))
+    throw std::invalid_argument("silhouette read_ahead_frames must be >= 0");
 }
 
 std::pair<double, double> FrameLevels(const cv::Mat& grey) {
@@ -549,6 +633,14 @@ SilhouetteObservation MeasureSilhouetteNear(const cv::Mat& grey, const Silhouett
     const std::vector<cv::Point> region =
         PickRegion(mask, near_options, Eigen::Vector2d(predicted_I - offset));
     if (region.empty()) return obs;
+    // The window reaches past the body's extent and the search distance on every side, so a
+    // region that touches its border is the body joined by something else: a lit surface at
+    // the contact, whose strip the window cuts (so the length test below cannot see it).
+    const cv::Rect box = cv::boundingRect(region);
+    if (box.x <= 0 || box.y <= 0 || box.x + box.width >= f.cols || box.y + box.height >= f.rows) {
+      obs.status = "the outline reaches the edge of its search window (joined by another region)";
+      return obs;
+    }
     obs = MeasureRegion(f, region, window.tl(), polarity, options);
     if (obs.found && !(obs.length_px < 1.5 * previous.length_px + 4)) {
       obs.found = false;
@@ -565,8 +657,11 @@ SilhouetteTrack TrackSilhouette(FrameSource& source, const SilhouetteOptions& op
   SilhouetteTrack track;
   track.polarity = options.polarity;
   int found_frames = 0;
+  std::optional<ReadAhead> reader;
+  if (options.read_ahead_frames > 0 && source.count() > 1)
+    reader.emplace(source, options.read_ahead_frames);
   for (int i = 0; i < source.count(); ++i) {
-    const cv::Mat grey = source.Read(i);
+    const cv::Mat grey = reader ? reader->Next() : source.Read(i);
     SilhouetteObservation obs;
     const int n = static_cast<int>(track.frames.size());
     const bool have_last = n >= 1 && track.frames[static_cast<std::size_t>(n - 1)].found;

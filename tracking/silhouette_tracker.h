@@ -54,6 +54,11 @@ struct SilhouetteOptions {
   /// round end first, so its x_B (from the round end toward the centre of mass) points against
   /// gravity in the first frame, and turns continuously after it.
   Eigen::Vector2d gravity_I{0.0, 1.0};
+  /// TrackSilhouette: frames read ahead of the tracker on a thread of its own, so reading the
+  /// next frames overlaps measuring this one (docs/performance.md, "Silhouette tracking"); 0
+  /// reads on the calling thread. The track is the same whatever the value: the frames are
+  /// measured one after the other, in order, on the calling thread. >= 0.
+  int read_ahead_frames = 2;
 
   /// Throws std::invalid_argument naming the field.
   void Validate() const;
@@ -105,7 +110,10 @@ SilhouetteObservation MeasureSilhouetteNear(const cv::Mat& grey, const Silhouett
 
 /// Tracks the body through `source`: found in the first frame that shows it, then measured
 /// near its prediction from the last two frames (found afresh when that fails). Throws
-/// std::runtime_error naming the source when no frame shows a body.
+/// std::runtime_error naming the source when no frame shows a body. With
+/// `options.read_ahead_frames` > 0, `source.Read` is called from a second thread (one call at a
+/// time, in frame order) while `source.Describe` and `progress` are called from this one; an
+/// error reading a frame is rethrown here when the tracker reaches that frame.
 SilhouetteTrack TrackSilhouette(FrameSource& source, const SilhouetteOptions& options = {},
                                 const std::function<void(int)>& progress = {});
 

@@ -195,6 +195,59 @@ TEST(SilhouetteTrackerTest, TracksAFallingBallThroughASequence) {
   }
 }
 
+// Reading ahead on a second thread changes nothing in the track: every field of every frame is
+// the same, bit for bit, as when the frames are read on the calling thread, for a ball with a
+// bounce (the prediction misses, the window widens) and for frames whose body is lost.
+TEST(SilhouetteTrackerTest, ReadingAheadOnASecondThreadGivesTheSameTrack) {
+  VectorSource src;
+  for (int i = 0; i < 24; ++i) {
+    const double y = i < 12 ? 40.0 + 4.0 * i : 84.0 - 3.2 * (i - 11);
+    if (i == 17)
+      src.frames.push_back(Quantize(Background(160, 160, 3800), CV_16U, 10.0, 60 + i));
+    else
+      src.frames.push_back(
+          DiscFrame(Eigen::Vector2d(60.3 + 1.1 * i, y), 22.0, 300, 3800, CV_16U, 10.0, 60 + i));
+  }
+  SilhouetteOptions serial = Ball(), ahead = Ball();
+  serial.read_ahead_frames = 0;
+  ahead.read_ahead_frames = 3;
+  const SilhouetteTrack a = TrackSilhouette(src, serial), b = TrackSilhouette(src, ahead);
+  ASSERT_EQ(a.frame_count(), 24);
+  ASSERT_EQ(b.frame_count(), 24);
+  EXPECT_FALSE(a.frames[17].found);
+  EXPECT_EQ(a.warnings, b.warnings);
+  for (std::size_t i = 0; i < 24; ++i) {
+    const auto &x = a.frames[i], &y = b.frames[i];
+    EXPECT_EQ(x.found, y.found) << i;
+    EXPECT_EQ(x.status, y.status) << i;
+    EXPECT_EQ(x.p_I, y.p_I) << i;
+    EXPECT_EQ(x.cov_p_I, y.cov_p_I) << i;
+    EXPECT_EQ(x.diameter_px, y.diameter_px) << i;
+    EXPECT_EQ(x.edge_points, y.edge_points) << i;
+    EXPECT_EQ(x.rms_residual_px, y.rms_residual_px) << i;
+  }
+}
+
+// An error reading a frame on the read-ahead thread reaches the caller, with its message.
+TEST(SilhouetteTrackerTest, AnErrorReadingAheadIsRethrownToTheCaller) {
+  class FailingSource : public VectorSource {
+   public:
+    cv::Mat Read(int i) override {
+      if (i == 5) throw std::runtime_error("memory frame 5 is cut short");
+      return VectorSource::Read(i);
+    }
+  } src;
+  for (int i = 0; i < 8; ++i)
+    src.frames.push_back(
+        DiscFrame(Eigen::Vector2d(70.0, 40.0 + 3.0 * i), 20.0, 300, 3800, CV_16U, 10.0, 80 + i));
+  try {
+    TrackSilhouette(src, Ball());
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "memory frame 5 is cut short");
+  }
+}
+
 TEST(SilhouetteTrackerTest, FramesWithoutABodyAreAnErrorNamingTheSource) {
   VectorSource src;
   for (int i = 0; i < 3; ++i) {
