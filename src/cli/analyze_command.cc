@@ -37,6 +37,7 @@ struct AnalyzeArgs {
   std::string output;
   std::string csv;
   std::string tracks_csv;
+  std::string impacts_csv;
   std::string figures_dir;
   bool figures_all = false;
   bool json = false;
@@ -103,6 +104,7 @@ void Run(AnalyzeArgs& a, RunState& state) {
   studyfile::WriteStudyFile(a.output, studyfile::StudyInfo::Of(study, a.options, a.command_line),
                             results);
   if (!a.csv.empty()) studyfile::WriteResultsCsv(a.csv, results);
+  if (!a.impacts_csv.empty()) studyfile::WriteImpactsCsv(a.impacts_csv, results);
   if (!a.tracks_csv.empty()) studyfile::WriteTracksCsv(a.tracks_csv, results);
   std::vector<std::string> figures;
   if (!a.figures_dir.empty()) {
@@ -130,6 +132,7 @@ void Run(AnalyzeArgs& a, RunState& state) {
     const nlohmann::json out = {{"study_dir", a.study_dir},
                                 {"study_h5", a.output},
                                 {"results_csv", a.csv},
+                                {"impacts_csv", a.impacts_csv},
                                 {"tracks_csv", a.tracks_csv},
                                 {"figures", figures},
                                 {"trials_total", results.size()},
@@ -164,6 +167,8 @@ void RegisterAnalyze(CLI::App& app, RunState& state) {
                   "Also write the per-trial results as CSV (the columns of /results)");
   // --csv, its earlier name (an output here, an input of `stats`): still works, not shown.
   cmd->add_option("--csv", args->csv, "Deprecated: --results-csv")->group("");
+  cmd->add_option("--impacts-csv", args->impacts_csv,
+                  "Also write the per-impact results as CSV (the columns of /impacts)");
   cmd->add_option("--tracks-csv", args->tracks_csv,
                   "Also write every trial's marker tracks and poses as one long CSV");
   cmd->add_option("--figures", args->figures_dir,

@@ -184,6 +184,7 @@ void PrintRunJson(const RunArgs& a, const study::StudyJobSummary& s, int exit_co
                                   {"output_dir", s.output_dir.string()},
                                   {"study_h5", s.study_h5.string()},
                                   {"results_csv", s.results_csv.string()},
+                                  {"impacts_csv", s.impacts_csv.string()},
                                   {"stats_csv", s.stats_csv.string()},
                                   {"figures_dir", s.figures_dir.string()},
                                   {"report_html", s.report.output.string()},
@@ -246,6 +247,7 @@ void Run(RunArgs& a, RunState& state) {
       << "  report.html  the report: summary, model, replay, figures, trials, statistics\n"
       << "  study.h5     everything (docs/hdf5-schema.md)\n"
       << "  results.csv  per-trial results\n"
+      << "  impacts.csv  per-impact results (every impact of each clip)\n"
       << "  stats.csv    the statistics tables\n"
       << "  figures/     the paper's figures 4-8 (3 with --trial-figures), out-of-plane checks"
       << (a.discover ? ", discovery" : "") << "\n";
@@ -271,8 +273,9 @@ void RegisterRun(CLI::App& app, RunState& state) {
   cmd->add_option("study_dir", args->study_dir, "Study folder with study.json (docs/format.md)")
       ->required()
       ->check(CLI::ExistingDirectory);
-  cmd->add_option("-o,--output", args->output_dir,
-                  "Output folder: study.h5, results.csv, stats.csv, figures/, report.html")
+  cmd->add_option(
+         "-o,--output", args->output_dir,
+         "Output folder: study.h5, results.csv, impacts.csv, stats.csv, figures/, report.html")
       ->capture_default_str();
   cmd->add_option("--jobs", args->jobs, "Threads (0 = all cores)")
       ->check(InRange(0, 4096))

@@ -47,6 +47,54 @@ void ApplyMethod(const std::string& method, pipeline::TrialAnalysisOptions& opti
     throw CLI::ValidationError("--method", "\"" + method + "\" is invalid: centroid or ellipse");
 }
 
+namespace {
+
+/// The measured quantities of one impact, with the names of the columns of /results and
+/// results.csv (studyfile/schema.h).
+nlohmann::json ImpactJson(const kinematics::ImpactKinematics& k) {
+  return nlohmann::json(
+      {{"impact_time_s", k.impact_time_s},
+       {"impact_frame", k.impact_frame},
+       {"impact_index", k.index},
+       {"v_SC_before_m_s", JsonVector(k.v_SC_before)},
+       {"v_SC_after_m_s", JsonVector(k.v_SC_after)},
+       {"v_SC_before_se_m_s", JsonVector(k.v_SC_before_se)},
+       {"v_SC_after_se_m_s", JsonVector(k.v_SC_after_se)},
+       {"v_ST_before_m_s", JsonVector(k.v_ST_before)},
+       {"v_ST_after_m_s", JsonVector(k.v_ST_after)},
+       {"w_before_rad_s", JsonNumber(k.w_before_rad_s)},
+       {"w_after_rad_s", JsonNumber(k.w_after_rad_s)},
+       {"w_before_se_rad_s", JsonNumber(k.w_before_se_rad_s)},
+       {"w_after_se_rad_s", JsonNumber(k.w_after_se_rad_s)},
+       {"e", JsonNumber(k.e)},
+       {"e_se", JsonNumber(k.e_se)},
+       {"e_ci_low", JsonNumber(k.e_ci_low)},
+       {"e_ci_high", JsonNumber(k.e_ci_high)},
+       {"mu_eff", JsonNumber(k.mu_eff)},
+       {"mu_eff_se", JsonNumber(k.mu_eff_se)},
+       {"mu_eff_ci_low", JsonNumber(k.mu_eff_ci_low)},
+       {"mu_eff_ci_high", JsonNumber(k.mu_eff_ci_high)},
+       {"kinetic_energy_before_J", JsonNumber(k.kinetic_energy_before_J)},
+       {"kinetic_energy_after_J", JsonNumber(k.kinetic_energy_after_J)},
+       {"fit_frames_before", {k.before.first_frame, k.before.last_frame}},
+       {"fit_frames_after", {k.after.first_frame, k.after.last_frame}},
+       {"fit_rms_residual_m", {k.before.rms_residual_m, k.after.rms_residual_m}}});
+}
+
+}  // namespace
+
+nlohmann::json ImpactEntryJson(const kinematics::ImpactKinematics& k) {
+  nlohmann::json j = {{"impact_index", k.index},
+                      {"lowest_frame", k.lowest_frame},
+                      {"success", k.success},
+                      {"error", k.success ? std::string() : k.message}};
+  if (k.success)
+    j.update(ImpactJson(k));
+  else
+    j.update({{"impact_time_s", k.impact_time_s}, {"impact_frame", k.impact_frame}});
+  return j;
+}
+
 nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
   const auto& k = r.impact;
   nlohmann::json j = {
@@ -92,34 +140,31 @@ nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
                    {"speed_se_m_s", JsonNumber(m.speed_se_m_s)},
                    {"rms_residual_px", JsonNumber(m.rms_residual_px)}};
   }
-  if (k.success) {
-    j.update({{"impact_time_s", k.impact_time_s},
-              {"v_SC_before_m_s", JsonVector(k.v_SC_before)},
-              {"v_SC_after_m_s", JsonVector(k.v_SC_after)},
-              {"v_SC_before_se_m_s", JsonVector(k.v_SC_before_se)},
-              {"v_SC_after_se_m_s", JsonVector(k.v_SC_after_se)},
-              {"v_ST_before_m_s", JsonVector(k.v_ST_before)},
-              {"v_ST_after_m_s", JsonVector(k.v_ST_after)},
-              {"w_before_rad_s", JsonNumber(k.w_before_rad_s)},
-              {"w_after_rad_s", JsonNumber(k.w_after_rad_s)},
-              {"w_before_se_rad_s", JsonNumber(k.w_before_se_rad_s)},
-              {"w_after_se_rad_s", JsonNumber(k.w_after_se_rad_s)},
-              // The names of the columns of /results and results.csv (studyfile/schema.h).
-              {"e", JsonNumber(k.e)},
-              {"e_se", JsonNumber(k.e_se)},
-              {"e_ci_low", JsonNumber(k.e_ci_low)},
-              {"e_ci_high", JsonNumber(k.e_ci_high)},
-              {"mu_eff", JsonNumber(k.mu_eff)},
-              {"mu_eff_se", JsonNumber(k.mu_eff_se)},
-              {"mu_eff_ci_low", JsonNumber(k.mu_eff_ci_low)},
-              {"mu_eff_ci_high", JsonNumber(k.mu_eff_ci_high)},
-              {"kinetic_energy_before_J", JsonNumber(k.kinetic_energy_before_J)},
-              {"kinetic_energy_after_J", JsonNumber(k.kinetic_energy_after_J)},
-              {"fit_frames_before", {k.before.first_frame, k.before.last_frame}},
-              {"fit_frames_after", {k.after.first_frame, k.after.last_frame}},
-              {"fit_rms_residual_m", {k.before.rms_residual_m, k.after.rms_residual_m}}});
-  }
+  if (k.success) j.update(ImpactJson(k));
+  // Every impact of the clip, each measured on its own (pipeline/trial_impacts.h).
+  j["impacts"] = nlohmann::json::array();
+  for (const auto& i : r.impacts) j["impacts"].push_back(ImpactEntryJson(i));
   return j;
+}
+
+std::string ImpactsText(const pipeline::TrialAnalysis& r) {
+  using format::Kind;
+  std::ostringstream os;
+  os << "  impacts: " << r.impacts.size() << " in the clip; the trial's result above is impact "
+     << r.impact.index << "\n";
+  for (const auto& k : r.impacts) {
+    os << "    " << k.index << ": ";
+    if (!k.success) {
+      os << "near frame " << k.lowest_frame << ", not measured: " << k.message << "\n";
+      continue;
+    }
+    os << format::Number(k.impact_time_s * 1e3, Kind::kMeasured) << " ms (after frame "
+       << k.impact_frame << "), v_SC_y " << format::Number(k.v_SC_before.y(), Kind::kMeasured)
+       << " -> " << format::Number(k.v_SC_after.y(), Kind::kMeasured) << " m/s, e "
+       << format::WithError(k.e, k.e_se, Kind::kCoefficient) << ", mu_eff "
+       << format::WithError(k.mu_eff, k.mu_eff_se, Kind::kCoefficient) << "\n";
+  }
+  return os.str();
 }
 
 std::string TrialText(const pipeline::TrialAnalysis& r) {
@@ -154,6 +199,7 @@ std::string TrialText(const pipeline::TrialAnalysis& r) {
        << num(k.before.rms_residual_m * 1e6, Kind::kError) << " / "
        << num(k.after.rms_residual_m * 1e6, Kind::kError) << " µm\n";
   }
+  if (r.impacts.size() > 1) os << ImpactsText(r);
   if (r.no_impact) {
     const auto& m = r.motion;
     os << "  motion  " << m.frames_tracked << " frames tracked; speed "

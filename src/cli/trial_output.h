@@ -22,6 +22,11 @@ void ApplyMethod(const std::string& method, pipeline::TrialAnalysisOptions& opti
 /// One trial's results: id, v_SC_before_m_s, v_SC_after_m_s, w_before_rad_s, w_after_rad_s,
 /// e, e_se, mu_eff, mu_eff_se, impact_time_s, flags, and more.
 nlohmann::json TrialJson(const pipeline::TrialAnalysis& r);
+/// One impact of TrialAnalysis::impacts: impact_index, lowest_frame, success, error (why it was
+/// not measured) and, when measured, the keys TrialJson gives the trial's main impact.
+nlohmann::json ImpactEntryJson(const kinematics::ImpactKinematics& k);
+/// The clip's impacts, one line each (TrialText adds it when there are several).
+std::string ImpactsText(const pipeline::TrialAnalysis& r);
 /// A short readable summary.
 std::string TrialText(const pipeline::TrialAnalysis& r);
 /// Per frame: marker centres (px), status and quality, pose (m, rad).

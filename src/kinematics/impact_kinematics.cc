@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
@@ -13,6 +14,9 @@
 
 namespace hoof::kinematics {
 namespace {
+
+/// Slowest normal speed of E (m/s) that counts as coming down onto, or rising from, a surface.
+constexpr double kMinImpactSpeed_m_s = 0.05;
 
 Eigen::Vector2d CentreOfMass(const PoseSample& p, double d) {
   return p.p_WE + d * core::BodyRotation(p.theta_W_rad).x_B();
@@ -141,10 +145,14 @@ int SecondBounce(const std::vector<PoseSample>& poses, const std::vector<int>& v
 /// The flight fits before and after the impact near frame `i_min` (starting at time `t_imp`),
 /// their windows placed about the time where the fits meet, three times. Fills k.before,
 /// k.after and the impact time; false with k.message when the frames or the fits do not allow.
+/// Only frames after `t_from` may serve before the impact, and only frames before `t_to` after it
+/// (the neighbouring impacts' contacts; infinite for a clip's only impact).
 bool FitAroundImpact(const std::vector<PoseSample>& poses, const std::vector<int>& valid, int i_min,
                      int bounce_frame, double t_imp, double exposure,
                      const core::SurfaceRotation& S, const core::SpecimenParameters& body,
-                     const KinematicsOptions& options, ImpactKinematics& k) {
+                     const KinematicsOptions& options, ImpactKinematics& k,
+                     double t_from = -std::numeric_limits<double>::infinity(),
+                     double t_to = std::numeric_limits<double>::infinity()) {
   const double g = options.gravity_m_s2;
   for (int iteration = 0; iteration < 3; ++iteration) {
     const double excl_lo = t_imp - options.max_contact_s - 0.5 * exposure;
@@ -152,8 +160,8 @@ bool FitAroundImpact(const std::vector<PoseSample>& poses, const std::vector<int
     std::vector<int> before, after;
     for (int i : valid) {
       const double t = poses[static_cast<std::size_t>(i)].t_s;
-      if (t < excl_lo) before.push_back(i);
-      if (t > excl_hi && (bounce_frame < 0 || i < bounce_frame - 1)) after.push_back(i);
+      if (t < excl_lo && t > t_from) before.push_back(i);
+      if (t > excl_hi && t < t_to && (bounce_frame < 0 || i < bounce_frame - 1)) after.push_back(i);
     }
     if (static_cast<int>(before.size()) > options.fit_frames)
       before.erase(before.begin(), before.end() - options.fit_frames);
@@ -256,6 +264,22 @@ void RestitutionAndFriction(const core::SurfaceRotation& S, const core::Specimen
                              0.5 * body.inertia_kg_m2 * std::pow(k.after.w_rad_s, 2);
 }
 
+/// The impact frame, velocities in S, e and mu_eff of k, whose fits FitAroundImpact made.
+void Finish(double fps, double surface_angle_deg, const core::SurfaceRotation& S,
+            const core::SpecimenParameters& body, const KinematicsOptions& options,
+            ImpactKinematics& k) {
+  k.impact_frame = static_cast<int>(std::floor(k.impact_time_s * fps));
+  VelocitiesInS(S, body, k);
+  RestitutionAndFriction(S, body, options.confidence, k);
+  // On a level surface (a normal impact) nothing drives the body along it: the change of v_x
+  // is the tracker's noise, and their ratio measures no friction. mu_eff is not defined there,
+  // and is NaN with its s.e. and interval, as every quantity not measured (the paper measures it
+  // on oblique impacts only).
+  if (surface_angle_deg == 0.0)
+    k.mu_eff = k.mu_eff_se = k.mu_eff_ci_low = k.mu_eff_ci_high = core::kNaN;
+  k.success = true;
+}
+
 }  // namespace
 
 void KinematicsOptions::Validate() const {
@@ -301,7 +325,7 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
   const double v_up =
       frames_after >= 2 ? NormalVelocity(poses, S, valid[lowest], valid[lowest + 2]) : 0.0;
   if (frames_before < options.min_fit_frames || frames_after < options.min_fit_frames ||
-      !(v_down < -0.05) || !(v_up > 0.05)) {
+      !(v_down < -kMinImpactSpeed_m_s) || !(v_up > kMinImpactSpeed_m_s)) {
     std::ostringstream os;
     os << "no impact found: the round end's lowest point is at frame " << i_min << " of "
        << poses.size() << ", and it does not come down before it and rebound after it with "
@@ -310,6 +334,7 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
     k.no_impact = true;
     return k;
   }
+  k.lowest_frame = i_min;
   const int bounce_frame = SecondBounce(poses, valid, lowest, S, v_up - v_down);
   if (bounce_frame >= 0) {
     k.flags.push_back("second_bounce");
@@ -319,17 +344,133 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
   if (!FitAroundImpact(poses, valid, i_min, bounce_frame,
                        poses[static_cast<std::size_t>(i_min)].t_s, exposure, S, body, options, k))
     return k;
-  k.impact_frame = static_cast<int>(std::floor(k.impact_time_s * fps));
-  VelocitiesInS(S, body, k);
-  RestitutionAndFriction(S, body, options.confidence, k);
-  // On a level surface (a normal impact) nothing drives the body along it: the change of v_x
-  // is the tracker's noise, and their ratio measures no friction. mu_eff is not defined there,
-  // and is NaN with its s.e. and interval, as every quantity not measured (the paper measures it
-  // on oblique impacts only).
-  if (surface_angle_deg == 0.0)
-    k.mu_eff = k.mu_eff_se = k.mu_eff_ci_low = k.mu_eff_ci_high = core::kNaN;
-  k.success = true;
+  Finish(fps, surface_angle_deg, S, body, options, k);
   return k;
+}
+
+namespace {
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+/// The noise s.d. of E's height (m), from the second differences over runs of consecutive
+/// frames: robust (median absolute deviation about their median, which is gravity's), and for
+/// white noise of s.d. sigma they have s.d. sqrt(6) sigma. 0 when there are fewer than 5.
+double HeightNoise(const std::vector<int>& valid, const std::vector<double>& h) {
+  std::vector<double> d2;
+  for (std::size_t j = 1; j + 1 < valid.size(); ++j)
+    if (valid[j] - valid[j - 1] == 1 && valid[j + 1] - valid[j] == 1)
+      d2.push_back(h[j + 1] - 2 * h[j] + h[j - 1]);
+  if (d2.size() < 5) return 0.0;
+  const double m = Median(d2);
+  for (double& x : d2) x = std::abs(x - m);
+  return 1.4826 * Median(d2) / std::sqrt(6.0);
+}
+
+/// The impacts of a clip, as positions j in `valid` (frames with a pose) of their lowest
+/// frames, in time order. A candidate is a frame lower than the one before and not higher than
+/// the one after. Candidates with no rise of more than 6 noise s.d. between them are one contact
+/// (the lowest is kept). A candidate is an impact when E comes down onto it and rises from it
+/// faster than kMinImpactSpeed_m_s (from one or two frames each side, not reaching past a
+/// neighbouring candidate), and lies no higher above the clip's lowest frame than E moves over
+/// those frames and a contact's time, plus 6 noise s.d.: that leaves out the wobbles of
+/// noise at an arc's apex, however many frames the arc has.
+std::vector<std::size_t> FindImpacts(const std::vector<PoseSample>& poses,
+                                     const std::vector<int>& valid, const std::vector<double>& h,
+                                     double max_contact_s) {
+  const std::size_t n = valid.size();
+  const double sigma = HeightNoise(valid, h);
+  const double h_min = *std::min_element(h.begin(), h.end());
+  std::vector<std::size_t> c;
+  for (std::size_t j = 1; j + 1 < n; ++j) {
+    if (!(h[j] < h[j - 1] && h[j] <= h[j + 1])) continue;
+    if (!c.empty()) {
+      const double rise = *std::max_element(h.begin() + static_cast<std::ptrdiff_t>(c.back()),
+                                            h.begin() + static_cast<std::ptrdiff_t>(j) + 1) -
+                          std::max(h[c.back()], h[j]);
+      if (rise <= 6 * sigma) {
+        if (h[j] < h[c.back()]) c.back() = j;
+        continue;
+      }
+    }
+    c.push_back(j);
+  }
+  const auto t = [&](std::size_t j) { return poses[static_cast<std::size_t>(valid[j])].t_s; };
+  std::vector<std::size_t> impacts;
+  for (std::size_t m = 0; m < c.size(); ++m) {
+    const std::size_t j = c[m];
+    const std::size_t prev = m > 0 ? c[m - 1] : 0, next = m + 1 < c.size() ? c[m + 1] : n - 1;
+    const std::size_t a = j - std::min<std::size_t>(2, j - prev);
+    const std::size_t b = j + std::min<std::size_t>(2, next - j);
+    if (a == j || b == j) continue;
+    // The steepest descent onto it and rise from it (one frame or two: the lowest frame may lie
+    // just before or after the touch, where E moves slowly on one side).
+    double v_down = 0, v_up = 0;
+    for (std::size_t i = a; i < j; ++i) v_down = std::min(v_down, (h[j] - h[i]) / (t(j) - t(i)));
+    for (std::size_t i = j + 1; i <= b; ++i) v_up = std::max(v_up, (h[i] - h[j]) / (t(i) - t(j)));
+    if (!(v_down < -kMinImpactSpeed_m_s && v_up > kMinImpactSpeed_m_s)) continue;
+    const double reach = (-v_down + v_up) * (t(b) - t(a) + max_contact_s) + 6 * sigma;
+    if (h[j] - h_min <= reach) impacts.push_back(j);
+  }
+  return impacts;
+}
+
+}  // namespace
+
+std::vector<ImpactKinematics> MeasureImpacts(const std::vector<PoseSample>& poses, double fps,
+                                             double surface_angle_deg,
+                                             const core::SpecimenParameters& body,
+                                             const KinematicsOptions& options) {
+  options.Validate();
+  if (!(fps > 0)) throw std::invalid_argument("fps must be > 0");
+  const auto S = core::SurfaceRotation::FromDegrees(surface_angle_deg);
+  const double exposure = options.exposure_s < 0 ? 1.0 / fps : options.exposure_s;
+  const double margin = options.max_contact_s + 0.5 * exposure;
+  std::vector<int> valid;
+  for (std::size_t i = 0; i < poses.size(); ++i)
+    if (poses[i].valid) valid.push_back(static_cast<int>(i));
+  if (valid.size() < 3) return {};
+  std::vector<double> h;
+  for (int i : valid) h.push_back(Height(poses, S, i));
+  const std::vector<std::size_t> found = FindImpacts(poses, valid, h, options.max_contact_s);
+  const auto t_of = [&](int i) { return poses[static_cast<std::size_t>(i)].t_s; };
+
+  std::vector<ImpactKinematics> out(found.size());
+  // Each impact's fits may not reach into its neighbours' contacts. First those lie somewhere
+  // between the frames either side of a neighbour's lowest frame; once the neighbours are
+  // measured, about their impact times, as each impact leaves out frames about its own.
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<double> t_from(found.size(), -kInf), t_to(found.size(), kInf);
+  for (std::size_t m = 0; m < found.size(); ++m) {
+    if (m > 0) t_from[m] = t_of(valid[found[m - 1] + 1]) + margin;
+    if (m + 1 < found.size()) t_to[m] = t_of(valid[found[m + 1] - 1]) - margin;
+  }
+  for (int pass = 0; pass < 2; ++pass) {
+    for (std::size_t m = 0; m < found.size(); ++m) {
+      ImpactKinematics k;
+      const int i_min = valid[found[m]];
+      k.index = static_cast<int>(m);
+      k.lowest_frame = i_min;
+      if (FitAroundImpact(poses, valid, i_min, -1, t_of(i_min), exposure, S, body, options, k,
+                          t_from[m], t_to[m])) {
+        Finish(fps, surface_angle_deg, S, body, options, k);
+      } else {
+        k.impact_time_s = t_of(i_min);
+        k.impact_frame = i_min;
+        k.before = k.after = FlightFit{};
+      }
+      out[m] = k;
+    }
+    for (std::size_t m = 0; m < found.size(); ++m) {
+      if (m > 0 && out[m - 1].success) t_from[m] = out[m - 1].impact_time_s + margin;
+      if (m + 1 < found.size() && out[m + 1].success) t_to[m] = out[m + 1].impact_time_s - margin;
+    }
+  }
+  return out;
 }
 
 }  // namespace hoof::kinematics

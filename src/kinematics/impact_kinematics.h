@@ -65,6 +65,12 @@ struct ImpactKinematics {
 
   double impact_time_s = 0.0;  ///< where the before and after fits of T's height meet
   int impact_frame = -1;       ///< last frame before the impact time
+  /// The impact's place in the clip (0 = the first; MeasureImpact's is 0) and the frame where it
+  /// was found (the lowest point of the round end near it; -1 when none was). An impact that
+  /// MeasureImpacts found but could not measure (success false, `message` says why) has
+  /// impact_time_s that frame's time and impact_frame that frame.
+  int index = 0;
+  int lowest_frame = -1;
   FlightFit before, after;
 
   Eigen::Vector2d v_SC_before{0, 0}, v_SC_after{0, 0};  ///< velocity of C in S (m/s)
@@ -85,5 +91,19 @@ struct ImpactKinematics {
 ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
                                double surface_angle_deg, const core::SpecimenParameters& body,
                                const KinematicsOptions& options = {});
+
+/// Finds every impact in `poses` and measures each on its own, in time order; empty when the
+/// clip holds none (MeasureImpact then says why). An impact is a frame where the round end E is
+/// lowest along the surface normal near it, reached descending and left rising, as low as the
+/// clip's lowest frame give or take how far E moves in a frame. The free flight between two
+/// impacts is the fit after the first and the fit before the second, the frames whose exposure
+/// may overlap either contact left out; an arc with fewer than min_fit_frames usable frames
+/// leaves its impacts found but not measured (success false, `message` says why). With one
+/// impact the result is MeasureImpact's, bit for bit. Invalid options throw
+/// std::invalid_argument.
+std::vector<ImpactKinematics> MeasureImpacts(const std::vector<PoseSample>& poses, double fps,
+                                             double surface_angle_deg,
+                                             const core::SpecimenParameters& body,
+                                             const KinematicsOptions& options = {});
 
 }  // namespace hoof::kinematics

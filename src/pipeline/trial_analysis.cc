@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/frames.h"
+#include "pipeline/trial_impacts.h"
 #include "tracking/camera_file.h"
 #include "tracking/frame_source.h"
 #include "tracking/surface_line.h"
@@ -272,8 +273,8 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
       std::vector<kinematics::PoseSample> samples;
       core::SpecimenParameters body = spec.specimen;
       AnalyzeSilhouette(spec, *source, options, progress, out, samples, body);
-      out.impact = kinematics::MeasureImpact(samples, spec.fps, spec.surface_angle_deg, body,
-                                             options.kinematics);
+      MeasureTrialImpacts(samples, spec.fps, spec.surface_angle_deg, body, options.kinematics,
+                          !spec.body.is_ball(), out);
       for (const auto& w : out.impact.warnings) out.warnings.push_back(w);
       for (const auto& f : out.impact.flags) out.flags.push_back(f);
       if (spec.body.is_ball() && out.impact.success) {
@@ -332,8 +333,8 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
       out.poses.push_back(pose);
       samples.push_back({f / spec.fps, pose.valid, pose.p_WE, pose.theta_W_rad});
     }
-    out.impact = kinematics::MeasureImpact(samples, spec.fps, spec.surface_angle_deg, spec.specimen,
-                                           options.kinematics);
+    MeasureTrialImpacts(samples, spec.fps, spec.surface_angle_deg, spec.specimen,
+                        options.kinematics, true, out);
     for (const auto& w : out.impact.warnings) out.warnings.push_back(w);
     for (const auto& f : out.impact.flags) out.flags.push_back(f);
     CheckOutOfPlane(spec, options, out);

@@ -55,7 +55,12 @@ struct TrialAnalysis {
   tracking::MarkerTracks tracks;          ///< markers model
   tracking::SilhouetteTrack silhouette;   ///< silhouette model, per frame (image frame, px)
   std::vector<tracking::BodyPose> poses;  ///< per frame, in W
+  /// The trial's main result: the clip's impact, or with several the first one measured
+  /// (pipeline/trial_impacts.h).
   kinematics::ImpactKinematics impact;
+  /// Every impact found in the clip, in time order, each measured on its own (or found but not
+  /// measured: success false with the reason); empty when the clip holds none.
+  std::vector<kinematics::ImpactKinematics> impacts;
   TrackSummary motion;  ///< silhouette model, and every trial with no impact
   double m_per_px_used = 0.0;
   /// Where m_per_px_used comes from: "camera.m_per_px", "markers" (--scale-from-markers) or

@@ -175,6 +175,18 @@ std::vector<std::filesystem::path> WriteDisplacementFigure(const pipeline::Trial
     a.vertical_lines.emplace_back(c.impact_time_ms, label);
     b.vertical_lines.emplace_back(c.impact_time_ms, label);
   }
+  // The clip's other impacts (pipeline/trial_impacts.h), each marked at its time.
+  if (trial.impacts.size() > 1)
+    for (const auto& k : trial.impacts) {
+      if (trial.impact.success && k.index == trial.impact.index) continue;
+      const double t_ms = 1e3 * k.impact_time_s;
+      const std::string label =
+          "impact " + std::to_string(k.index) +
+          (k.success ? ", e = " + format::Number(k.e, format::Kind::kCoefficient)
+                     : " (not measured)");
+      a.vertical_lines.emplace_back(t_ms, label);
+      b.vertical_lines.emplace_back(t_ms, label);
+    }
   // Nominal settings to 3 significant digits; e with its standard error.
   std::string title = trial.spec.id + ": " + trial.spec.surface + ", surface angle " +
                       format::Significant(trial.spec.surface_angle_deg, 3) + "°";

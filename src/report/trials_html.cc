@@ -76,6 +76,45 @@ std::string Explanation(const std::optional<discovery::BaselinePredictions>& p,
   return h.str();
 }
 
+/// The Impacts table: every impact of every trial (/impacts), when some trial's clip holds more
+/// than one; empty otherwise.
+std::string ImpactsTable(const std::vector<studyfile::ImpactResult>& impacts) {
+  bool several = false;
+  for (const auto& k : impacts) several = several || k.impact_index > 0;
+  if (!several) return "";
+  const std::string pm = " &plusmn; ";
+  std::ostringstream h;
+  h << "<h3 id=\"impacts\">Impacts</h3><p>Every impact found in each trial's clip, each measured "
+       "on its own from the flight on either side (docs/tracking.md, &ldquo;Several "
+       "impacts&rdquo;); the trial's row above is its first impact measured (&#9679;).</p>"
+       "<table class=\"data\" id=\"impact-table\"><thead><tr><th>trial</th><th>impact</th>"
+       "<th>frame</th><th>time (ms)</th><th>v<sub>y</sub> before (m/s)</th>"
+       "<th>v<sub>y</sub> after (m/s)</th><th>e</th><th>&mu;<sub>eff</sub></th><th>note</th>"
+       "</tr></thead><tbody>";
+  for (const auto& k : impacts) {
+    h << "<tr class=\"" << (k.success ? "impact" : "impact failed") << "\"><td>"
+      << HtmlEscape(k.trial) << "</td><td class=\"num\">" << k.impact_index
+      << (k.is_main ? " &#9679;" : "") << "</td><td class=\"num\">" << k.lowest_frame << "</td>";
+    if (!k.success) {
+      h << "<td colspan=\"5\" class=\"bad\">not measured</td><td>" << HtmlEscape(k.error)
+        << "</td></tr>";
+      continue;
+    }
+    h << "<td class=\"num\">" << format::Number(k.impact_time_s * 1e3) << "</td><td class=\"num\">"
+      << format::WithError(k.v_SC_before_m_s.y(), k.v_SC_before_se_m_s.y(), format::Kind::kMeasured,
+                           pm)
+      << "</td><td class=\"num\">"
+      << format::WithError(k.v_SC_after_m_s.y(), k.v_SC_after_se_m_s.y(), format::Kind::kMeasured,
+                           pm)
+      << "</td><td class=\"num\">" << format::WithError(k.e, k.e_se, format::Kind::kCoefficient, pm)
+      << "</td><td class=\"num\">"
+      << format::WithError(k.mu_eff, k.mu_eff_se, format::Kind::kCoefficient, pm)
+      << "</td><td></td></tr>";
+  }
+  h << "</tbody></table>";
+  return h.str();
+}
+
 }  // namespace
 
 std::string TrialsSection(const studyfile::StudyResults& study,
@@ -140,7 +179,7 @@ std::string TrialsSection(const studyfile::StudyResults& study,
           std::string(note.empty() ? "" : "; ") + "no prediction (no fitted surface model for it)";
     h << "<td>" << HtmlEscape(note) << "</td></tr>";
   }
-  h << "</tbody></table></section>";
+  h << "</tbody></table>" << ImpactsTable(studyfile::ReadStudyImpacts(h5)) << "</section>";
   return h.str();
 }
 

@@ -28,8 +28,8 @@ double Since(std::chrono::steady_clock::time_point t0) {
 /// own outputs, as the output folder may hold other files.
 int RemoveStaleOutputs(const fs::path& out) {
   const auto own = [](const std::string& name) {
-    for (const char* prefix :
-         {"study.h5.tmp-", "results.csv.tmp-", "stats.csv.tmp-", "report.html.tmp-"})
+    for (const char* prefix : {"study.h5.tmp-", "results.csv.tmp-", "impacts.csv.tmp-",
+                               "stats.csv.tmp-", "report.html.tmp-"})
       if (name.rfind(prefix, 0) == 0) return true;
     return false;
   };
@@ -84,6 +84,7 @@ StudyJobSummary Prepare(const StudyJobOptions& options) {
   s.output_dir = out;
   s.study_h5 = out / "study.h5";
   s.results_csv = out / "results.csv";
+  s.impacts_csv = out / "impacts.csv";
   s.stats_csv = out / "stats.csv";
   s.figures_dir = out / "figures";
   s.report_html = out / "report.html";
@@ -92,7 +93,8 @@ StudyJobSummary Prepare(const StudyJobOptions& options) {
   return s;
 }
 
-/// Step 1: every trial measured, written to the uncommitted study file `h5` and to results.csv.
+/// Step 1: every trial measured, written to the uncommitted study file `h5`, results.csv and
+/// impacts.csv.
 /// `measure_seconds` counts from `t0`, the job's start, to the last trial measured.
 void Measure(const StudyJobOptions& options, const fs::path& h5,
              std::chrono::steady_clock::time_point t0, StudyJobObserver& tell, StudyJobSummary& s) {
@@ -104,6 +106,7 @@ void Measure(const StudyJobOptions& options, const fs::path& h5,
   studyfile::WriteStudyFile(
       h5, studyfile::StudyInfo::Of(s.study, options.analysis, options.command_line), s.trials);
   studyfile::WriteResultsCsv(s.results_csv, s.trials);
+  studyfile::WriteImpactsCsv(s.impacts_csv, s.trials);
 }
 
 /// The study's figures, the comparison's and each trial's that was asked for (or failed), from

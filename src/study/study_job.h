@@ -2,7 +2,7 @@
 /// @file
 /// The whole study job (`hoofimpact run`), as a library: options in, a summary out, in the
 /// shape of COLMAP's AutomaticReconstructionController. The steps, in order:
-///   1. measure every trial (hoof::pipeline), write the study file and results.csv;
+///   1. measure every trial (hoof::pipeline), write the study file, results.csv and impacts.csv;
 ///   2. fit the contact law per surface and simulate every trial from its measured state
 ///      against its measurement (hoof::compare), stored under /comparison; and each trial's
 ///      residual on the scale of its prediction interval (discovery::PredictBaseline: the
@@ -51,6 +51,7 @@ struct StudyJobSummary {
   pipeline::StudySpec study;
   int jobs = 1;  ///< threads used
   std::filesystem::path output_dir, study_h5, results_csv, stats_csv, figures_dir, report_html;
+  std::filesystem::path impacts_csv;  ///< one row per impact of every trial (/impacts)
   int stale_removed = 0;  ///< temporaries of a killed earlier run removed from the output folder
   std::vector<pipeline::TrialAnalysis> trials;
   std::size_t measured = 0;  ///< trials measured successfully

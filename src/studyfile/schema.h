@@ -242,24 +242,11 @@ void SerializeOutcome(Archive&& a, T& r) {
   a.TextList("warnings", r.warnings, "warnings in words");
 }
 
-/// The columns of `/results`, one row per trial (also what WriteResultsCsv writes). The
-/// reader takes a trial's flags from its group, where each is one element: here they are
-/// joined with ';'.
+/// The measured columns of one impact, shared by `/results` (the trial's main impact) and
+/// `/impacts` (every impact): impact_time_s to kinetic_energy_after_J.
 template <class Archive, class R>
-requires std::is_same_v<std::remove_const_t<R>, TrialResult>
-void SerializeResult(Archive& a, R& r) {
+void SerializeImpactMeasures(Archive& a, R& r) {
   const std::string S = " (S: x along the surface, down-slope; y the outward normal)";
-  a.Text("id", r.id, "trial id");
-  a.Text("group", r.group, "the trial's group in this file");
-  a.Text("dir", r.dir, "trial folder");
-  a.Text("specimen", r.specimen, "specimen id");
-  a.Text("surface", r.surface, "surface name");
-  a.Number("surface_angle_deg", r.surface_angle_deg, "deg", "surface angle (trial.json)");
-  a.Number("fps", r.fps, "1/s", "frame rate");
-  a.Number("nominal_speed_m_s", r.nominal_speed_m_s, "m/s",
-           "nominal impact speed (NaN when not given)");
-  a.Flag("success", r.success, "1 when the impact was measured");
-  a.Text("error", r.error, "why the trial failed (empty on success)");
   a.Number("impact_time_s", r.impact_time_s, "s", "impact time since frame 0");
   a.Number("e", r.e, "1", "normal coefficient of restitution");
   a.Number("e_se", r.e_se, "1", "standard error of e");
@@ -290,6 +277,26 @@ void SerializeResult(Archive& a, R& r) {
   a.Number("w_after_se_rad_s", r.w_after_se_rad_s, "rad/s", "standard error of w_after_rad_s");
   a.Number("kinetic_energy_before_J", r.kinetic_energy_before_J, "J", "kinetic energy before");
   a.Number("kinetic_energy_after_J", r.kinetic_energy_after_J, "J", "kinetic energy after");
+}
+
+/// The columns of `/results`, one row per trial (also what WriteResultsCsv writes). The
+/// reader takes a trial's flags from its group, where each is one element: here they are
+/// joined with ';'.
+template <class Archive, class R>
+requires std::is_same_v<std::remove_const_t<R>, TrialResult>
+void SerializeResult(Archive& a, R& r) {
+  a.Text("id", r.id, "trial id");
+  a.Text("group", r.group, "the trial's group in this file");
+  a.Text("dir", r.dir, "trial folder");
+  a.Text("specimen", r.specimen, "specimen id");
+  a.Text("surface", r.surface, "surface name");
+  a.Number("surface_angle_deg", r.surface_angle_deg, "deg", "surface angle (trial.json)");
+  a.Number("fps", r.fps, "1/s", "frame rate");
+  a.Number("nominal_speed_m_s", r.nominal_speed_m_s, "m/s",
+           "nominal impact speed (NaN when not given)");
+  a.Flag("success", r.success, "1 when the impact was measured");
+  a.Text("error", r.error, "why the trial failed (empty on success)");
+  SerializeImpactMeasures(a, r);
   a.Number("m_per_px_used", r.m_per_px_used, "m/px", "scale the analysis used");
   a.Number("m_per_px_from_markers", r.m_per_px_from_markers, "m/px",
            "scale from the marker spacing (NaN when not measured)");
@@ -303,6 +310,31 @@ void SerializeResult(Archive& a, R& r) {
     std::string joined;  // read from the trial's group instead (ReadStudyResults)
     a.Text("flags", joined, "flags joined with ';'");
   }
+}
+
+/// The columns of `/impacts`, one row per impact of each trial (also what WriteImpactsCsv writes).
+template <class Archive, class R>
+requires std::is_same_v<std::remove_const_t<R>, ImpactResult>
+void SerializeImpact(Archive& a, R& r) {
+  a.Text("trial", r.trial, "trial id");
+  a.Text("group", r.group, "the trial's group in this file");
+  a.Integer("impact_index", r.impact_index, "1", "place of the impact in the clip, 0 = first");
+  a.Integer("lowest_frame", r.lowest_frame, "frame",
+            "frame where the impact was found (the round end lowest near it)");
+  a.Flag("main", r.is_main, "1 for the impact that is the trial's result in /results");
+  a.Flag("success", r.success, "1 when the impact was measured");
+  a.Text("error", r.error, "why the impact was not measured (empty when it was)");
+  a.Integer("impact_frame", r.impact_frame, "frame",
+            "last frame before the impact (the lowest frame when not measured)");
+  SerializeImpactMeasures(a, r);
+  a.Integer("fit_before_first_frame", r.fit_before_first_frame, "frame",
+            "first frame of the fit before the impact (-1 when not measured)");
+  a.Integer("fit_before_last_frame", r.fit_before_last_frame, "frame",
+            "last frame of the fit before the impact");
+  a.Integer("fit_after_first_frame", r.fit_after_first_frame, "frame",
+            "first frame of the fit after the impact");
+  a.Integer("fit_after_last_frame", r.fit_after_last_frame, "frame",
+            "last frame of the fit after the impact");
 }
 
 }  // namespace hoof::studyfile::internal

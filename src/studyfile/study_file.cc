@@ -130,6 +130,69 @@ TrialResult ResultOf(const pipeline::TrialAnalysis& trial, const std::string& gr
   return r;
 }
 
+/// The `/impacts` rows of `trial` (group `group`): every impact of its clip, or, for a trial
+/// whose measurement found none, nothing.
+std::vector<ImpactResult> ImpactsOf(const pipeline::TrialAnalysis& trial,
+                                    const std::string& group) {
+  std::vector<ImpactResult> rows;
+  for (const auto& k : trial.impacts) {
+    const auto measured = [&](double v) { return k.success ? v : kNaN; };
+    ImpactResult r;
+    r.trial = trial.spec.id;
+    r.group = group;
+    r.impact_index = k.index;
+    r.lowest_frame = k.lowest_frame;
+    r.is_main = trial.impact.success && k.index == trial.impact.index;
+    r.success = k.success;
+    r.error = k.success ? std::string() : k.message;
+    r.impact_time_s = k.impact_time_s;
+    r.impact_frame = k.impact_frame;
+    r.e = measured(k.e);
+    r.e_se = measured(k.e_se);
+    r.e_ci_low = measured(k.e_ci_low);
+    r.e_ci_high = measured(k.e_ci_high);
+    r.mu_eff = measured(k.mu_eff);
+    r.mu_eff_se = measured(k.mu_eff_se);
+    r.mu_eff_ci_low = measured(k.mu_eff_ci_low);
+    r.mu_eff_ci_high = measured(k.mu_eff_ci_high);
+    r.v_SC_before_m_s = k.v_SC_before.unaryExpr(measured);
+    r.v_SC_after_m_s = k.v_SC_after.unaryExpr(measured);
+    r.v_SC_before_se_m_s = k.v_SC_before_se.unaryExpr(measured);
+    r.v_SC_after_se_m_s = k.v_SC_after_se.unaryExpr(measured);
+    r.w_before_rad_s = measured(k.w_before_rad_s);
+    r.w_after_rad_s = measured(k.w_after_rad_s);
+    r.w_before_se_rad_s = measured(k.w_before_se_rad_s);
+    r.w_after_se_rad_s = measured(k.w_after_se_rad_s);
+    r.kinetic_energy_before_J = measured(k.kinetic_energy_before_J);
+    r.kinetic_energy_after_J = measured(k.kinetic_energy_after_J);
+    if (k.success) {
+      r.fit_before_first_frame = k.before.first_frame;
+      r.fit_before_last_frame = k.before.last_frame;
+      r.fit_after_first_frame = k.after.first_frame;
+      r.fit_after_last_frame = k.after.last_frame;
+    }
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
+/// Every row of `t` as CSV, with a header of its column names.
+void WriteTableCsv(const std::filesystem::path& path, const Table& t) {
+  io::WriteFileAtomically(path, [&](std::ostream& out) {
+    for (std::size_t c = 0; c < t.columns.size(); ++c)
+      out << (c ? "," : "") << io::CsvEscape(t.columns[c].name);
+    out << "\n";
+    const std::size_t rows = t.columns.empty() ? 0 : t.columns[0].size();
+    for (std::size_t r = 0; r < rows; ++r) {
+      for (std::size_t c = 0; c < t.columns.size(); ++c) {
+        if (c) out << ",";
+        out << t.columns[c].CsvCell(r);
+      }
+      out << "\n";
+    }
+  });
+}
+
 }  // namespace
 
 StudyInfo StudyInfo::Of(const pipeline::StudySpec& study,
@@ -173,11 +236,37 @@ Table ResultsTable(const std::vector<pipeline::TrialAnalysis>& trials) {
                          [](auto& a, const TrialResult& r) { internal::SerializeResult(a, r); });
 }
 
+Table ImpactsTable(const std::vector<pipeline::TrialAnalysis>& trials) {
+  const std::vector<std::string> groups = TrialGroupNames(trials);
+  std::vector<ImpactResult> rows;
+  for (std::size_t i = 0; i < trials.size(); ++i)
+    for (auto& r : ImpactsOf(trials[i], "/trials/" + groups[i])) rows.push_back(std::move(r));
+  return TableWriter::Of(
+      "impacts",
+      "one row per impact found in each trial's clip, trials in study order, impacts in time "
+      "order; NaN where not measured",
+      rows, [](auto& a, const ImpactResult& r) { internal::SerializeImpact(a, r); });
+}
+
+std::vector<ImpactResult> ReadStudyImpacts(const std::filesystem::path& path) {
+  if (!HasGroup(path, "/impacts")) return {};
+  return TableReader::Read<ImpactResult>(
+      ReadTable(path, "/impacts"), path.string() + ":/impacts",
+      [](auto& a, ImpactResult& r) { internal::SerializeImpact(a, r); });
+}
+
+void WriteImpactsCsv(const std::filesystem::path& path,
+                     const std::vector<pipeline::TrialAnalysis>& trials) {
+  WriteTableCsv(path, ImpactsTable(trials));
+}
+
 void WriteStudyFile(const std::filesystem::path& path, const StudyInfo& info,
                     const std::vector<pipeline::TrialAnalysis>& trials,
                     const std::function<void(std::size_t)>& after_trial) {
   const Table results = ResultsTable(trials);
   results.Validate();
+  const Table impacts = ImpactsTable(trials);
+  impacts.Validate();
   const std::vector<std::string> names = TrialGroupNames(trials);
   AtomicHdf5(
       path, [](const std::filesystem::path&) {},
@@ -191,6 +280,7 @@ void WriteStudyFile(const std::filesystem::path& path, const StudyInfo& info,
           if (after_trial) after_trial(i);
         }
         WriteTable(root, results);
+        WriteTable(root, impacts);
         file.flush(H5F_SCOPE_GLOBAL);
       });
 }

@@ -5,7 +5,8 @@
 /// Layout in short: root attributes (format, name, study_dir, hoofimpact_version, created_utc,
 /// command_line); `/study` (specimens, analysis options, warnings); `/trials/<id>` per trial
 /// (metadata, tracks, poses, fits, results, flags, warnings, success, error); `/results`, a flat
-/// table with one row per trial; and groups of named tables that later steps add (`/stats`,
+/// table with one row per trial; `/impacts`, one row per impact of every trial's clip; and groups
+/// of named tables that later steps add (`/stats`,
 /// `/discovery`) through WriteTables().
 ///
 /// Every file is written atomically: to a temporary file beside the target, renamed over it only
@@ -95,11 +96,11 @@ struct Table {
 };
 
 /// Writes the study file `path` atomically: the study info, every trial of `trials` (failed ones
-/// too, with their reason) under `/trials/<id>` and the `/results` table in the order of
-/// `trials`. `after_trial(i)`, when set, is called after trial i is written (for progress); an
-/// exception from it, like any other failure, aborts the write, removes the temporary file and
-/// leaves `path` as it was. Throws std::runtime_error naming the file on HDF5 or filesystem
-/// errors. Creates missing parent directories.
+/// too, with their reason) under `/trials/<id>`, the `/results` table in the order of `trials`
+/// and the `/impacts` table. `after_trial(i)`, when set, is called after trial i is written (for
+/// progress); an exception from it, like any other failure, aborts the write, removes the temporary
+/// file and leaves `path` as it was. Throws std::runtime_error naming the file on HDF5 or
+/// filesystem errors. Creates missing parent directories.
 void WriteStudyFile(const std::filesystem::path& path, const StudyInfo& info,
                     const std::vector<pipeline::TrialAnalysis>& trials,
                     const std::function<void(std::size_t)>& after_trial = {});
@@ -158,6 +159,42 @@ struct TrialResult {
   std::vector<std::string> flags;
   std::vector<std::string> warnings;
 };
+
+/// One impact of a trial as the `/impacts` table gives it: one row per impact found, trials in
+/// study order and each trial's impacts in time order (docs/hdf5-schema.md). The measured
+/// fields are those of TrialResult, NaN where the impact was not measured.
+struct ImpactResult {
+  std::string trial;      ///< trial id
+  std::string group;      ///< the trial's group in the file, "/trials/<id>"
+  int impact_index = 0;   ///< 0 = the clip's first impact
+  int lowest_frame = -1;  ///< the frame where it was found
+  bool is_main = false;   ///< this impact is the trial's result in /results
+  bool success = false;   ///< measured
+  std::string error;      ///< why it was not measured; empty when it was
+  double impact_time_s = 0.0;
+  int impact_frame = -1;
+  double e = 0.0, e_se = 0.0, e_ci_low = 0.0, e_ci_high = 0.0;
+  double mu_eff = 0.0, mu_eff_se = 0.0, mu_eff_ci_low = 0.0, mu_eff_ci_high = 0.0;
+  Eigen::Vector2d v_SC_before_m_s{0, 0}, v_SC_after_m_s{0, 0};
+  Eigen::Vector2d v_SC_before_se_m_s{0, 0}, v_SC_after_se_m_s{0, 0};
+  double w_before_rad_s = 0.0, w_after_rad_s = 0.0;
+  double w_before_se_rad_s = 0.0, w_after_se_rad_s = 0.0;
+  double kinetic_energy_before_J = 0.0, kinetic_energy_after_J = 0.0;
+  int fit_before_first_frame = -1, fit_before_last_frame = -1;  ///< -1 when not measured
+  int fit_after_first_frame = -1, fit_after_last_frame = -1;
+};
+
+/// The `/impacts` table for `trials` (also what WriteImpactsCsv writes).
+Table ImpactsTable(const std::vector<pipeline::TrialAnalysis>& trials);
+
+/// Reads `/impacts` back; empty for a file written before it existed. Throws std::runtime_error
+/// naming the file and the malformed item.
+std::vector<ImpactResult> ReadStudyImpacts(const std::filesystem::path& path);
+
+/// Writes the per-impact results as CSV (one row per impact; the columns of `/impacts`),
+/// atomically.
+void WriteImpactsCsv(const std::filesystem::path& path,
+                     const std::vector<pipeline::TrialAnalysis>& trials);
 
 /// What ReadStudyResults returns.
 struct StudyResults {

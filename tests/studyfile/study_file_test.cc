@@ -492,5 +492,90 @@ TEST(StudyFileTest, CsvExportsHoldEveryTrialAndEveryMarker) {
   EXPECT_EQ(Others(dir, dir / "results.csv"), std::vector<std::string>{"tracks.csv"});
 }
 
+/// A trial whose clip holds three impacts: the first measured (the trial's result), the second
+/// measured with other numbers, the third found but not measured.
+pipeline::TrialAnalysis BouncingTrial() {
+  pipeline::TrialAnalysis r = GoodTrial("ball_3_bounces", "steel", 0.0, 0.83);
+  r.impact.index = 0;
+  r.impact.lowest_frame = 24;
+  kinematics::ImpactKinematics second = r.impact;
+  second.index = 1;
+  second.lowest_frame = 170;
+  second.impact_time_s = 0.1705;
+  second.impact_frame = 170;
+  second.before.first_frame = 150;
+  second.before.last_frame = 169;
+  second.after.first_frame = 172;
+  second.after.last_frame = 191;
+  second.e = 0.81;
+  second.e_se = 3e-4;
+  second.v_SC_before = {0.002, -0.834};
+  second.mu_eff = std::numeric_limits<double>::quiet_NaN();
+  kinematics::ImpactKinematics third;
+  third.index = 2;
+  third.lowest_frame = 300;
+  third.impact_frame = 300;
+  third.impact_time_s = 0.3;
+  third.message =
+      "too few free-flight frames around the impact near frame 300: 4 before and 3 "
+      "after (need 6)";
+  r.impacts = {r.impact, second, third};
+  return r;
+}
+
+// /impacts: one row per impact, trials in order, read back as written; NaN for what the
+// unmeasured impact lacks; the same rows in the CSV.
+TEST(StudyFileTest, ThePerImpactTableReadsBackAsWritten) {
+  const fs::path dir = Dir("impacts");
+  auto trials = Trials();
+  trials.insert(trials.begin() + 1, BouncingTrial());
+  WriteStudyFile(dir / "study.h5", Info(), trials);
+  const std::vector<ImpactResult> rows = ReadStudyImpacts(dir / "study.h5");
+  ASSERT_EQ(rows.size(), 3u);  // the other trials were given no impacts list
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(rows[i].trial, "ball_3_bounces");
+    EXPECT_EQ(rows[i].group, "/trials/ball_3_bounces");
+    EXPECT_EQ(rows[i].impact_index, static_cast<int>(i));
+  }
+  EXPECT_TRUE(rows[0].is_main);
+  EXPECT_FALSE(rows[1].is_main);
+  EXPECT_FALSE(rows[2].is_main);
+  EXPECT_TRUE(rows[0].success);
+  EXPECT_EQ(rows[0].e, 0.83);
+  EXPECT_EQ(rows[0].mu_eff, 0.21);
+  EXPECT_EQ(rows[0].impact_time_s, 0.0031);
+  EXPECT_EQ(rows[0].fit_after_last_frame, 46);
+  EXPECT_EQ(rows[1].lowest_frame, 170);
+  EXPECT_EQ(rows[1].impact_frame, 170);
+  EXPECT_EQ(rows[1].impact_time_s, 0.1705);
+  EXPECT_EQ(rows[1].e, 0.81);
+  EXPECT_EQ(rows[1].e_se, 3e-4);
+  EXPECT_EQ(rows[1].v_SC_before_m_s, Eigen::Vector2d(0.002, -0.834));
+  EXPECT_TRUE(std::isnan(rows[1].mu_eff));
+  EXPECT_EQ(rows[1].fit_before_first_frame, 150);
+  EXPECT_EQ(rows[1].fit_after_first_frame, 172);
+  EXPECT_TRUE(rows[1].error.empty());
+  EXPECT_FALSE(rows[2].success);
+  EXPECT_EQ(rows[2].error, trials[1].impacts[2].message);
+  EXPECT_EQ(rows[2].impact_time_s, 0.3);
+  EXPECT_EQ(rows[2].lowest_frame, 300);
+  EXPECT_TRUE(std::isnan(rows[2].e));
+  EXPECT_TRUE(std::isnan(rows[2].v_SC_after_m_s.y()));
+  EXPECT_EQ(rows[2].fit_before_first_frame, -1);
+  // Units and descriptions on the columns, as every table has.
+  const Table t = ReadTable(dir / "study.h5", "/impacts");
+  EXPECT_EQ(t.Get("e").units, "1");
+  EXPECT_EQ(t.Get("impact_time_s").units, "s");
+  EXPECT_FALSE(t.Get("main").description.empty());
+  // The CSV holds the same rows.
+  WriteImpactsCsv(dir / "impacts.csv", trials);
+  const io::CsvTable csv = io::CsvTable::Read(dir / "impacts.csv");
+  ASSERT_EQ(csv.rows(), 3u);
+  EXPECT_EQ(csv.Number(1, csv.Column("e")), 0.81);
+  EXPECT_EQ(csv.Text(2, csv.Column("e")), "nan");
+  EXPECT_EQ(csv.Number(2, csv.Column("impact_index")), 2);
+  EXPECT_EQ(csv.Text(2, csv.Column("error")), trials[1].impacts[2].message);
+}
+
 }  // namespace
 }  // namespace hoof::studyfile
