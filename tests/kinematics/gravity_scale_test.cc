@@ -53,7 +53,7 @@ Path Bouncing(double m_per_px, double fps, int frames, double floor_px, double v
 
 TEST(GravityScaleTest, ANoiseFreeBouncingPathGivesTheScaleExactly) {
   const double m_per_px = 2e-4;  // a = 49050 px/s^2
-  const auto path = Bouncing(m_per_px, 1000, 150, 120, 800, 30, 0.8, Eigen::Vector2d(0, 1), 0.0, 1);
+  const auto path = Bouncing(m_per_px, 1000, 200, 120, 800, 30, 0.8, Eigen::Vector2d(0, 1), 0.0, 1);
   ASSERT_EQ(path.bounces, 2);
   const GravityScale g = EstimateGravityScale(path.p_px, 1000, Eigen::Vector2d(0, 1));
   ASSERT_TRUE(g.measured) << g.message;
@@ -97,8 +97,8 @@ TEST(GravityScaleTest, ItsStandardErrorMatchesItsScatterOverSeeds) {
 }
 
 TEST(GravityScaleTest, AFlightTooShortToCurveIsNotMeasuredAndSaysWhy) {
-  // The real ball clip's case: 15 frames at 30,000 fps, 19.7 um/px: gravity bends the path by
-  // 0.013 px, below the tracker's noise.
+  // 15 frames at 30,000 fps, 19.7 um/px (the real ball clip's): gravity bends the path by
+  // 0.013 px, below noise of 0.03 px.
   const auto path =
       Bouncing(19.7e-6, 30000, 15, 1e9, 2.64 * 30000, 0, 0.8, Eigen::Vector2d(0, 1), 0.03, 3);
   const GravityScale g = EstimateGravityScale(path.p_px, 30000, Eigen::Vector2d(0, 1));
