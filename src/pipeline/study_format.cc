@@ -432,6 +432,12 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
   if (from == "body_diameter" && !(t.body.is_ball() && t.body.diameter_m > 0))
     Fail(file, "camera.scale_from",
          "is \"body_diameter\" but the body is not a ball with a diameter_m");
+  if ((from == "gravity" || from == "markers") && !t.body.is_silhouette() &&
+      !(t.camera.m_per_px > 0))
+    Fail(file, "camera.m_per_px",
+         "is missing: the marker tracker needs an approximate scale to match the markers to the "
+         "layout, even when camera.scale_from \"" +
+             from + "\" gives the scale used");
   if (from == "markers" && t.body.is_silhouette())
     Fail(file, "camera.scale_from", "is \"markers\" but the body is tracked by its silhouette");
   if (t.body.is_ball()) {
