@@ -43,6 +43,7 @@ void RegisterFit(CLI::App& app, RunState& state);
 void RegisterStats(CLI::App& app, RunState& state);
 void RegisterSynth(CLI::App& app, RunState& state);
 void RegisterTrack(CLI::App& app, RunState& state);
+void RegisterInit(CLI::App& app, RunState& state);
 void RegisterRun(CLI::App& app, RunState& state);
 void RegisterAnalyze(CLI::App& app, RunState& state);
 void RegisterScore(CLI::App& app, RunState& state);

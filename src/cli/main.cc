@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
   hoof::cli::RegisterStats(app, state);
   hoof::cli::RegisterSynth(app, state);
   hoof::cli::RegisterTrack(app, state);
+  hoof::cli::RegisterInit(app, state);
   hoof::cli::RegisterRun(app, state);
   hoof::cli::RegisterAnalyze(app, state);
   hoof::cli::RegisterScore(app, state);

@@ -76,6 +76,8 @@ nlohmann::json ImpactJson(const kinematics::ImpactKinematics& k) {
        {"mu_eff_ci_high", JsonNumber(k.mu_eff_ci_high)},
        {"kinetic_energy_before_J", JsonNumber(k.kinetic_energy_before_J)},
        {"kinetic_energy_after_J", JsonNumber(k.kinetic_energy_after_J)},
+       {"kinetic_energy_before_se_J", JsonNumber(k.kinetic_energy_before_se_J)},
+       {"kinetic_energy_after_se_J", JsonNumber(k.kinetic_energy_after_se_J)},
        {"fit_frames_before", {k.before.first_frame, k.before.last_frame}},
        {"fit_frames_after", {k.after.first_frame, k.after.last_frame}},
        {"fit_rms_residual_m", {k.before.rms_residual_m, k.after.rms_residual_m}}});
@@ -111,7 +113,7 @@ nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
       {"flags", r.flags},
       {"warnings", r.warnings},
       {"seconds", r.seconds},
-      {"m_per_px_used", r.m_per_px_used},
+      {"m_per_px_used", JsonNumber(r.m_per_px_used)},
       {"m_per_px_from_markers", JsonNumber(r.m_per_px_from_markers)},
       {"surface_angle_measured_deg", r.surface_angle_measured_deg
                                          ? JsonNumber(*r.surface_angle_measured_deg)
@@ -120,8 +122,25 @@ nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
       {"out_of_plane_noise", r.out_of_plane_noise},
       {"body_model", r.spec.body.model},
       {"scale_source", r.scale_source},
-      {"m_per_px_se", r.m_per_px_se},
+      {"m_per_px_se", JsonNumber(r.m_per_px_se)},
       {"no_impact", r.no_impact}};
+  if (r.gravity_scale) {
+    const auto& g = *r.gravity_scale;
+    nlohmann::json arcs = nlohmann::json::array();
+    for (const auto& a : g.arcs) arcs.push_back({a.first_frame, a.last_frame});
+    j["gravity_scale"] = {{"measured", g.measured},
+                          {"message", g.message},
+                          {"a_px_s2", JsonVector(g.a_px_s2)},
+                          {"a_norm_px_s2", JsonNumber(g.a_norm_px_s2)},
+                          {"a_norm_se_px_s2", JsonNumber(g.a_norm_se_px_s2)},
+                          {"m_per_px", JsonNumber(g.m_per_px)},
+                          {"m_per_px_se", JsonNumber(g.m_per_px_se)},
+                          {"direction_error_deg", JsonNumber(g.direction_error_deg)},
+                          {"arcs", arcs},
+                          {"contact_frames", g.contact_frames},
+                          {"frames_used", g.frames_used},
+                          {"rms_residual_px", JsonNumber(g.rms_residual_px)}};
+  }
   if (r.spec.body.is_silhouette()) {
     j["body_shape"] = r.spec.body.shape;
     j["polarity"] = tracking::PolarityName(r.silhouette.polarity);
@@ -222,8 +241,8 @@ std::string TrialText(const pipeline::TrialAnalysis& r) {
       os << " (from the ball's diameter: " << num(r.m_per_px_from_body) << ")";
     os << "\n";
   } else {
-    os << "  scale " << num(r.m_per_px_used) << " m/px from " << r.scale_source
-       << " (from the markers: " << num(r.m_per_px_from_markers) << ")\n";
+    os << "  scale " << format::WithError(r.m_per_px_used, r.m_per_px_se) << " m/px from "
+       << r.scale_source << " (from the markers: " << num(r.m_per_px_from_markers) << ")\n";
     os << "  projected marker distance changes by "
        << num(100 * r.out_of_plane_change, Kind::kError) << " % (noise "
        << num(100 * r.out_of_plane_noise, Kind::kError) << " %)\n";

@@ -83,6 +83,9 @@ struct ImpactKinematics {
   /// defined.
   double mu_eff = 0.0, mu_eff_se = 0.0, mu_eff_ci_low = 0.0, mu_eff_ci_high = 0.0;
   double kinetic_energy_before_J = 0.0, kinetic_energy_after_J = 0.0;
+  /// Their standard errors, from the velocity fits and the scale's (kinematics/gravity_scale.h,
+  /// AddScaleUncertainty); NaN until it is called.
+  double kinetic_energy_before_se_J = core::kNaN, kinetic_energy_after_se_J = core::kNaN;
 };
 
 /// Measures the impact in `poses` (one per frame, in frame order) for a surface at

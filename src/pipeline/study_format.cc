@@ -313,8 +313,16 @@ std::array<double, 9> ParseCameraMatrix(const json& m, const fs::path& file) {
 CameraSpec ParseCamera(const json& camera, const fs::path& file,
                        std::vector<std::string>& warnings) {
   CameraSpec out;
-  WarnUnknown(camera, {"m_per_px", "gravity_image", "distortion", "camera_matrix"}, file, "camera.",
-              warnings);
+  WarnUnknown(camera, {"m_per_px", "scale_from", "gravity_image", "distortion", "camera_matrix"},
+              file, "camera.", warnings);
+  if (camera.contains("scale_from")) {
+    out.scale_from = Text(camera, "scale_from", file, "camera.");
+    if (out.scale_from != "m_per_px" && out.scale_from != "body_diameter" &&
+        out.scale_from != "markers" && out.scale_from != "gravity")
+      Fail(file, "camera.scale_from",
+           "is \"" + out.scale_from +
+               "\": must be \"m_per_px\", \"body_diameter\", \"markers\" or \"gravity\"");
+  }
   // Required unless a ball's known diameter gives the scale (checked by ReadTrial).
   if (camera.contains("m_per_px")) out.m_per_px = Number(camera, "m_per_px", file, "camera.", true);
   if (camera.contains("gravity_image")) {
@@ -415,9 +423,23 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
     t.fps = Number(j, "fps", file, "", true);
   }
   t.camera = ParseCamera(Require(j, "camera", file, ""), file, t.warnings);
-  if (!(t.camera.m_per_px > 0) && !(t.body.is_ball() && t.body.diameter_m > 0))
+  const std::string& from = t.camera.scale_from;
+  if ((from.empty() || from == "m_per_px") && !(t.camera.m_per_px > 0) &&
+      !(from.empty() && t.body.is_ball() && t.body.diameter_m > 0))
     Fail(file, "camera.m_per_px",
-         "is missing (a ball's body.diameter_m can give the scale instead)");
+         "is missing (a ball's body.diameter_m, or camera.scale_from \"gravity\", can give the "
+         "scale instead)");
+  if (from == "body_diameter" && !(t.body.is_ball() && t.body.diameter_m > 0))
+    Fail(file, "camera.scale_from",
+         "is \"body_diameter\" but the body is not a ball with a diameter_m");
+  if ((from == "gravity" || from == "markers") && !t.body.is_silhouette() &&
+      !(t.camera.m_per_px > 0))
+    Fail(file, "camera.m_per_px",
+         "is missing: the marker tracker needs an approximate scale to match the markers to the "
+         "layout, even when camera.scale_from \"" +
+             from + "\" gives the scale used");
+  if (from == "markers" && t.body.is_silhouette())
+    Fail(file, "camera.scale_from", "is \"markers\" but the body is tracked by its silhouette");
   if (t.body.is_ball()) {
     if (t.body.diameter_m > 0) t.specimen.end_radius_m = t.body.diameter_m / 2;
     t.specimen.d_EC_m = 0.0;  // a ball's centre is its round end's centre and its mass centre

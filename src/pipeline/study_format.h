@@ -32,6 +32,11 @@ struct CameraSpec {
   /// Scale in the plane of motion; 0 when trial.json gives none (a ball's `body.diameter_m`
   /// gives it then).
   double m_per_px = 0.0;
+  /// Where the scale comes from (docs/format.md, "The scale"): "m_per_px" (stated),
+  /// "body_diameter" (a ball's diameter_m), "markers" (the marker spacing) or "gravity" (the
+  /// free-flight parabola at the frame rate); empty: m_per_px where given, else a ball's
+  /// diameter.
+  std::string scale_from;
   Eigen::Vector2d gravity_image{0.0, 1.0};             ///< unit direction of gravity in the image
   std::optional<std::array<double, 5>> distortion;     ///< OpenCV k1 k2 p1 p2 k3
   std::optional<std::array<double, 9>> camera_matrix;  ///< row-major 3x3

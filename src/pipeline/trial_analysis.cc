@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/frames.h"
+#include "kinematics/gravity_scale.h"
 #include "pipeline/trial_impacts.h"
 #include "tracking/camera_file.h"
 #include "tracking/frame_source.h"
@@ -105,6 +106,21 @@ tracking::Polarity PolarityOf(const std::string& name) {
   return tracking::Polarity::kAuto;
 }
 
+/// The scale from gravity, from the centre of mass's positions `p_px` (px, gravity along
+/// `gravity_dir` in their frame): sets m_per_px_used and its s.e. when measured; else a
+/// warning and NaN (speeds in m/s are then not given).
+void ScaleFromGravity(const TrialSpec& spec, const TrialAnalysisOptions& options,
+                      const std::vector<std::optional<Eigen::Vector2d>>& p_px,
+                      const Eigen::Vector2d& gravity_dir, TrialAnalysis& out) {
+  kinematics::GravityScaleOptions go;
+  go.gravity_m_s2 = options.kinematics.gravity_m_s2;
+  out.gravity_scale = kinematics::EstimateGravityScale(p_px, spec.fps, gravity_dir, go);
+  out.scale_source = "gravity";
+  out.m_per_px_used = out.gravity_scale->measured ? out.gravity_scale->m_per_px : core::kNaN;
+  out.m_per_px_se = out.gravity_scale->measured ? out.gravity_scale->m_per_px_se : core::kNaN;
+  if (!out.gravity_scale->measured) out.warnings.push_back(out.gravity_scale->message);
+}
+
 /// A body without markers: the silhouette track, the scale (from a ball's diameter when the
 /// trial states none), the poses, and the motion's straight-line summary. Throws naming the
 /// frames for a body that is not found or does not move.
@@ -140,7 +156,15 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
   }
   out.m_per_px_used = spec.camera.m_per_px;
   out.scale_source = "camera.m_per_px";
-  if (!(spec.camera.m_per_px > 0)) {
+  if (spec.camera.scale_from == "gravity") {
+    // The centre (a ball's) or area centroid (an outline's, taken as C) in undistorted px.
+    std::vector<std::optional<Eigen::Vector2d>> c_px;
+    const tracking::ImageToWorld lens = TrialCamera(spec, 1.0);
+    for (const auto& o : out.silhouette.frames)
+      c_px.push_back(o.found ? std::optional<Eigen::Vector2d>(lens.Undistort(o.p_I))
+                             : std::nullopt);
+    ScaleFromGravity(spec, options, c_px, spec.camera.gravity_image, out);
+  } else if (!(spec.camera.m_per_px > 0) || spec.camera.scale_from == "body_diameter") {
     out.m_per_px_used = out.m_per_px_from_body;
     out.m_per_px_se = std::isnan(out.body_diameter_se_px)
                           ? 0.0
@@ -149,10 +173,13 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
   }
   if (options.scale_from_markers)
     out.warnings.push_back("--scale-from-markers does not apply to a body without markers");
+  // Without a measured scale the poses are in px (1 "m" per px), and the flight fits straight
+  // lines: gravity's curve was too small to be measured.
+  const double pose_scale = std::isfinite(out.m_per_px_used) ? out.m_per_px_used : 1.0;
   if (spec.body.is_ball() && !(body.end_radius_m > 0))
-    body.end_radius_m = 0.5 * out.body_diameter_px * out.m_per_px_used;
+    body.end_radius_m = 0.5 * out.body_diameter_px * pose_scale;
 
-  const tracking::ImageToWorld cam = TrialCamera(spec, out.m_per_px_used);
+  const tracking::ImageToWorld cam = TrialCamera(spec, pose_scale);
   CheckSurface(spec, source.Read(0), cam, options, out);
   std::vector<std::optional<Eigen::Vector2d>> centres;
   for (int f = 0; f < out.silhouette.frame_count(); ++f) {
@@ -198,6 +225,24 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
        << " px from where it is first seen (its centre's s.d. " << noise << " px)";
     throw std::runtime_error(os.str());
   }
+}
+
+/// Calls `f` on the trial's main impact and on every impact of the clip.
+template <typename F>
+void ForEachImpact(TrialAnalysis& out, F f) {
+  f(out.impact);
+  for (auto& k : out.impacts) f(k);
+}
+
+/// The scale's relative standard error into every measured impact's velocities and energies
+/// (kinematics/gravity_scale.h); e and mu_eff are scale-free.
+void AddScaleUncertaintyToImpacts(const TrialSpec& spec, const core::SpecimenParameters& body,
+                                  TrialAnalysis& out) {
+  ForEachImpact(out, [&](kinematics::ImpactKinematics& k) {
+    if (k.success)
+      kinematics::AddScaleUncertainty(out.m_per_px_se / out.m_per_px_used, spec.surface_angle_deg,
+                                      body, k);
+  });
 }
 
 }  // namespace
@@ -273,8 +318,20 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
       std::vector<kinematics::PoseSample> samples;
       core::SpecimenParameters body = spec.specimen;
       AnalyzeSilhouette(spec, *source, options, progress, out, samples, body);
-      MeasureTrialImpacts(samples, spec.fps, spec.surface_angle_deg, body, options.kinematics,
+      kinematics::KinematicsOptions kin = options.kinematics;
+      const bool scaled = std::isfinite(out.m_per_px_used);
+      if (!scaled) kin.gravity_m_s2 = 0;  // poses in px: see AnalyzeSilhouette
+      MeasureTrialImpacts(samples, spec.fps, spec.surface_angle_deg, body, kin,
                           !spec.body.is_ball(), out);
+      if (!scaled) {
+        ForEachImpact(out, [&](kinematics::ImpactKinematics& k) {
+          if (!k.success) return;
+          k.success = false;
+          k.message = "an impact was found, but the scale was not measured (" +
+                      out.gravity_scale->message + ")";
+        });
+      }
+      AddScaleUncertaintyToImpacts(spec, body, out);
       for (const auto& w : out.impact.warnings) out.warnings.push_back(w);
       for (const auto& f : out.impact.flags) out.flags.push_back(f);
       if (spec.body.is_ball() && out.impact.success) {
@@ -314,14 +371,41 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
         if (row.size() >= 2 && row[0].found && row[1].found)
           ratio.push_back(L / (unit.ToWorld(row[0].p_I) - unit.ToWorld(row[1].p_I)).norm());
       }
-      if (!ratio.empty()) out.m_per_px_from_markers = Median(ratio);
-      if (options.scale_from_markers) {
+      if (!ratio.empty()) {
+        out.m_per_px_from_markers = Median(ratio);
+        // The median's standard error: 1.2533 s / sqrt(n) for normal scatter, s robust.
+        std::vector<double> dev;
+        for (double x : ratio) dev.push_back(std::abs(x - out.m_per_px_from_markers));
+        out.m_per_px_from_markers_se =
+            1.2533 * 1.4826 * Median(dev) / std::sqrt(static_cast<double>(ratio.size()));
+      }
+      if (options.scale_from_markers || spec.camera.scale_from == "markers" ||
+          spec.camera.scale_from == "gravity") {
         if (ratio.empty())
           throw std::runtime_error(spec.dir.string() +
                                    ": cannot take the scale "
                                    "from the markers: none seen together");
         out.m_per_px_used = out.m_per_px_from_markers;
+        out.m_per_px_se = out.m_per_px_from_markers_se;
+        out.scale_source = "markers";
       }
+    }
+    if (spec.camera.scale_from == "gravity") {
+      // C's path at the markers' scale, in px of W (gravity along -y_W), gives the scale.
+      const tracking::ImageToWorld provisional = TrialCamera(spec, out.m_per_px_used);
+      std::vector<std::optional<Eigen::Vector2d>> c_px;
+      for (const auto& row : out.tracks.frames) {
+        const auto pose = tracking::FitPose(row, layout, provisional);
+        c_px.push_back(pose.valid
+                           ? std::optional<Eigen::Vector2d>(
+                                 (pose.p_WE + spec.specimen.d_EC_m *
+                                                  core::BodyRotation(pose.theta_W_rad).x_B()) /
+                                 out.m_per_px_used)
+                           : std::nullopt);
+      }
+      ScaleFromGravity(spec, options, c_px, Eigen::Vector2d(0, -1), out);
+      if (!out.gravity_scale->measured)
+        throw std::runtime_error(spec.dir.string() + ": " + out.gravity_scale->message);
     }
     const tracking::ImageToWorld cam = TrialCamera(spec, out.m_per_px_used);
     CheckSurface(spec, source->Read(0), cam, options, out);
@@ -337,6 +421,7 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
                         options.kinematics, true, out);
     for (const auto& w : out.impact.warnings) out.warnings.push_back(w);
     for (const auto& f : out.impact.flags) out.flags.push_back(f);
+    AddScaleUncertaintyToImpacts(spec, spec.specimen, out);
     CheckOutOfPlane(spec, options, out);
     out.no_impact = out.impact.no_impact;
     if (out.no_impact) {
@@ -346,7 +431,7 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
         p.push_back(pose.valid ? std::optional<Eigen::Vector2d>(pose.p_WE / out.m_per_px_used)
                                : std::nullopt);
       out.motion = SummarizeTrack(
-          p, spec.fps, out.m_per_px_used, 0.0, Eigen::Vector2d(0, -1),
+          p, spec.fps, out.m_per_px_used, out.m_per_px_se, Eigen::Vector2d(0, -1),
           options.kinematics.gravity_m_s2 / out.m_per_px_used / (spec.fps * spec.fps));
     }
     if (!out.impact.success) {

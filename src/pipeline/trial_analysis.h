@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "kinematics/gravity_scale.h"
 #include "kinematics/impact_kinematics.h"
 #include "pipeline/study_format.h"
 #include "tracking/marker_tracker.h"
@@ -63,11 +64,16 @@ struct TrialAnalysis {
   std::vector<kinematics::ImpactKinematics> impacts;
   TrackSummary motion;  ///< silhouette model, and every trial with no impact
   double m_per_px_used = 0.0;
-  /// Where m_per_px_used comes from: "camera.m_per_px", "markers" (--scale-from-markers) or
-  /// "body.diameter_m" (a ball's known diameter over its fitted diameter).
+  /// Where m_per_px_used comes from: "camera.m_per_px", "markers" (--scale-from-markers or
+  /// camera.scale_from), "body.diameter_m" (a ball's known diameter over its fitted diameter)
+  /// or "gravity" (the free-flight parabola; NaN when it could not be measured). Its s.e.
+  /// is carried into every velocity and kinetic energy (kinematics::AddScaleUncertainty).
   std::string scale_source = "camera.m_per_px";
-  double m_per_px_se = 0.0;            ///< its standard error; 0 for a stated scale
-  double m_per_px_from_markers = 0.0;  ///< 0 when it could not be measured
+  double m_per_px_se = 0.0;               ///< its standard error; 0 for a stated scale
+  double m_per_px_from_markers = 0.0;     ///< 0 when it could not be measured
+  double m_per_px_from_markers_se = 0.0;  ///< the median's standard error
+  /// The gravity fit, when camera.scale_from is "gravity" (kinematics/gravity_scale.h).
+  std::optional<kinematics::GravityScale> gravity_scale;
   /// Ball: the median fitted diameter (px) over the frames and its standard error (the
   /// scatter of the frames' diameters over sqrt(n)); NaN for other bodies.
   double body_diameter_px = core::kNaN, body_diameter_se_px = core::kNaN;

@@ -282,14 +282,14 @@ TEST(JsonEnvelopeTest, FailuresAreEnvelopesNamingTheOptionOrTheFile) {
 TEST(JsonEnvelopeTest, EveryCommandTakesJson) {
   const auto help = RunHoofimpact("--help");
   std::set<std::string> commands;
-  for (const char* c : {"simulate", "fit", "stats", "synth", "track", "run", "analyze", "score",
-                        "figures", "report", "overlay", "discover"}) {
+  for (const char* c : {"simulate", "fit", "stats", "synth", "track", "init", "run", "analyze",
+                        "score", "figures", "report", "overlay", "discover"}) {
     EXPECT_NE(help.out.find(std::string("  ") + c), std::string::npos) << c;
     const auto h = RunHoofimpact(std::string(c) + " --help");
     EXPECT_NE(h.out.find("--json"), std::string::npos) << c;
     commands.insert(c);
   }
-  EXPECT_EQ(commands.size(), 12u);
+  EXPECT_EQ(commands.size(), 13u);
 }
 
 }  // namespace

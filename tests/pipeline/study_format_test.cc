@@ -65,6 +65,26 @@ TEST(StudyFormatTest, MissingOrWrongFieldsNameFileAndField) {
   trial.replace(trial.find("\"m_per_px\": 1.5e-4"), 18, "\"m_per_px\": \"big\"");
   ExpectError([&] { ReadTrial(Write("format_badscale", kStudy, trial) / "t1"); },
               "field \"camera.m_per_px\" must be a number");
+  // camera.scale_from: an unknown source is named; with markers, "gravity" still needs an
+  // approximate m_per_px (the tracker matches the markers with it); a ball's diameter as the
+  // source needs a ball.
+  trial = kTrial;
+  trial.replace(trial.find("\"m_per_px\": 1.5e-4"), 18, "\"scale_from\": \"ruler\"");
+  ExpectError([&] { ReadTrial(Write("format_badsource", kStudy, trial) / "t1"); },
+              "field \"camera.scale_from\" is \"ruler\"");
+  trial = kTrial;
+  trial.replace(trial.find("\"m_per_px\": 1.5e-4"), 18, "\"scale_from\": \"gravity\"");
+  ExpectError(
+      [&] { ReadTrial(Write("format_gravity_markers", kStudy, trial) / "t1"); },
+      "field \"camera.m_per_px\" is missing: the marker tracker needs an approximate scale");
+  trial = kTrial;
+  trial.replace(trial.find("\"m_per_px\": 1.5e-4"), 18,
+                "\"m_per_px\": 1.5e-4, \"scale_from\": \"gravity\"");
+  EXPECT_EQ(ReadTrial(Write("format_gravity", kStudy, trial) / "t1").camera.scale_from, "gravity");
+  trial = kTrial;
+  trial.replace(trial.find("\"m_per_px\": 1.5e-4"), 18, "\"scale_from\": \"body_diameter\"");
+  ExpectError([&] { ReadTrial(Write("format_nodiameter", kStudy, trial) / "t1"); },
+              "field \"camera.scale_from\" is \"body_diameter\" but the body is not a ball");
   trial = kTrial;
   trial.replace(trial.find("\"specimen\": \"A\""), 15, "\"specimen\": \"B\"");
   ExpectError([&] { ReadTrial(Write("format_nospecimen", kStudy, trial) / "t1"); },

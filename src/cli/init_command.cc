@@ -1,0 +1,115 @@
+// hoofimpact init: a clip (camera file, video or folder of frames) -> a trial folder with a
+// trial.json to review and a contact sheet of what was found (docs/init.md).
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
+#include "cli/common_options.h"
+#include "cli/json_output.h"
+#include "format/number_format.h"
+#include "io/atomic_file.h"
+#include "pipeline/trial_setup.h"
+
+namespace hoof::cli {
+
+void RegisterInit(CLI::App& app, RunState& state) {
+  struct Args {
+    std::string clip;
+    std::string trial_dir;
+    bool json = false;
+    bool overwrite = false;
+    pipeline::TrialSetupOptions options;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = app.add_subcommand(
+      "init",
+      "Set up a trial from a clip: find the body, surface, impacts and scale; write trial.json "
+      "and a contact sheet to review");
+  cmd->add_option(
+         "clip", args->clip,
+         "Camera file (.mraw/.cihx/.cih, .cine, .tif), video, or folder of numbered frames")
+      ->required();
+  cmd->add_option("-o,--output", args->trial_dir, "Trial folder to write (created)")->required();
+  cmd->add_option("--body", args->options.body, "Body: auto, ball or outline")
+      ->check(CLI::IsMember({"auto", "ball", "outline"}))
+      ->capture_default_str();
+  cmd->add_option("--diameter-m", args->options.diameter_m,
+                  "A ball's known diameter (m): the scale from it")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--m-per-px", args->options.m_per_px, "A known scale (m/px)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--fps", args->options.fps,
+                  "Frame rate, for a clip that does not record it (1/s)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--surface", args->options.surface, "The surface's name in trial.json")
+      ->capture_default_str();
+  cmd->add_option("--specimen", args->options.specimen,
+                  "An outline's specimen id, copied from study.json into the trial");
+  cmd->add_option("--study", args->options.study_json,
+                  "study.json that defines --specimen (default: the one beside the trial folder)");
+  cmd->add_flag("--overwrite", args->overwrite, "Replace an existing trial.json");
+  AddJsonFlag(cmd, args->json);
+
+  cmd->callback([args, &state] {
+    Args& a = *args;
+    namespace fs = std::filesystem;
+    const fs::path dir(a.trial_dir);
+    if (a.options.m_per_px > 0 && a.options.diameter_m > 0)
+      throw CLI::ValidationError("--m-per-px", "give --m-per-px or --diameter-m, not both");
+    if (fs::exists(dir / "trial.json") && !a.overwrite)
+      throw std::runtime_error((dir / "trial.json").string() +
+                               ": exists already (--overwrite replaces it)");
+    const pipeline::TrialSetup s = pipeline::SetUpTrial(a.clip, dir, a.options);
+    io::CreateFolder(dir);
+    const fs::path sheet = dir / "contact-sheet.png";
+    io::WriteTextAtomically(sheet, pipeline::EncodePng(pipeline::ContactSheet(s)));
+    io::WriteTextAtomically(dir / "trial.json", s.trial_json);
+    state.exit_code = kExitOk;
+    if (a.json) {
+      nlohmann::json r = {{"trial_json", (dir / "trial.json").string()},
+                          {"contact_sheet", sheet.string()},
+                          {"clip", s.clip.string()},
+                          {"frames", s.frames_reference},
+                          {"frame_count", s.count},
+                          {"fps", s.fps},
+                          {"body_shape", s.shape},
+                          {"polarity", tracking::PolarityName(s.track.polarity)},
+                          {"body_diameter_px", JsonNumber(s.body_diameter_px)},
+                          {"surface_found", s.surface_line.has_value()},
+                          {"surface_angle_deg", s.surface_angle_deg},
+                          {"impact_frames", s.impact_frames},
+                          {"scale_source", s.scale_from},
+                          {"m_per_px", JsonNumber(s.m_per_px)},
+                          {"m_per_px_se", JsonNumber(s.m_per_px_se)},
+                          {"gravity_m_per_px", JsonNumber(s.gravity.m_per_px)},
+                          {"gravity_m_per_px_se", JsonNumber(s.gravity.m_per_px_se)},
+                          {"trial", nlohmann::json::parse(s.trial_json)}};
+      PrintEnvelope("init", kExitOk, std::move(r), {}, s.warnings);
+      return;
+    }
+    using format::Kind;
+    std::cout << "Clip " << s.clip.string() << ": " << s.count << " frames at "
+              << format::Number(s.fps, Kind::kMeasured) << " fps\n";
+    std::cout << "  body     " << s.shape << ", " << tracking::PolarityName(s.track.polarity);
+    if (s.shape == "ball")
+      std::cout << ", diameter " << format::Number(s.body_diameter_px, Kind::kMeasured) << " px";
+    std::cout << "\n  surface  "
+              << (s.surface_line ? format::Number(s.surface_angle_deg, Kind::kMeasured) + " deg"
+                                 : std::string("not found"))
+              << "\n  impacts  ";
+    if (s.impact_frames.empty()) std::cout << "none found";
+    for (int f : s.impact_frames) std::cout << "frame " << f << " ";
+    std::cout << "\n  scale    " << format::WithError(s.m_per_px, s.m_per_px_se) << " m/px from "
+              << s.scale_from << "\n";
+    for (const auto& w : s.warnings) std::cout << "  warning: " << w << "\n";
+    std::cout << "Wrote " << (dir / "trial.json").string() << " and " << sheet.string()
+              << "; review them, then: hoofimpact track " << dir.string() << "\n";
+  });
+}
+
+}  // namespace hoof::cli

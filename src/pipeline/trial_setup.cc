@@ -1,0 +1,392 @@
+#include "pipeline/trial_setup.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "pipeline/study_format.h"
+#include "tracking/camera_file.h"
+#include "tracking/frame_source.h"
+
+namespace hoof::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return core::kNaN;
+  auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+bool IsImageFile(const fs::path& p) {
+  std::string ext = p.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".pgm" ||
+         ext == ".tif" || ext == ".tiff";
+}
+
+/// A folder of numbered images: the printf pattern (relative to the folder), first and count
+/// of the largest group of names alike but for their number. Throws naming the folder.
+void FramesOfFolder(const fs::path& dir, std::string& pattern, int& first, int& count) {
+  struct Group {
+    std::vector<long long> numbers;
+    bool padded = true;
+  };
+  std::map<std::string, Group> groups;  // key: prefix \t width \t extension
+  const std::regex numbered(R"(^(.*?)(\d+)$)");
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    if (!it->is_regular_file() || !IsImageFile(it->path())) continue;
+    const std::string stem = it->path().stem().string();
+    std::smatch m;
+    if (!std::regex_match(stem, m, numbered) || m[2].length() > 9) continue;
+    const std::string digits = m[2].str();
+    const std::string key =
+        m[1].str() + "\t" + std::to_string(digits.size()) + "\t" + it->path().extension().string();
+    groups[key].numbers.push_back(std::stoll(digits));
+  }
+  if (ec) throw std::runtime_error(dir.string() + ": cannot list the folder: " + ec.message());
+  const Group* best = nullptr;
+  std::string best_key;
+  for (const auto& [key, g] : groups)
+    if (!best || g.numbers.size() > best->numbers.size()) {
+      best = &g;
+      best_key = key;
+    }
+  if (!best || best->numbers.size() < 3)
+    throw std::runtime_error(dir.string() +
+                             ": no numbered image frames (such as 000000.png, 000001.png, ...)");
+  std::vector<long long> n = best->numbers;
+  std::sort(n.begin(), n.end());
+  for (std::size_t i = 1; i < n.size(); ++i)
+    if (n[i] != n[i - 1] + 1)
+      throw std::runtime_error(
+          dir.string() + ": the numbered frames are not contiguous: " + std::to_string(n[i - 1]) +
+          " is followed by " + std::to_string(n[i]));
+  const auto t1 = best_key.find('\t'), t2 = best_key.find('\t', t1 + 1);
+  std::string prefix = best_key.substr(0, t1);
+  const std::string width = best_key.substr(t1 + 1, t2 - t1 - 1);
+  std::string escaped;
+  for (char c : prefix) escaped += c == '%' ? std::string("%%") : std::string(1, c);
+  pattern = escaped + "%0" + width + "d" + best_key.substr(t2 + 1);
+  first = static_cast<int>(n.front());
+  count = static_cast<int>(n.size());
+}
+
+/// The surface angle (trial convention: descending toward +x for phi > 0) of an image line
+/// with gravity along +y of the image.
+double SurfaceAngleDeg(const tracking::ImageLine& line) {
+  double phi = std::atan2(line.direction_I.y(), line.direction_I.x()) * 180 / M_PI;
+  if (phi > 90) phi -= 180;
+  if (phi <= -90) phi += 180;
+  return phi;
+}
+
+}  // namespace
+
+TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
+                      const TrialSetupOptions& options) {
+  TrialSetup s;
+  s.clip = clip;
+  std::error_code ec;
+  if (!fs::exists(clip, ec)) throw std::runtime_error(clip.string() + ": no such file or folder");
+  const fs::path trial_abs = fs::absolute(trial_dir).lexically_normal();
+  const fs::path clip_abs = fs::absolute(clip).lexically_normal();
+  std::unique_ptr<tracking::FrameSource> source;
+  if (fs::is_directory(clip_abs)) {
+    s.clip_kind = "frames";
+    std::string pattern;
+    FramesOfFolder(clip_abs, pattern, s.first, s.count);
+    s.frames_reference = (fs::relative(clip_abs, trial_abs) / pattern).generic_string();
+    source = std::make_unique<tracking::ImageSequenceSource>(clip_abs, pattern, s.first, s.count);
+  } else if (tracking::IsCameraFile(clip_abs)) {
+    s.clip_kind = "camera_file";
+    auto camera = tracking::OpenCameraFile(clip_abs);
+    const auto& info = camera->info();
+    if (std::isfinite(info.fps) && info.fps > 0) {
+      s.fps = info.fps;
+      s.fps_recorded = true;
+    }
+    s.count = camera->count();
+    s.frames_reference = fs::relative(clip_abs, trial_abs).generic_string();
+    source = std::move(camera);
+  } else {
+    s.clip_kind = "video";
+    s.frames_reference = fs::relative(clip_abs, trial_abs).generic_string();
+    source = std::make_unique<tracking::VideoSource>(clip_abs);
+    s.count = source->count();
+  }
+  if (options.fps > 0) {
+    if (s.fps_recorded && std::abs(options.fps - s.fps) > 1e-6 * s.fps)
+      throw std::runtime_error(clip.string() + ": --fps " + json(options.fps).dump() +
+                               " disagrees with the clip's recorded " + json(s.fps).dump());
+    s.fps = options.fps;
+  }
+  if (!(s.fps > 0))
+    throw std::runtime_error(clip.string() +
+                             ": the clip does not record its frame rate: give it with --fps");
+  const std::string named = source->Describe(0) + " .. " + source->Describe(source->count() - 1);
+
+  // The body: a silhouette, ball or outline by its shape in the first frame that shows it.
+  tracking::SilhouetteOptions so;
+  if (options.body == "ball" || options.body == "outline") {
+    s.shape = options.body;
+  } else {
+    so.shape = tracking::SilhouetteShape::kOutline;
+    for (int f = 0; f < source->count() && s.shape.empty(); ++f) {
+      tracking::Polarity p;
+      const auto o =
+          tracking::FindSilhouette(tracking::ToGrey(source->Read(f), source->Describe(f)), so, &p);
+      if (!o.found) continue;
+      // A disc's extents agree; the specimen is about three times as long as wide.
+      s.shape = o.length_px < 1.3 * o.width_px ? "ball" : "outline";
+    }
+    if (s.shape.empty()) throw std::runtime_error(named + ": no body found in any frame");
+  }
+  so.shape =
+      s.shape == "ball" ? tracking::SilhouetteShape::kBall : tracking::SilhouetteShape::kOutline;
+  s.track = tracking::TrackSilhouette(*source, so);
+  for (const auto& w : s.track.warnings) s.warnings.push_back(w);
+  std::vector<std::optional<Eigen::Vector2d>> c_px;
+  std::vector<double> diameters;
+  Eigen::Vector2d first_seen{0, 0};
+  bool any = false;
+  double travel = 0;
+  for (const auto& o : s.track.frames) {
+    c_px.push_back(o.found ? std::optional<Eigen::Vector2d>(o.p_I) : std::nullopt);
+    if (!o.found) continue;
+    if (!any) first_seen = o.p_I;
+    any = true;
+    travel = std::max(travel, (o.p_I - first_seen).norm());
+    if (o.diameter_px > 0) diameters.push_back(o.diameter_px);
+  }
+  if (travel < 0.5) {
+    std::ostringstream os;
+    os << named << ": no moving body: the " << s.shape << " never moves more than " << travel
+       << " px from where it is first seen";
+    throw std::runtime_error(os.str());
+  }
+  s.body_diameter_px = Median(diameters);
+
+  // The surface: the straight edge in the first frame.
+  s.surface_line =
+      tracking::FindSurfaceLine(tracking::ToGrey(source->Read(0), source->Describe(0)));
+  if (s.surface_line)
+    s.surface_angle_deg = std::round(SurfaceAngleDeg(*s.surface_line) * 100) / 100;
+  else
+    s.warnings.push_back(
+        "no surface line found in the first frame: surface_angle_deg 0 is assumed; "
+        "check it");
+
+  // Impacts and the scale from gravity: one fit.
+  kinematics::GravityScaleOptions go;
+  go.gravity_m_s2 = options.gravity_m_s2;
+  s.gravity = kinematics::EstimateGravityScale(c_px, s.fps, Eigen::Vector2d(0, 1), go);
+  for (std::size_t i = 0; i < s.gravity.contact_frames.size(); ++i)
+    if (i == 0 || s.gravity.contact_frames[i] > s.gravity.contact_frames[i - 1] + 1)
+      s.impact_frames.push_back(s.gravity.contact_frames[i]);
+  if (options.m_per_px > 0) {
+    s.scale_from = "m_per_px";
+    s.m_per_px = options.m_per_px;
+    s.m_per_px_se = 0;
+  } else if (options.diameter_m > 0) {
+    if (s.shape != "ball")
+      throw std::runtime_error("--diameter-m: the body found in " + named + " is not a ball");
+    s.scale_from = "body_diameter";
+    s.m_per_px = options.diameter_m / s.body_diameter_px;
+  } else {
+    s.scale_from = "gravity";
+    if (s.gravity.measured) {
+      s.m_per_px = s.gravity.m_per_px;
+      s.m_per_px_se = s.gravity.m_per_px_se;
+    } else {
+      s.warnings.push_back(s.gravity.message +
+                           "; give the scale with --m-per-px or a ball's --diameter-m");
+    }
+  }
+
+  // trial.json.
+  json t;
+  t["format"] = "hoofimpact-trial/1";
+  std::string id = trial_abs.filename().string();
+  if (id.empty() || id == "." || id == ".." || id.size() > 200) id = "trial";
+  t["id"] = id;
+  t["surface"] = options.surface;
+  t["surface_angle_deg"] = s.surface_angle_deg;
+  if (!s.fps_recorded) t["fps"] = s.fps;
+  if (s.clip_kind == "camera_file")
+    t["frames"] = {{"camera_file", s.frames_reference}};
+  else if (s.clip_kind == "video")
+    t["frames"] = {{"video", s.frames_reference}};
+  else
+    t["frames"] = {{"pattern", s.frames_reference}, {"first", s.first}, {"count", s.count}};
+  json camera = {{"gravity_image", {0.0, 1.0}}, {"scale_from", s.scale_from}};
+  if (s.scale_from == "m_per_px") camera["m_per_px"] = s.m_per_px;
+  t["camera"] = camera;
+  json body = {{"model", "silhouette"},
+               {"shape", s.shape},
+               {"polarity", tracking::PolarityName(s.track.polarity)}};
+  if (s.shape == "ball" && options.diameter_m > 0) body["diameter_m"] = options.diameter_m;
+  t["body"] = body;
+  if (s.shape == "outline") {
+    if (!options.specimen.empty()) {
+      const fs::path study_file = options.study_json.empty()
+                                      ? trial_abs.parent_path() / "study.json"
+                                      : fs::path(options.study_json);
+      std::ifstream in(study_file);
+      if (!in) throw std::runtime_error(study_file.string() + ": cannot be read");
+      json study;
+      try {
+        study = json::parse(in);
+      } catch (const std::exception& e) {
+        throw std::runtime_error(study_file.string() + ": not JSON: " + e.what());
+      }
+      if (!study.contains("specimens") || !study["specimens"].contains(options.specimen))
+        throw std::runtime_error(study_file.string() + ": defines no specimen \"" +
+                                 options.specimen + "\" (--specimen)");
+      t["specimen"] = options.specimen;
+      t["specimen_parameters"] = study["specimens"][options.specimen];
+    } else {
+      s.warnings.push_back(
+          "an outline needs its specimen (mass, inertia, end radius, |EC|): give --specimen "
+          "(and --study), or add \"specimen\" to trial.json before track");
+    }
+  }
+  std::ostringstream notes;
+  notes << "written by hoofimpact init from " << clip.string() << ": " << s.shape << " ("
+        << tracking::PolarityName(s.track.polarity) << "), "
+        << (s.surface_line ? "surface at " + json(s.surface_angle_deg).dump() + " deg"
+                           : std::string("no surface line found"))
+        << ", " << s.impact_frames.size() << " impact(s)";
+  if (std::isfinite(s.m_per_px)) notes << ", scale " << s.m_per_px << " m/px from " << s.scale_from;
+  notes << "; review before track";
+  t["notes"] = notes.str();
+  s.trial_json = t.dump(2) + "\n";
+  return s;
+}
+
+std::string EncodePng(const cv::Mat& image) {
+  std::vector<unsigned char> bytes;
+  if (!cv::imencode(".png", image, bytes)) throw std::runtime_error("cannot encode a PNG image");
+  return std::string(bytes.begin(), bytes.end());
+}
+
+cv::Mat ContactSheet(const TrialSetup& s) {
+  std::unique_ptr<tracking::FrameSource> source;
+  const fs::path clip_abs = fs::absolute(s.clip).lexically_normal();
+  if (s.clip_kind == "frames")
+    source = std::make_unique<tracking::ImageSequenceSource>(
+        clip_abs, fs::path(s.frames_reference).filename().string(), s.first, s.count);
+  else if (s.clip_kind == "camera_file")
+    source = tracking::OpenCameraFile(clip_abs);
+  else
+    source = std::make_unique<tracking::VideoSource>(clip_abs);
+  const int n = source->count();
+  // The frames shown: each impact with the frames before and after it, then spread evenly.
+  std::vector<int> shown;
+  for (int f : s.impact_frames)
+    for (int g : {f - 1, f, f + 1})
+      if (g >= 0 && g < n && std::find(shown.begin(), shown.end(), g) == shown.end() &&
+          shown.size() < 9)
+        shown.push_back(g);
+  for (int k = 0; shown.size() < 12 && k < 12; ++k) {
+    const int g = static_cast<int>(std::lround(k * (n - 1) / 11.0));
+    if (std::find(shown.begin(), shown.end(), g) == shown.end()) shown.push_back(g);
+  }
+  std::sort(shown.begin(), shown.end());
+  const cv::Mat first = tracking::ToGrey(source->Read(0), source->Describe(0));
+  const double zoom = std::min(1.0, 320.0 / std::max(first.cols, first.rows));
+  const int tw = std::max(1, static_cast<int>(first.cols * zoom));
+  const int th = std::max(1, static_cast<int>(first.rows * zoom));
+  const int cols = 4, label_h = 18;
+  const int rows = static_cast<int>((shown.size() + cols - 1) / cols);
+  std::vector<std::string> caption;
+  {
+    std::ostringstream a, b, c;
+    a << "body: " << s.shape << ", " << tracking::PolarityName(s.track.polarity);
+    if (s.shape == "ball") a << ", diameter " << std::lround(s.body_diameter_px) << " px";
+    a << "; " << s.count << " frames at " << s.fps << " fps";
+    b << "surface: "
+      << (s.surface_line ? json(s.surface_angle_deg).dump() + " deg (red line)"
+                         : std::string("not found"))
+      << "; impacts at frames:";
+    if (s.impact_frames.empty()) b << " none";
+    for (int f : s.impact_frames) b << " " << f;
+    c << "scale from " << s.scale_from << ": ";
+    if (std::isfinite(s.m_per_px))
+      c << s.m_per_px << " m/px";
+    else
+      c << "not measured";
+    if (std::isfinite(s.m_per_px_se) && s.m_per_px_se > 0) c << " +- " << s.m_per_px_se;
+    caption = {a.str(), b.str(), c.str()};
+  }
+  const int caption_h = 20 * static_cast<int>(caption.size()) + 8;
+  const int sheet_w = std::max(cols * tw, 640);
+  cv::Mat sheet(rows * (th + label_h) + caption_h, sheet_w, CV_8UC3, cv::Scalar(32, 32, 32));
+  for (std::size_t i = 0; i < shown.size(); ++i) {
+    const int f = shown[i];
+    cv::Mat grey = tracking::ToGrey(source->Read(f), source->Describe(f));
+    const auto [lo, hi] = tracking::FrameLevels(grey);
+    cv::Mat g8;
+    grey.convertTo(g8, CV_8U, 255.0 / std::max(1e-9, hi - lo),
+                   -lo * 255.0 / std::max(1e-9, hi - lo));
+    cv::Mat tile;
+    cv::cvtColor(g8, tile, cv::COLOR_GRAY2BGR);
+    cv::resize(tile, tile, cv::Size(tw, th), 0, 0, cv::INTER_AREA);
+    auto P = [&](const Eigen::Vector2d& p) { return cv::Point2d(p.x() * zoom, p.y() * zoom); };
+    if (s.surface_line) {
+      const auto& l = *s.surface_line;
+      const double reach = 2.0 * (first.cols + first.rows);
+      cv::line(tile, P(l.point_I - reach * l.direction_I), P(l.point_I + reach * l.direction_I),
+               cv::Scalar(0, 0, 255), 1, cv::LINE_AA);
+    }
+    const auto& o = s.track.frames[static_cast<std::size_t>(f)];
+    if (o.found) {
+      if (s.shape == "ball") {
+        cv::circle(tile, P(o.p_I), std::max(1, static_cast<int>(0.5 * o.diameter_px * zoom)),
+                   cv::Scalar(0, 255, 0), 1, cv::LINE_AA);
+      } else {
+        const Eigen::Vector2d ax(std::cos(o.angle_I_rad), std::sin(o.angle_I_rad));
+        cv::ellipse(tile,
+                    cv::RotatedRect(P(o.p_I),
+                                    cv::Size2f(static_cast<float>(o.length_px * zoom),
+                                               static_cast<float>(o.width_px * zoom)),
+                                    static_cast<float>(o.angle_I_rad * 180 / M_PI)),
+                    cv::Scalar(0, 255, 0), 1, cv::LINE_AA);
+        cv::line(tile, P(o.p_I), P(o.p_I + 0.5 * o.length_px * ax), cv::Scalar(0, 255, 0), 1,
+                 cv::LINE_AA);
+      }
+      cv::drawMarker(tile, P(o.p_I), cv::Scalar(0, 255, 0), cv::MARKER_CROSS, 7);
+    }
+    const bool impact =
+        std::find(s.impact_frames.begin(), s.impact_frames.end(), f) != s.impact_frames.end();
+    if (impact) cv::rectangle(tile, cv::Rect(0, 0, tw, th), cv::Scalar(0, 0, 255), 3);
+    const int x0 = static_cast<int>(i % cols) * tw,
+              y0 = static_cast<int>(i / cols) * (th + label_h);
+    tile.copyTo(sheet(cv::Rect(x0, y0, tw, th)));
+    cv::putText(
+        sheet,
+        "frame " + std::to_string(f) + (impact ? "  IMPACT" : "") + (o.found ? "" : "  (no body)"),
+        cv::Point(x0 + 3, y0 + th + 13), cv::FONT_HERSHEY_SIMPLEX, 0.4,
+        impact ? cv::Scalar(80, 80, 255) : cv::Scalar(220, 220, 220), 1, cv::LINE_AA);
+  }
+  for (std::size_t k = 0; k < caption.size(); ++k)
+    cv::putText(sheet, caption[k],
+                cv::Point(6, rows * (th + label_h) + 18 + 20 * static_cast<int>(k)),
+                cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(240, 240, 240), 1, cv::LINE_AA);
+  return sheet;
+}
+
+}  // namespace hoof::pipeline

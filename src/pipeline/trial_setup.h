@@ -1,0 +1,72 @@
+#pragma once
+/// @file
+/// Setting up a trial from a clip (`hoofimpact init`, docs/init.md): what the clip shows, found
+/// from its frames: the body (a ball or an unmarked outline by its silhouette, and its
+/// polarity), the surface line and its angle, the impacts, and a scale (stated, a ball's known
+/// diameter, or gravity's parabola). The result is a trial.json for a person to review and a
+/// contact sheet of what was found; `hoofimpact track` then measures the trial as written.
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "kinematics/gravity_scale.h"
+#include "tracking/silhouette_tracker.h"
+#include "tracking/surface_line.h"
+
+namespace hoof::pipeline {
+
+/// Settings of `init`.
+struct TrialSetupOptions {
+  std::string body = "auto";        ///< "auto", "ball" or "outline"
+  double diameter_m = 0.0;          ///< a ball's known diameter (> 0: the scale from it)
+  double m_per_px = 0.0;            ///< a known scale (> 0: stated in trial.json)
+  double fps = 0.0;                 ///< frame rate, for clips that do not record one (> 0)
+  std::string surface = "unknown";  ///< trial.json's surface (free text)
+  /// A specimen for an outline: its study.json and id; copied into the trial as
+  /// specimen_parameters. Without it an outline's end radius and |EC| are estimated from it.
+  std::filesystem::path study_json;
+  std::string specimen;
+  double gravity_m_s2 = core::kStandardGravity_m_s2;
+};
+
+/// What `init` found.
+struct TrialSetup {
+  std::filesystem::path clip;    ///< the clip as given
+  std::string clip_kind;         ///< "camera_file", "video" or "frames"
+  std::string frames_reference;  ///< camera file, video or pattern, relative to the trial
+  int first = 0, count = 0;      ///< frames of a folder
+  double fps = 0.0;
+  bool fps_recorded = false;  ///< the camera file records it (trial.json leaves it out)
+  std::string shape;          ///< "ball" or "outline"
+  tracking::SilhouetteTrack track;
+  std::optional<tracking::ImageLine> surface_line;
+  double surface_angle_deg = 0.0;
+  std::vector<int> impact_frames;  ///< first frame of each contact found
+  kinematics::GravityScale gravity;
+  std::string scale_from;  ///< "m_per_px", "body_diameter" or "gravity"
+  double m_per_px = core::kNaN, m_per_px_se = core::kNaN;  ///< the scale it implies (NaN: none)
+  double body_diameter_px = core::kNaN;                    ///< ball: median fitted diameter
+  std::vector<std::string> warnings;
+  std::string trial_json;  ///< the trial.json text
+};
+
+/// Finds what `clip` (a camera file, a video file, or a folder of numbered images) shows and
+/// writes the trial.json text for the trial folder `trial_dir` (the clip referenced relative
+/// to it, never copied or modified). Throws std::runtime_error naming the file for an
+/// unreadable clip, a clip without frame rate, or one without a moving body.
+TrialSetup SetUpTrial(const std::filesystem::path& clip, const std::filesystem::path& trial_dir,
+                      const TrialSetupOptions& options);
+
+/// A contact sheet of the setup: up to 12 frames (the impacts and their neighbours first,
+/// then frames spread over the clip) with the body's outline, the surface line and the
+/// impact frames marked, and a caption of what was found. 8-bit BGR.
+cv::Mat ContactSheet(const TrialSetup& setup);
+
+/// `image` as PNG bytes.
+std::string EncodePng(const cv::Mat& image);
+
+}  // namespace hoof::pipeline
