@@ -22,6 +22,10 @@ void ApplyMethod(const std::string& method, pipeline::TrialAnalysisOptions& opti
 /// One trial's results: id, v_SC_before_m_s, v_SC_after_m_s, w_before_rad_s, w_after_rad_s,
 /// e, e_se, mu_eff, mu_eff_se, impact_time_s, flags, and more.
 nlohmann::json TrialJson(const pipeline::TrialAnalysis& r);
+/// The frame timing (tracking/frame_timing.h): source ("time_stamps", "motion" or
+/// "frame_index"), repeated_frames, dropped_captures, capture_slots (per frame), notes, and the
+/// image differences (mean_abs_difference per frame, noise_mean_abs_difference) where taken.
+nlohmann::json FrameTimingJson(const tracking::FrameTiming& t);
 /// A short readable summary.
 std::string TrialText(const pipeline::TrialAnalysis& r);
 /// Per frame: marker centres (px), status and quality, pose (m, rad).

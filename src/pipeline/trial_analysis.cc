@@ -104,6 +104,62 @@ tracking::Polarity PolarityOf(const std::string& name) {
   return tracking::Polarity::kAuto;
 }
 
+/// The frames' capture times (tracking/frame_timing.h): a frame that repeats the previous
+/// image is no sample of the motion, and every sample is put at its capture slot's time. The
+/// motion is C's path in W in px at `m_per_px` (gravity along -y_W).
+void ApplyFrameTiming(const TrialSpec& spec, tracking::FrameSource& source,
+                      const TrialAnalysisOptions& options, double m_per_px, double d_EC_m,
+                      std::vector<kinematics::PoseSample>& samples, TrialAnalysis& out) {
+  if (!options.timing.enabled) {
+    out.timing = tracking::UniformTiming(static_cast<int>(samples.size()), spec.fps);
+    out.timing.notes.push_back("off: every frame is a new capture at index / fps");
+    return;
+  }
+  std::vector<std::optional<Eigen::Vector2d>> p_px;
+  for (const auto& s : samples)
+    p_px.push_back(s.valid
+                       ? std::optional<Eigen::Vector2d>(
+                             (s.p_WE + d_EC_m * core::BodyRotation(s.theta_W_rad).x_B()) / m_per_px)
+                       : std::nullopt);
+  out.timing = tracking::AnalyzeFrameTiming(source, spec.fps, tracking::TimeStamps(source), p_px,
+                                            Eigen::Vector2d(0, -1), options.timing);
+  const auto& t = out.timing;
+  for (std::size_t f = 0; f < samples.size(); ++f) {
+    samples[f].t_s = t.t_s[f];
+    if (t.repeat[f]) samples[f].valid = false;
+  }
+  const auto list = [](const std::vector<int>& v) {
+    std::string s;
+    for (int x : v) s += (s.empty() ? "" : ", ") + std::to_string(x);
+    return s;
+  };
+  if (!t.repeated_frames.empty()) {
+    out.flags.push_back("repeated_frames");
+    out.warnings.push_back("frames " + list(t.repeated_frames) +
+                           " repeat the previous image; they are left out of the motion");
+  }
+  if (!t.dropped_captures.empty()) {
+    out.flags.push_back("dropped_captures");
+    out.warnings.push_back(
+        "captures " + list(t.dropped_captures) + " are missing (found from the " +
+        (t.source == tracking::TimingSource::kTimeStamps ? "time stamps" : "motion") +
+        "); the frames after them are timed by their capture slots");
+  }
+}
+
+/// Positions indexed by capture slot (nullopt where no sample holds one).
+std::vector<std::optional<Eigen::Vector2d>> BySlot(
+    const std::vector<std::optional<Eigen::Vector2d>>& p, const tracking::FrameTiming& t) {
+  std::vector<std::optional<Eigen::Vector2d>> out;
+  for (std::size_t f = 0; f < p.size() && f < t.slot.size(); ++f) {
+    if (t.repeat[f]) continue;
+    const auto s = static_cast<std::size_t>(t.slot[f]);
+    if (out.size() <= s) out.resize(s + 1);
+    out[s] = p[f];
+  }
+  return out;
+}
+
 /// A body without markers: the silhouette track, the scale (from a ball's diameter when the
 /// trial states none), the poses, and the motion's straight-line summary. Throws naming the
 /// frames for a body that is not found or does not move.
@@ -170,9 +226,10 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
     out.poses.push_back(pose);
     samples.push_back({f / spec.fps, pose.valid, pose.p_WE, pose.theta_W_rad});
   }
+  ApplyFrameTiming(spec, source, options, out.m_per_px_used, body.d_EC_m, samples, out);
   const double g_px = options.kinematics.gravity_m_s2 / out.m_per_px_used / (spec.fps * spec.fps);
-  out.motion = SummarizeTrack(centres, spec.fps, out.m_per_px_used, out.m_per_px_se,
-                              spec.camera.gravity_image, g_px);
+  out.motion = SummarizeTrack(BySlot(centres, out.timing), spec.fps, out.m_per_px_used,
+                              out.m_per_px_se, spec.camera.gravity_image, g_px);
   if (out.motion.frames_tracked < 3)
     throw std::runtime_error(frames_named + ": the body was found in " +
                              std::to_string(out.motion.frames_tracked) +
@@ -332,6 +389,7 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
       out.poses.push_back(pose);
       samples.push_back({f / spec.fps, pose.valid, pose.p_WE, pose.theta_W_rad});
     }
+    ApplyFrameTiming(spec, *source, options, out.m_per_px_used, spec.specimen.d_EC_m, samples, out);
     out.impact = kinematics::MeasureImpact(samples, spec.fps, spec.surface_angle_deg, spec.specimen,
                                            options.kinematics);
     for (const auto& w : out.impact.warnings) out.warnings.push_back(w);
@@ -345,7 +403,7 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
         p.push_back(pose.valid ? std::optional<Eigen::Vector2d>(pose.p_WE / out.m_per_px_used)
                                : std::nullopt);
       out.motion = SummarizeTrack(
-          p, spec.fps, out.m_per_px_used, 0.0, Eigen::Vector2d(0, -1),
+          BySlot(p, out.timing), spec.fps, out.m_per_px_used, 0.0, Eigen::Vector2d(0, -1),
           options.kinematics.gravity_m_s2 / out.m_per_px_used / (spec.fps * spec.fps));
     }
     if (!out.impact.success) {

@@ -10,6 +10,7 @@
 
 #include "kinematics/impact_kinematics.h"
 #include "pipeline/study_format.h"
+#include "tracking/frame_timing.h"
 #include "tracking/marker_tracker.h"
 #include "tracking/pose.h"
 #include "tracking/silhouette_tracker.h"
@@ -22,6 +23,9 @@ struct TrialAnalysisOptions {
   /// The silhouette tracker's settings; its shape, polarity and gravity come from the trial.
   tracking::SilhouetteOptions silhouette;
   kinematics::KinematicsOptions kinematics;
+  /// Repeated frames and dropped captures (tracking/frame_timing.h); `enabled = false` takes
+  /// every frame as a new capture at index / fps.
+  tracking::FrameTimingOptions timing;
   /// Take the scale from the known marker spacing (median over the frames before the impact)
   /// instead of camera.m_per_px.
   bool scale_from_markers = false;
@@ -55,6 +59,9 @@ struct TrialAnalysis {
   tracking::MarkerTracks tracks;          ///< markers model
   tracking::SilhouetteTrack silhouette;   ///< silhouette model, per frame (image frame, px)
   std::vector<tracking::BodyPose> poses;  ///< per frame, in W
+  /// Per frame: its capture slot and time (t_s, what the kinematics use), and whether it
+  /// repeats the previous image (then its pose is no sample of the motion).
+  tracking::FrameTiming timing;
   kinematics::ImpactKinematics impact;
   TrackSummary motion;  ///< silhouette model, and every trial with no impact
   double m_per_px_used = 0.0;
