@@ -142,6 +142,15 @@ void FindDropsInFlight(std::vector<int>& gap, const std::vector<Eigen::Vector2d>
          step_ssr[keep] - step_ssr[keep + 1] > options.drop_significance * variance)
     ++keep;
   gap = step_gaps[keep];
+  // Local evidence: a drop stays only where the step across its gap is nearer the neighbouring
+  // steps' velocity times the new gap than times one slot fewer (a model error near an impact,
+  // which the parabola can take for a drop, leaves the step itself ordinary).
+  for (std::size_t k = a + 1; k + 1 < b; ++k) {
+    const Eigen::Vector2d v =
+        0.5 * ((p[k] - p[k - 1]) / gap[k - 1] + (p[k + 2] - p[k + 1]) / gap[k + 1]);
+    const Eigen::Vector2d d = p[k + 1] - p[k];
+    while (gap[k] > base[k] && (d - gap[k] * v).norm() >= (d - (gap[k] - 1) * v).norm()) --gap[k];
+  }
 }
 
 }  // namespace
