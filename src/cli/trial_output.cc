@@ -29,6 +29,10 @@ void AddAnalysisOptions(CLI::App* cmd, pipeline::TrialAnalysisOptions& options,
       ->capture_default_str();
   cmd->add_flag("--scale-from-markers", options.scale_from_markers,
                 "Take the scale from the marker spacing instead of camera.m_per_px");
+  cmd->add_flag_callback(
+      "--no-frame-timing", [&options] { options.timing.enabled = false; },
+      "Take every frame as a new capture at index / fps: no search for repeated frames or "
+      "dropped captures");
   // Out-of-range values are command-line errors (exit 2), found before any trial is read.
   cmd->parse_complete_callback([cmd, &options] {
     ValidateOptions(cmd, [&] {
@@ -97,6 +101,21 @@ nlohmann::json ImpactEntryJson(const kinematics::ImpactKinematics& k) {
   return j;
 }
 
+nlohmann::json FrameTimingJson(const tracking::FrameTiming& t) {
+  nlohmann::json j = {{"source", tracking::TimingSourceName(t.source)},
+                      {"repeated_frames", t.repeated_frames},
+                      {"dropped_captures", t.dropped_captures},
+                      {"capture_slots", t.slot},
+                      {"notes", t.notes}};
+  if (!t.differences.mean_abs_difference.empty()) {
+    nlohmann::json d = nlohmann::json::array();
+    for (double x : t.differences.mean_abs_difference) d.push_back(JsonNumber(x));
+    j["mean_abs_difference"] = d;
+    j["noise_mean_abs_difference"] = JsonNumber(t.differences.noise_mean_abs_difference);
+  }
+  return j;
+}
+
 nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
   const auto& k = r.impact;
   nlohmann::json j = {
@@ -141,6 +160,7 @@ nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
                           {"frames_used", g.frames_used},
                           {"rms_residual_px", JsonNumber(g.rms_residual_px)}};
   }
+  j["frame_timing"] = FrameTimingJson(r.timing);
   if (r.spec.body.is_silhouette()) {
     j["body_shape"] = r.spec.body.shape;
     j["polarity"] = tracking::PolarityName(r.silhouette.polarity);
@@ -246,6 +266,16 @@ std::string TrialText(const pipeline::TrialAnalysis& r) {
     os << "  projected marker distance changes by "
        << num(100 * r.out_of_plane_change, Kind::kError) << " % (noise "
        << num(100 * r.out_of_plane_noise, Kind::kError) << " %)\n";
+  }
+  if (!r.timing.slot.empty()) {
+    const auto list = [](const std::vector<int>& v) {
+      std::string s;
+      for (int x : v) s += (s.empty() ? "" : ", ") + std::to_string(x);
+      return v.empty() ? std::string("none") : s;
+    };
+    os << "  timing  slots from " << tracking::TimingSourceName(r.timing.source)
+       << "; repeated frames: " << list(r.timing.repeated_frames)
+       << "; dropped captures: " << list(r.timing.dropped_captures) << "\n";
   }
   if (!r.flags.empty()) {
     os << "  flags:";

@@ -27,6 +27,10 @@ nlohmann::json TrialJson(const pipeline::TrialAnalysis& r);
 nlohmann::json ImpactEntryJson(const kinematics::ImpactKinematics& k);
 /// The clip's impacts, one line each (TrialText adds it when there are several).
 std::string ImpactsText(const pipeline::TrialAnalysis& r);
+/// The frame timing (tracking/frame_timing.h): source ("time_stamps", "motion" or
+/// "frame_index"), repeated_frames, dropped_captures, capture_slots (per frame), notes, and the
+/// image differences (mean_abs_difference per frame, noise_mean_abs_difference) where taken.
+nlohmann::json FrameTimingJson(const tracking::FrameTiming& t);
 /// A short readable summary.
 std::string TrialText(const pipeline::TrialAnalysis& r);
 /// Per frame: marker centres (px), status and quality, pose (m, rad).

@@ -121,6 +121,62 @@ void ScaleFromGravity(const TrialSpec& spec, const TrialAnalysisOptions& options
   if (!out.gravity_scale->measured) out.warnings.push_back(out.gravity_scale->message);
 }
 
+/// The frames' capture times (tracking/frame_timing.h), from the images and the body's path
+/// `p_px` (px, one per frame, gravity along `gravity_dir`): a frame that repeats the previous
+/// image is no sample of the motion, and a missing capture shifts the frames after it. Flags
+/// and warnings name the frames.
+void FindFrameTiming(const TrialSpec& spec, tracking::FrameSource& source,
+                     const TrialAnalysisOptions& options,
+                     const std::vector<std::optional<Eigen::Vector2d>>& p_px,
+                     const Eigen::Vector2d& gravity_dir, TrialAnalysis& out) {
+  if (!options.timing.enabled) {
+    out.timing = tracking::UniformTiming(static_cast<int>(p_px.size()), spec.fps);
+    out.timing.notes.push_back("off: every frame is a new capture at index / fps");
+    return;
+  }
+  out.timing = tracking::AnalyzeFrameTiming(source, spec.fps, tracking::TimeStamps(source), p_px,
+                                            gravity_dir, options.timing);
+  const auto& t = out.timing;
+  const auto list = [](const std::vector<int>& v) {
+    std::string s;
+    for (int x : v) s += (s.empty() ? "" : ", ") + std::to_string(x);
+    return s;
+  };
+  if (!t.repeated_frames.empty()) {
+    out.flags.push_back("repeated_frames");
+    out.warnings.push_back("frames " + list(t.repeated_frames) +
+                           " repeat the previous image; they are left out of the motion");
+  }
+  if (!t.dropped_captures.empty()) {
+    out.flags.push_back("dropped_captures");
+    out.warnings.push_back(
+        "captures " + list(t.dropped_captures) + " are missing (found from the " +
+        (t.source == tracking::TimingSource::kTimeStamps ? "time stamps" : "motion") +
+        "); the frames after them are timed by their capture slots");
+  }
+}
+
+/// Puts every pose sample at its capture slot's time; a repeated image is no sample.
+void TimeSamples(const tracking::FrameTiming& t, std::vector<kinematics::PoseSample>& samples) {
+  for (std::size_t f = 0; f < samples.size() && f < t.t_s.size(); ++f) {
+    samples[f].t_s = t.t_s[f];
+    if (t.repeat[f]) samples[f].valid = false;
+  }
+}
+
+/// Positions indexed by capture slot (nullopt where no sample holds one).
+std::vector<std::optional<Eigen::Vector2d>> BySlot(
+    const std::vector<std::optional<Eigen::Vector2d>>& p, const tracking::FrameTiming& t) {
+  std::vector<std::optional<Eigen::Vector2d>> out;
+  for (std::size_t f = 0; f < p.size() && f < t.slot.size(); ++f) {
+    if (t.repeat[f]) continue;
+    const auto s = static_cast<std::size_t>(t.slot[f]);
+    if (out.size() <= s) out.resize(s + 1);
+    out[s] = p[f];
+  }
+  return out;
+}
+
 /// A body without markers: the silhouette track, the scale (from a ball's diameter when the
 /// trial states none), the poses, and the motion's straight-line summary. Throws naming the
 /// frames for a body that is not found or does not move.
@@ -138,6 +194,14 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
   for (const auto& w : out.silhouette.warnings) out.warnings.push_back(w);
   const std::string frames_named =
       source.Describe(0) + " .. " + source.Describe(source.count() - 1);
+
+  // The centre (a ball's) or area centroid (an outline's, taken as C) in undistorted px, and
+  // the frames' capture times from the images and this path.
+  std::vector<std::optional<Eigen::Vector2d>> c_px;
+  const tracking::ImageToWorld lens = TrialCamera(spec, 1.0);
+  for (const auto& o : out.silhouette.frames)
+    c_px.push_back(o.found ? std::optional<Eigen::Vector2d>(lens.Undistort(o.p_I)) : std::nullopt);
+  FindFrameTiming(spec, source, options, c_px, spec.camera.gravity_image, out);
 
   // The scale: stated, or a ball's known diameter over its fitted diameter.
   if (spec.body.is_ball()) {
@@ -157,13 +221,7 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
   out.m_per_px_used = spec.camera.m_per_px;
   out.scale_source = "camera.m_per_px";
   if (spec.camera.scale_from == "gravity") {
-    // The centre (a ball's) or area centroid (an outline's, taken as C) in undistorted px.
-    std::vector<std::optional<Eigen::Vector2d>> c_px;
-    const tracking::ImageToWorld lens = TrialCamera(spec, 1.0);
-    for (const auto& o : out.silhouette.frames)
-      c_px.push_back(o.found ? std::optional<Eigen::Vector2d>(lens.Undistort(o.p_I))
-                             : std::nullopt);
-    ScaleFromGravity(spec, options, c_px, spec.camera.gravity_image, out);
+    ScaleFromGravity(spec, options, BySlot(c_px, out.timing), spec.camera.gravity_image, out);
   } else if (!(spec.camera.m_per_px > 0) || spec.camera.scale_from == "body_diameter") {
     out.m_per_px_used = out.m_per_px_from_body;
     out.m_per_px_se = std::isnan(out.body_diameter_se_px)
@@ -198,9 +256,10 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
     out.poses.push_back(pose);
     samples.push_back({f / spec.fps, pose.valid, pose.p_WE, pose.theta_W_rad});
   }
+  TimeSamples(out.timing, samples);
   const double g_px = options.kinematics.gravity_m_s2 / out.m_per_px_used / (spec.fps * spec.fps);
-  out.motion = SummarizeTrack(centres, spec.fps, out.m_per_px_used, out.m_per_px_se,
-                              spec.camera.gravity_image, g_px);
+  out.motion = SummarizeTrack(BySlot(centres, out.timing), spec.fps, out.m_per_px_used,
+                              out.m_per_px_se, spec.camera.gravity_image, g_px);
   if (out.motion.frames_tracked < 3)
     throw std::runtime_error(frames_named + ": the body was found in " +
                              std::to_string(out.motion.frames_tracked) +
@@ -390,8 +449,9 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
         out.scale_source = "markers";
       }
     }
-    if (spec.camera.scale_from == "gravity") {
-      // C's path at the markers' scale, in px of W (gravity along -y_W), gives the scale.
+    // C's path at the provisional scale, in px of W (gravity along -y_W): the frames' capture
+    // times come from it and the images, and the scale from gravity where asked.
+    {
       const tracking::ImageToWorld provisional = TrialCamera(spec, out.m_per_px_used);
       std::vector<std::optional<Eigen::Vector2d>> c_px;
       for (const auto& row : out.tracks.frames) {
@@ -403,7 +463,11 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
                                  out.m_per_px_used)
                            : std::nullopt);
       }
-      ScaleFromGravity(spec, options, c_px, Eigen::Vector2d(0, -1), out);
+      FindFrameTiming(spec, *source, options, c_px, Eigen::Vector2d(0, -1), out);
+      if (spec.camera.scale_from == "gravity")
+        ScaleFromGravity(spec, options, BySlot(c_px, out.timing), Eigen::Vector2d(0, -1), out);
+    }
+    if (spec.camera.scale_from == "gravity") {
       if (!out.gravity_scale->measured)
         throw std::runtime_error(spec.dir.string() + ": " + out.gravity_scale->message);
     }
@@ -417,6 +481,7 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
       out.poses.push_back(pose);
       samples.push_back({f / spec.fps, pose.valid, pose.p_WE, pose.theta_W_rad});
     }
+    TimeSamples(out.timing, samples);
     MeasureTrialImpacts(samples, spec.fps, spec.surface_angle_deg, spec.specimen,
                         options.kinematics, true, out);
     for (const auto& w : out.impact.warnings) out.warnings.push_back(w);
@@ -431,7 +496,8 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
         p.push_back(pose.valid ? std::optional<Eigen::Vector2d>(pose.p_WE / out.m_per_px_used)
                                : std::nullopt);
       out.motion = SummarizeTrack(
-          p, spec.fps, out.m_per_px_used, out.m_per_px_se, Eigen::Vector2d(0, -1),
+          BySlot(p, out.timing), spec.fps, out.m_per_px_used, out.m_per_px_se,
+          Eigen::Vector2d(0, -1),
           options.kinematics.gravity_m_s2 / out.m_per_px_used / (spec.fps * spec.fps));
     }
     if (!out.impact.success) {

@@ -11,6 +11,7 @@
 #include "kinematics/gravity_scale.h"
 #include "kinematics/impact_kinematics.h"
 #include "pipeline/study_format.h"
+#include "tracking/frame_timing.h"
 #include "tracking/marker_tracker.h"
 #include "tracking/pose.h"
 #include "tracking/silhouette_tracker.h"
@@ -23,6 +24,9 @@ struct TrialAnalysisOptions {
   /// The silhouette tracker's settings; its shape, polarity and gravity come from the trial.
   tracking::SilhouetteOptions silhouette;
   kinematics::KinematicsOptions kinematics;
+  /// Repeated frames and dropped captures (tracking/frame_timing.h); `enabled = false` takes
+  /// every frame as a new capture at index / fps.
+  tracking::FrameTimingOptions timing;
   /// Take the scale from the known marker spacing (median over the frames before the impact)
   /// instead of camera.m_per_px.
   bool scale_from_markers = false;
@@ -56,6 +60,9 @@ struct TrialAnalysis {
   tracking::MarkerTracks tracks;          ///< markers model
   tracking::SilhouetteTrack silhouette;   ///< silhouette model, per frame (image frame, px)
   std::vector<tracking::BodyPose> poses;  ///< per frame, in W
+  /// Per frame: its capture slot and time (t_s, what the kinematics use), and whether it
+  /// repeats the previous image (then its pose is no sample of the motion).
+  tracking::FrameTiming timing;
   /// The trial's main result: the clip's impact, or with several the first one measured
   /// (pipeline/trial_impacts.h).
   kinematics::ImpactKinematics impact;

@@ -1,0 +1,376 @@
+#include "tracking/frame_timing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+
+#include "tracking/camera_file.h"
+
+namespace hoof::tracking {
+namespace {
+
+double Quantile(std::vector<double> v, double q) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const auto k = static_cast<std::size_t>(std::floor(q * static_cast<double>(v.size() - 1) + 0.5));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+/// Every `step`-th pixel of every `step`-th row, in units of the file's full scale.
+std::vector<double> SampleGrid(const cv::Mat& image, int step) {
+  const cv::Mat grey = image.channels() == 1 ? image : ToGrey(image, "frame");
+  double scale = 1.0;
+  if (grey.depth() == CV_8U) scale = 1.0 / 255.0;
+  if (grey.depth() == CV_16U) scale = 1.0 / 65535.0;
+  std::vector<double> out;
+  out.reserve(static_cast<std::size_t>((grey.rows / step + 1) * (grey.cols / step + 1)));
+  for (int y = step / 2; y < grey.rows; y += step)
+    for (int x = step / 2; x < grey.cols; x += step) {
+      double v = 0;
+      switch (grey.depth()) {
+        case CV_8U:
+          v = grey.at<std::uint8_t>(y, x);
+          break;
+        case CV_16U:
+          v = grey.at<std::uint16_t>(y, x);
+          break;
+        case CV_32F:
+          v = grey.at<float>(y, x);
+          break;
+        case CV_64F:
+          v = grey.at<double>(y, x);
+          break;
+        default:
+          throw std::runtime_error("frame timing: unsupported image depth " +
+                                   std::to_string(grey.depth()));
+      }
+      out.push_back(v * scale);
+    }
+  return out;
+}
+
+/// Residual sum of squares of p = c + v s + a s^2 (per coordinate) over the samples.
+double ParabolaSsr(const std::vector<double>& s, const std::vector<Eigen::Vector2d>& p) {
+  const auto m = static_cast<Eigen::Index>(s.size());
+  double s_mean = 0;
+  for (double x : s) s_mean += x / static_cast<double>(m);
+  Eigen::MatrixXd X(m, 3), Y(m, 2);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const double u = s[static_cast<std::size_t>(i)] - s_mean;
+    X.row(i) << 1.0, u, u * u;
+    Y.row(i) = p[static_cast<std::size_t>(i)].transpose();
+  }
+  const Eigen::MatrixXd beta = X.colPivHouseholderQr().solve(Y);
+  return (Y - X * beta).squaredNorm();
+}
+
+/// The slots of samples [a, b] (relative to a) from their gaps.
+std::vector<double> SegmentSlots(const std::vector<int>& gap, std::size_t a, std::size_t b) {
+  std::vector<double> s{0.0};
+  for (std::size_t k = a; k < b; ++k) s.push_back(s.back() + gap[k]);
+  return s;
+}
+
+double SegmentSsr(const std::vector<int>& gap, const std::vector<Eigen::Vector2d>& p, std::size_t a,
+                  std::size_t b) {
+  return ParabolaSsr(SegmentSlots(gap, a, b),
+                     std::vector<Eigen::Vector2d>(p.begin() + static_cast<std::ptrdiff_t>(a),
+                                                  p.begin() + static_cast<std::ptrdiff_t>(b + 1)));
+}
+
+/// Adds dropped captures to the gaps of samples [a, b]: forward selection, one at a time where
+/// one lowers the parabola's residual the most (after each, a drop already placed moves to
+/// another gap where that lowers it), up to a third of the samples; then the drops are kept
+/// whose steps each lowered the residual by more than drop_significance times the residual
+/// variance of the last model (at least position_noise_floor_px^2), a model that explains
+/// every drop, so that two drops in one flight do not hide each other.
+void FindDropsInFlight(std::vector<int>& gap, const std::vector<Eigen::Vector2d>& p, std::size_t a,
+                       std::size_t b, const FrameTimingOptions& options) {
+  const std::size_t m = b - a + 1;
+  if (m < 5) return;
+  const std::vector<int> base(gap.begin(), gap.end());
+  std::vector<std::vector<int>> step_gaps{gap};
+  std::vector<double> step_ssr{SegmentSsr(gap, p, a, b)};
+  double ssr = step_ssr.back();
+  for (std::size_t added = 0; added < std::max<std::size_t>(1, m / 3); ++added) {
+    double best = ssr;
+    std::size_t best_k = b;
+    for (std::size_t k = a; k < b; ++k) {
+      ++gap[k];
+      const double trial = SegmentSsr(gap, p, a, b);
+      --gap[k];
+      if (trial < best) {
+        best = trial;
+        best_k = k;
+      }
+    }
+    if (best_k == b) break;
+    ++gap[best_k];
+    ssr = best;
+    for (bool moved = true; moved;) {
+      moved = false;
+      for (std::size_t from = a; from < b && !moved; ++from) {
+        if (gap[from] <= base[from]) continue;
+        for (std::size_t to = a; to < b && !moved; ++to) {
+          if (to == from) continue;
+          --gap[from];
+          ++gap[to];
+          const double trial = SegmentSsr(gap, p, a, b);
+          if (trial < ssr - 1e-12 * (1 + ssr)) {
+            ssr = trial;
+            moved = true;
+          } else {
+            ++gap[from];
+            --gap[to];
+          }
+        }
+      }
+    }
+    step_gaps.push_back(gap);
+    step_ssr.push_back(ssr);
+  }
+  const double dof = 2.0 * static_cast<double>(m) - 6.0;
+  const double floor2 = options.position_noise_floor_px * options.position_noise_floor_px;
+  const double variance = std::max(step_ssr.back() / dof, floor2);
+  std::size_t keep = 0;
+  while (keep + 1 < step_ssr.size() &&
+         step_ssr[keep] - step_ssr[keep + 1] > options.drop_significance * variance)
+    ++keep;
+  gap = step_gaps[keep];
+  // Local evidence: a drop stays only where the step across its gap is nearer the neighbouring
+  // steps' velocity times the new gap than times one slot fewer (a model error near an impact,
+  // which the parabola can take for a drop, leaves the step itself ordinary).
+  for (std::size_t k = a + 1; k + 1 < b; ++k) {
+    const Eigen::Vector2d v =
+        0.5 * ((p[k] - p[k - 1]) / gap[k - 1] + (p[k + 2] - p[k + 1]) / gap[k + 1]);
+    const Eigen::Vector2d d = p[k + 1] - p[k];
+    while (gap[k] > base[k] && (d - gap[k] * v).norm() >= (d - (gap[k] - 1) * v).norm()) --gap[k];
+  }
+}
+
+}  // namespace
+
+void FrameTimingOptions::Validate() const {
+  if (!(repeat_fraction_of_noise > 0 && repeat_fraction_of_noise < 1))
+    throw std::invalid_argument("frame timing repeat_fraction_of_noise must be in (0, 1)");
+  if (max_grid_pixels < 1000)
+    throw std::invalid_argument("frame timing max_grid_pixels must be >= 1000");
+  if (!(drop_significance > 0))
+    throw std::invalid_argument("frame timing drop_significance must be > 0");
+  if (!(position_noise_floor_px > 0))
+    throw std::invalid_argument("frame timing position_noise_floor_px must be > 0");
+}
+
+std::string TimingSourceName(TimingSource source) {
+  switch (source) {
+    case TimingSource::kTimeStamps:
+      return "time_stamps";
+    case TimingSource::kMotion:
+      return "motion";
+    case TimingSource::kFrameIndex:
+      break;
+  }
+  return "frame_index";
+}
+
+ImageDifferences DifferenceFrames(FrameSource& source, int max_grid_pixels) {
+  ImageDifferences d;
+  const int n = source.count();
+  d.mean_abs_difference.assign(static_cast<std::size_t>(n), std::nan(""));
+  d.noise_sd.assign(static_cast<std::size_t>(n), std::nan(""));
+  std::vector<double> previous;
+  int step = 1;
+  for (int i = 0; i < n; ++i) {
+    const cv::Mat image = source.Read(i);
+    if (i == 0) {
+      const double pixels = static_cast<double>(image.rows) * image.cols;
+      step = std::max(1, static_cast<int>(std::ceil(std::sqrt(pixels / max_grid_pixels))));
+    }
+    std::vector<double> grid = SampleGrid(image, step);
+    if (i > 0) {
+      if (grid.size() != previous.size())
+        throw std::runtime_error(source.Describe(i) + ": its size differs from the frame before");
+      // The overall brightness may change (flicker multiplies the image): the previous frame
+      // is scaled by the median ratio of the two first.
+      std::vector<double> ratio;
+      for (std::size_t k = 0; k < grid.size(); ++k)
+        if (previous[k] > 0) ratio.push_back(grid[k] / previous[k]);
+      const double gain = ratio.empty() ? 1.0 : Quantile(ratio, 0.5);
+      std::vector<double> r(grid.size());
+      for (std::size_t k = 0; k < r.size(); ++k) r[k] = grid[k] - gain * previous[k];
+      const double median = Quantile(r, 0.5);
+      double sum = 0;
+      for (double& x : r) {
+        x = std::abs(x - median);
+        sum += x;
+      }
+      d.mean_abs_difference[static_cast<std::size_t>(i)] = sum / static_cast<double>(r.size());
+      d.noise_sd[static_cast<std::size_t>(i)] = 1.4826 * Quantile(r, 0.5);
+    }
+    previous = std::move(grid);
+  }
+  std::vector<double> sd(d.noise_sd.begin() + (n > 0 ? 1 : 0), d.noise_sd.end());
+  if (!sd.empty())
+    d.noise_mean_abs_difference = std::sqrt(2 / std::numbers::pi) * Quantile(sd, 0.75);
+  return d;
+}
+
+std::vector<bool> FindRepeats(const ImageDifferences& d, double fraction) {
+  std::vector<bool> repeat(d.mean_abs_difference.size(), false);
+  for (std::size_t i = 1; i < repeat.size(); ++i) {
+    const double D = d.mean_abs_difference[i];
+    repeat[i] = D == 0.0 || D < fraction * d.noise_mean_abs_difference;
+  }
+  return repeat;
+}
+
+std::optional<std::vector<int>> SlotsFromStamps(const std::vector<double>& stamps_s, double fps) {
+  std::vector<int> slot;
+  for (std::size_t i = 0; i < stamps_s.size(); ++i) {
+    if (!std::isfinite(stamps_s[i])) return std::nullopt;
+    slot.push_back(static_cast<int>(std::lround((stamps_s[i] - stamps_s[0]) * fps)));
+    if (i > 0 && slot[i] <= slot[i - 1]) return std::nullopt;
+  }
+  return slot;
+}
+
+std::vector<int> SlotsFromMotion(const std::vector<std::optional<Eigen::Vector2d>>& p,
+                                 const std::vector<bool>& repeat, const Eigen::Vector2d& down,
+                                 const FrameTimingOptions& options) {
+  const std::size_t n = p.size();
+  // The samples: frames with a position that are not repeats; gap[k] slots from sample k to
+  // k + 1 (every frame between them, repeat or not found, takes one).
+  std::vector<int> frame;
+  std::vector<Eigen::Vector2d> q;
+  for (std::size_t i = 0; i < n; ++i)
+    if (p[i] && !(i < repeat.size() && repeat[i])) {
+      frame.push_back(static_cast<int>(i));
+      q.push_back(*p[i]);
+    }
+  std::vector<int> gap;
+  for (std::size_t k = 0; k + 1 < frame.size(); ++k) gap.push_back(frame[k + 1] - frame[k]);
+  // Impacts: the height along -down has a deep minimum (2 samples on each side higher by 20
+  // noise floors); the lowest sample joins the flight it fits better.
+  std::vector<double> h;
+  const Eigen::Vector2d up = -down.normalized();
+  for (const auto& x : q) h.push_back(up.dot(x));
+  const double deep = 20 * options.position_noise_floor_px;
+  std::vector<std::size_t> starts{0};  // first sample of each flight
+  for (std::size_t j = 2; j + 2 < q.size(); ++j) {
+    if (!(h[j] < h[j - 1] && h[j] <= h[j + 1] && h[j - 2] - h[j] > deep && h[j + 2] - h[j] > deep))
+      continue;
+    const std::size_t a = starts.back();
+    std::size_t next = j + 1;
+    std::size_t b = q.size() - 1;
+    for (std::size_t k = j + 3; k + 2 < q.size(); ++k)
+      if (h[k] < h[k - 1] && h[k] <= h[k + 1]) {
+        b = k - 1;
+        break;
+      }
+    if (j - a >= 3 && b - j >= 3 &&
+        SegmentSsr(gap, q, a, j - 1) + SegmentSsr(gap, q, j, b) <
+            SegmentSsr(gap, q, a, j) + SegmentSsr(gap, q, j + 1, b))
+      next = j;
+    starts.push_back(next);
+  }
+  starts.push_back(q.size());
+  for (std::size_t s = 0; s + 1 < starts.size(); ++s)
+    if (starts[s + 1] > starts[s] + 1)
+      FindDropsInFlight(gap, q, starts[s], starts[s + 1] - 1, options);
+  // Slots: one per frame; the extra slots of a gap are put after the frames before the sample
+  // that closes it.
+  std::vector<int> slot(n, 0);
+  std::size_t k = 0;
+  int extra = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (k + 1 < frame.size() && static_cast<int>(i) == frame[k + 1]) {
+      extra += gap[k] - (frame[k + 1] - frame[k]);
+      ++k;
+    }
+    slot[i] = static_cast<int>(i) + extra;
+  }
+  return slot;
+}
+
+FrameTiming UniformTiming(int frame_count, double fps) {
+  FrameTiming t;
+  t.fps = fps;
+  for (int i = 0; i < frame_count; ++i) {
+    t.slot.push_back(i);
+    t.t_s.push_back(i / fps);
+    t.repeat.push_back(false);
+  }
+  return t;
+}
+
+std::optional<std::vector<double>> TimeStamps(const FrameSource& source) {
+  const auto* camera = dynamic_cast<const CameraFileSource*>(&source);
+  if (!camera) return std::nullopt;
+  std::vector<double> t;
+  for (int i = 0; i < source.count(); ++i) {
+    const auto ti = camera->TimeOf(i);
+    if (!ti) return std::nullopt;
+    t.push_back(*ti);
+  }
+  return t;
+}
+
+FrameTiming AnalyzeFrameTiming(FrameSource& source, double fps,
+                               const std::optional<std::vector<double>>& stamps_s,
+                               const std::vector<std::optional<Eigen::Vector2d>>& p,
+                               const Eigen::Vector2d& down, const FrameTimingOptions& options) {
+  options.Validate();
+  const int n = source.count();
+  FrameTiming t = UniformTiming(n, fps);
+  t.differences = DifferenceFrames(source, options.max_grid_pixels);
+  t.repeat = FindRepeats(t.differences, options.repeat_fraction_of_noise);
+  for (int i = 0; i < n; ++i)
+    if (t.repeat[static_cast<std::size_t>(i)]) t.repeated_frames.push_back(i);
+  {
+    std::ostringstream os;
+    os << t.repeated_frames.size() << " of " << n
+       << " frames repeat the previous image (mean absolute difference 0, or under "
+       << options.repeat_fraction_of_noise << " of the noise-only difference of two captures, "
+       << t.differences.noise_mean_abs_difference
+       << " of full scale); they are not samples of the motion";
+    t.notes.push_back(os.str());
+  }
+  std::optional<std::vector<int>> slots;
+  if (stamps_s && static_cast<int>(stamps_s->size()) == n) {
+    slots = SlotsFromStamps(*stamps_s, fps);
+    if (slots) {
+      t.source = TimingSource::kTimeStamps;
+      t.notes.push_back("capture slots from the file's time stamps, rounded to periods of 1/fps");
+    } else {
+      t.notes.push_back(
+          "the file's time stamps do not increase frame by frame; slots from the motion");
+    }
+  }
+  if (!slots) {
+    std::vector<std::optional<Eigen::Vector2d>> q = p;
+    q.resize(static_cast<std::size_t>(n));
+    slots = SlotsFromMotion(q, t.repeat, down, options);
+    t.source = TimingSource::kMotion;
+    t.notes.push_back(
+        "capture slots from the motion: a dropped capture shows as a step that a free-flight "
+        "parabola at whole slots explains only with a slot left out (not seen across an impact "
+        "or at the clip's ends)");
+  }
+  t.slot = *slots;
+  std::vector<bool> held(static_cast<std::size_t>(t.slot.empty() ? 0 : t.slot.back() + 1), false);
+  for (int i = 0; i < n; ++i) {
+    const int s = t.slot[static_cast<std::size_t>(i)];
+    t.t_s[static_cast<std::size_t>(i)] = s / fps;
+    if (s >= 0 && s < static_cast<int>(held.size())) held[static_cast<std::size_t>(s)] = true;
+  }
+  for (std::size_t s = 0; s < held.size(); ++s)
+    if (!held[s]) t.dropped_captures.push_back(static_cast<int>(s));
+  return t;
+}
+
+}  // namespace hoof::tracking

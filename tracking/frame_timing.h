@@ -1,0 +1,125 @@
+#pragma once
+/// @file
+/// When each frame was captured (docs/tracking.md, "Frame timing"): frames that repeat the
+/// previous image (a frame grabber re-sending its last buffer, a frame-rate conversion) are
+/// found from the images, and captures that never reached the file are found from the camera's
+/// time stamps where the file has them (CINE), otherwise from the body's motion. Every frame is
+/// given its capture slot, so that its time is slot / fps instead of index / fps.
+///
+/// The model (that of a camera with a fixed frame period): capture slot s is taken at s / fps.
+/// A repeated frame takes a slot of its own, but shows the previous frame's image (its own
+/// capture was lost); a dropped capture leaves its slot out, so every later frame shows a
+/// capture one slot later than its index.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "tracking/frame_source.h"
+
+namespace hoof::tracking {
+
+/// Settings of the frame-timing analysis.
+struct FrameTimingOptions {
+  /// false: every frame is a new capture at index / fps (the detection is skipped).
+  bool enabled = true;
+  /// A frame repeats the previous one when the mean absolute difference of the two images is
+  /// below this fraction of what two captures of a still scene differ by through sensor noise
+  /// alone (estimated from the clip), or is exactly 0. In (0, 1).
+  double repeat_fraction_of_noise = 0.5;
+  /// The image difference is taken on a grid of at most this many pixels (every k-th row and
+  /// column); >= 1000.
+  int max_grid_pixels = 65536;
+  /// A dropped capture is accepted from the motion when putting it in lowers the residual sum
+  /// of squares of the flight's parabola by more than this many times the residual variance
+  /// (with the variance at least position_noise_floor_px^2); > 0.
+  double drop_significance = 50.0;
+  /// Smallest position noise assumed (px) when judging a dropped capture from the motion; > 0.
+  double position_noise_floor_px = 0.05;
+
+  /// Throws std::invalid_argument naming the field that is out of range.
+  void Validate() const;
+};
+
+/// How the capture slots were assigned.
+enum class TimingSource {
+  kFrameIndex,  ///< slot = index (the detection is off)
+  kTimeStamps,  ///< from the file's per-frame time stamps
+  kMotion,      ///< from the body's motion (free-flight parabolas at whole slots)
+};
+
+/// "frame_index", "time_stamps", "motion".
+std::string TimingSourceName(TimingSource source);
+
+/// Mean absolute difference of each frame from the one before (the first frame's is NaN), in
+/// units of the file's full scale (8-bit / 255, 16-bit / 65535, float as is), and what two
+/// captures of a still scene differ by through noise alone.
+struct ImageDifferences {
+  std::vector<double> mean_abs_difference;
+  /// Per pair: 1.4826 x the median absolute deviation of the difference (a robust s.d.).
+  std::vector<double> noise_sd;
+  /// The clip's noise-only mean absolute difference: sqrt(2 / pi) times the upper quartile of
+  /// noise_sd (robust while fewer than three quarters of the frames are repeats); 0 for a
+  /// noise-free or coarsely quantized clip, where only exact repeats are taken.
+  double noise_mean_abs_difference = 0.0;
+};
+
+/// Reads every frame of `source` once, in order, and compares each with the one before on a
+/// grid of at most `max_grid_pixels` pixels. The previous frame is first scaled by the median
+/// ratio of the two and the difference's median taken out, so that a change of overall
+/// brightness (mains flicker multiplies the image) is not taken for motion.
+ImageDifferences DifferenceFrames(FrameSource& source, int max_grid_pixels = 65536);
+
+/// Which frames repeat the previous one: a difference of exactly 0, or below `fraction` of the
+/// clip's noise-only difference. Frame 0 never does.
+std::vector<bool> FindRepeats(const ImageDifferences& d, double fraction);
+
+/// The timing of a clip.
+struct FrameTiming {
+  TimingSource source = TimingSource::kFrameIndex;
+  double fps = 0.0;
+  std::vector<int> slot;              ///< per frame: its capture slot (slot 0 is frame 0's)
+  std::vector<double> t_s;            ///< per frame: slot / fps (s)
+  std::vector<bool> repeat;           ///< per frame: it repeats the previous image (not a sample)
+  std::vector<int> repeated_frames;   ///< indices of the frames that repeat the previous one
+  std::vector<int> dropped_captures;  ///< slots no frame of the file holds (not repeats)
+  ImageDifferences differences;       ///< empty when the images were not compared
+  std::vector<std::string> notes;     ///< how it was decided, for people
+
+  int frame_count() const { return static_cast<int>(slot.size()); }
+};
+
+/// Capture slots from per-frame time stamps (s after frame 0): round(t fps). nullopt when the
+/// stamps do not increase strictly (they cannot be slots of one clock).
+std::optional<std::vector<int>> SlotsFromStamps(const std::vector<double>& stamps_s, double fps);
+
+/// Capture slots from the motion: `p` is a point of the body per frame (any unit, e.g. px;
+/// nullopt where it was not found), `repeat` the repeated frames (not samples, but each takes
+/// a slot), `down` the direction of gravity in p's frame. The clip is cut into free flights at
+/// the impacts (deep minima of the height along -down); in each flight of 5 or more samples,
+/// dropped captures are added one at a time, where one lowers the residual of a parabola in
+/// the slot (per coordinate) the most, while it does so by more than drop_significance times the
+/// noise variance (from the flight's third differences, at least position_noise_floor_px^2);
+/// a drop placed may then move to another gap that explains the track better. A drop across
+/// an impact, or before the first or after the last sample, cannot be seen this way.
+std::vector<int> SlotsFromMotion(const std::vector<std::optional<Eigen::Vector2d>>& p,
+                                 const std::vector<bool>& repeat, const Eigen::Vector2d& down,
+                                 const FrameTimingOptions& options);
+
+/// The whole analysis: repeats from the images of `source` (read once more), slots from
+/// `stamps_s` when given (one per frame), else from the motion `p` (as SlotsFromMotion).
+FrameTiming AnalyzeFrameTiming(FrameSource& source, double fps,
+                               const std::optional<std::vector<double>>& stamps_s,
+                               const std::vector<std::optional<Eigen::Vector2d>>& p,
+                               const Eigen::Vector2d& down, const FrameTimingOptions& options);
+
+/// Every frame a new capture at index / fps (the analysis switched off).
+FrameTiming UniformTiming(int frame_count, double fps);
+
+/// The per-frame time stamps of `source` (a camera file that records them, CINE), nullopt
+/// otherwise.
+std::optional<std::vector<double>> TimeStamps(const FrameSource& source);
+
+}  // namespace hoof::tracking
