@@ -351,6 +351,14 @@ FrameTiming AnalyzeFrameTiming(FrameSource& source, double fps,
           "the file's time stamps do not increase frame by frame; slots from the motion");
     }
   }
+  if (!slots && !options.drops_from_motion) {
+    slots.emplace(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) (*slots)[static_cast<std::size_t>(i)] = i;
+    t.source = TimingSource::kFrameIndex;
+    t.notes.push_back(
+        "no time stamps: frame i is capture i (dropped captures are looked for in the motion "
+        "only when asked: --drops-from-motion)");
+  }
   if (!slots) {
     std::vector<std::optional<Eigen::Vector2d>> q = p;
     q.resize(static_cast<std::size_t>(n));

@@ -33,6 +33,11 @@ void AddAnalysisOptions(CLI::App* cmd, pipeline::TrialAnalysisOptions& options,
       "--no-frame-timing", [&options] { options.timing.enabled = false; },
       "Take every frame as a new capture at index / fps: no search for repeated frames or "
       "dropped captures");
+  cmd->add_flag_callback(
+      "--drops-from-motion", [&options] { options.timing.drops_from_motion = true; },
+      "Where the file has no time stamps, look for dropped captures in the body's motion (a "
+      "step a free-flight parabola explains only with a capture left out); off by default, as a "
+      "contact's frames can be taken for a drop");
   // Out-of-range values are command-line errors (exit 2), found before any trial is read.
   cmd->parse_complete_callback([cmd, &options] {
     ValidateOptions(cmd, [&] {
