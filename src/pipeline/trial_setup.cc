@@ -12,6 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "format/number_format.h"
 #include "pipeline/study_format.h"
 #include "tracking/camera_file.h"
 #include "tracking/frame_source.h"
@@ -324,12 +325,14 @@ cv::Mat ContactSheet(const TrialSetup& s) {
       << "; impacts at frames:";
     if (s.impact_frames.empty()) b << " none";
     for (int f : s.impact_frames) b << " " << f;
+    // In um per px through the number policy (the drawing font has no micro or plus-minus sign).
     c << "scale from " << s.scale_from << ": ";
     if (std::isfinite(s.m_per_px))
-      c << s.m_per_px << " m/px";
+      c << format::WithError(s.m_per_px * 1e6, s.m_per_px_se * 1e6, format::Kind::kMeasured,
+                             " +/- ")
+        << " um/px";
     else
       c << "not measured";
-    if (std::isfinite(s.m_per_px_se) && s.m_per_px_se > 0) c << " +- " << s.m_per_px_se;
     caption = {a.str(), b.str(), c.str()};
   }
   const int caption_h = 20 * static_cast<int>(caption.size()) + 8;
