@@ -86,6 +86,31 @@ void WriteTrial(const H5::Group& trials, const std::string& group_name,
   internal::Serialize(results, r.impact);
 }
 
+/// The measured quantities of impact `k` into a `/results` or `/impacts` row (the same
+/// columns, SerializeImpactMeasures); NaN where `measured` is false.
+template <typename Row>
+void CopyMeasures(const kinematics::ImpactKinematics& k, bool measured, Row& r) {
+  const auto value = [measured](double v) { return measured ? v : kNaN; };
+  r.e = value(k.e);
+  r.e_se = value(k.e_se);
+  r.e_ci_low = value(k.e_ci_low);
+  r.e_ci_high = value(k.e_ci_high);
+  r.mu_eff = value(k.mu_eff);
+  r.mu_eff_se = value(k.mu_eff_se);
+  r.mu_eff_ci_low = value(k.mu_eff_ci_low);
+  r.mu_eff_ci_high = value(k.mu_eff_ci_high);
+  r.v_SC_before_m_s = k.v_SC_before.unaryExpr(value);
+  r.v_SC_after_m_s = k.v_SC_after.unaryExpr(value);
+  r.v_SC_before_se_m_s = k.v_SC_before_se.unaryExpr(value);
+  r.v_SC_after_se_m_s = k.v_SC_after_se.unaryExpr(value);
+  r.w_before_rad_s = value(k.w_before_rad_s);
+  r.w_after_rad_s = value(k.w_after_rad_s);
+  r.w_before_se_rad_s = value(k.w_before_se_rad_s);
+  r.w_after_se_rad_s = value(k.w_after_se_rad_s);
+  r.kinetic_energy_before_J = value(k.kinetic_energy_before_J);
+  r.kinetic_energy_after_J = value(k.kinetic_energy_after_J);
+}
+
 /// The `/results` row of `trial`, written into its group `group`: NaN for what was not
 /// measured.
 TrialResult ResultOf(const pipeline::TrialAnalysis& trial, const std::string& group) {
@@ -104,24 +129,7 @@ TrialResult ResultOf(const pipeline::TrialAnalysis& trial, const std::string& gr
   r.success = trial.success;
   r.error = trial.error;
   r.impact_time_s = measured(k.impact_time_s);
-  r.e = measured(k.e);
-  r.e_se = measured(k.e_se);
-  r.e_ci_low = measured(k.e_ci_low);
-  r.e_ci_high = measured(k.e_ci_high);
-  r.mu_eff = measured(k.mu_eff);
-  r.mu_eff_se = measured(k.mu_eff_se);
-  r.mu_eff_ci_low = measured(k.mu_eff_ci_low);
-  r.mu_eff_ci_high = measured(k.mu_eff_ci_high);
-  r.v_SC_before_m_s = k.v_SC_before.unaryExpr(measured);
-  r.v_SC_after_m_s = k.v_SC_after.unaryExpr(measured);
-  r.v_SC_before_se_m_s = k.v_SC_before_se.unaryExpr(measured);
-  r.v_SC_after_se_m_s = k.v_SC_after_se.unaryExpr(measured);
-  r.w_before_rad_s = measured(k.w_before_rad_s);
-  r.w_after_rad_s = measured(k.w_after_rad_s);
-  r.w_before_se_rad_s = measured(k.w_before_se_rad_s);
-  r.w_after_se_rad_s = measured(k.w_after_se_rad_s);
-  r.kinetic_energy_before_J = measured(k.kinetic_energy_before_J);
-  r.kinetic_energy_after_J = measured(k.kinetic_energy_after_J);
+  CopyMeasures(k, m, r);
   r.m_per_px_used = trial.m_per_px_used;
   r.m_per_px_from_markers = trial.m_per_px_from_markers != 0.0 ? trial.m_per_px_from_markers : kNaN;
   r.surface_angle_measured_deg = trial.surface_angle_measured_deg.value_or(kNaN);
@@ -136,7 +144,6 @@ std::vector<ImpactResult> ImpactsOf(const pipeline::TrialAnalysis& trial,
                                     const std::string& group) {
   std::vector<ImpactResult> rows;
   for (const auto& k : trial.impacts) {
-    const auto measured = [&](double v) { return k.success ? v : kNaN; };
     ImpactResult r;
     r.trial = trial.spec.id;
     r.group = group;
@@ -147,24 +154,7 @@ std::vector<ImpactResult> ImpactsOf(const pipeline::TrialAnalysis& trial,
     r.error = k.success ? std::string() : k.message;
     r.impact_time_s = k.impact_time_s;
     r.impact_frame = k.impact_frame;
-    r.e = measured(k.e);
-    r.e_se = measured(k.e_se);
-    r.e_ci_low = measured(k.e_ci_low);
-    r.e_ci_high = measured(k.e_ci_high);
-    r.mu_eff = measured(k.mu_eff);
-    r.mu_eff_se = measured(k.mu_eff_se);
-    r.mu_eff_ci_low = measured(k.mu_eff_ci_low);
-    r.mu_eff_ci_high = measured(k.mu_eff_ci_high);
-    r.v_SC_before_m_s = k.v_SC_before.unaryExpr(measured);
-    r.v_SC_after_m_s = k.v_SC_after.unaryExpr(measured);
-    r.v_SC_before_se_m_s = k.v_SC_before_se.unaryExpr(measured);
-    r.v_SC_after_se_m_s = k.v_SC_after_se.unaryExpr(measured);
-    r.w_before_rad_s = measured(k.w_before_rad_s);
-    r.w_after_rad_s = measured(k.w_after_rad_s);
-    r.w_before_se_rad_s = measured(k.w_before_se_rad_s);
-    r.w_after_se_rad_s = measured(k.w_after_se_rad_s);
-    r.kinetic_energy_before_J = measured(k.kinetic_energy_before_J);
-    r.kinetic_energy_after_J = measured(k.kinetic_energy_after_J);
+    CopyMeasures(k, k.success, r);
     if (k.success) {
       r.fit_before_first_frame = k.before.first_frame;
       r.fit_before_last_frame = k.before.last_frame;
