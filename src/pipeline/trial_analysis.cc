@@ -10,6 +10,7 @@
 #include "kinematics/gravity_scale.h"
 #include "pipeline/trial_impacts.h"
 #include "tracking/camera_file.h"
+#include "tracking/frame_differences.h"
 #include "tracking/frame_source.h"
 #include "tracking/surface_line.h"
 
@@ -126,6 +127,7 @@ void ScaleFromGravity(const TrialSpec& spec, const TrialAnalysisOptions& options
 /// image is no sample of the motion, and a missing capture shifts the frames after it. Flags
 /// and warnings name the frames.
 void FindFrameTiming(const TrialSpec& spec, tracking::FrameSource& source,
+                     const std::optional<tracking::ImageDifferences>& compared,
                      const TrialAnalysisOptions& options,
                      const std::vector<std::optional<Eigen::Vector2d>>& p_px,
                      const Eigen::Vector2d& gravity_dir, TrialAnalysis& out) {
@@ -134,8 +136,13 @@ void FindFrameTiming(const TrialSpec& spec, tracking::FrameSource& source,
     out.timing.notes.push_back("off: every frame is a new capture at index / fps");
     return;
   }
-  out.timing = tracking::AnalyzeFrameTiming(source, spec.fps, tracking::TimeStamps(source), p_px,
-                                            gravity_dir, options.timing);
+  // The images were compared while the tracker read them, in the one pass over the clip; when
+  // it did not read them in order the clip is read once more for it.
+  out.timing = compared
+                   ? tracking::AnalyzeFrameTiming(*compared, spec.fps, tracking::TimeStamps(source),
+                                                  p_px, gravity_dir, options.timing)
+                   : tracking::AnalyzeFrameTiming(source, spec.fps, tracking::TimeStamps(source),
+                                                  p_px, gravity_dir, options.timing);
   const auto& t = out.timing;
   const auto list = [](const std::vector<int>& v) {
     std::string s;
@@ -181,7 +188,7 @@ std::vector<std::optional<Eigen::Vector2d>> BySlot(
 /// trial states none), the poses, and the motion's straight-line summary. Throws naming the
 /// frames for a body that is not found or does not move.
 void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
-                       const TrialAnalysisOptions& options,
+                       tracking::DifferencingSource& tracked, const TrialAnalysisOptions& options,
                        const std::function<void(int)>& progress, TrialAnalysis& out,
                        std::vector<kinematics::PoseSample>& samples,
                        core::SpecimenParameters& body) {
@@ -190,7 +197,7 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
       spec.body.is_ball() ? tracking::SilhouetteShape::kBall : tracking::SilhouetteShape::kOutline;
   so.polarity = PolarityOf(spec.body.polarity);
   so.gravity_I = spec.camera.gravity_image;
-  out.silhouette = tracking::TrackSilhouette(source, so, progress);
+  out.silhouette = tracking::TrackSilhouette(tracked, so, progress);
   for (const auto& w : out.silhouette.warnings) out.warnings.push_back(w);
   const std::string frames_named =
       source.Describe(0) + " .. " + source.Describe(source.count() - 1);
@@ -201,7 +208,8 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
   const tracking::ImageToWorld lens = TrialCamera(spec, 1.0);
   for (const auto& o : out.silhouette.frames)
     c_px.push_back(o.found ? std::optional<Eigen::Vector2d>(lens.Undistort(o.p_I)) : std::nullopt);
-  FindFrameTiming(spec, source, options, c_px, spec.camera.gravity_image, out);
+  FindFrameTiming(spec, source, tracked.Differences(), options, c_px, spec.camera.gravity_image,
+                  out);
 
   // The scale: stated, or a ball's known diameter over its fitted diameter.
   if (spec.body.is_ball()) {
@@ -373,10 +381,14 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
   out.warnings = spec.warnings;
   try {
     auto source = OpenFrames(spec);
+    // The trackers read the clip through this, which compares each frame with the one before
+    // for the frame timing as it passes (one read of the clip, not two).
+    tracking::DifferencingSource tracked(*source, options.timing.max_grid_pixels,
+                                         options.timing.enabled);
     if (spec.body.is_silhouette()) {
       std::vector<kinematics::PoseSample> samples;
       core::SpecimenParameters body = spec.specimen;
-      AnalyzeSilhouette(spec, *source, options, progress, out, samples, body);
+      AnalyzeSilhouette(spec, *source, tracked, options, progress, out, samples, body);
       kinematics::KinematicsOptions kin = options.kinematics;
       const bool scaled = std::isfinite(out.m_per_px_used);
       if (!scaled) kin.gravity_m_s2 = 0;  // poses in px: see AnalyzeSilhouette
@@ -407,7 +419,7 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
       out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return out;
     }
-    out.tracks = tracking::TrackMarkers(*source, spec.specimen.markers_B_m, spec.camera.m_per_px,
+    out.tracks = tracking::TrackMarkers(tracked, spec.specimen.markers_B_m, spec.camera.m_per_px,
                                         spec.camera.gravity_image, options.tracker, progress);
     for (const auto& w : out.tracks.warnings) out.warnings.push_back(w);
     for (const auto& row : out.tracks.frames)
@@ -463,7 +475,8 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
                                  out.m_per_px_used)
                            : std::nullopt);
       }
-      FindFrameTiming(spec, *source, options, c_px, Eigen::Vector2d(0, -1), out);
+      FindFrameTiming(spec, *source, tracked.Differences(), options, c_px, Eigen::Vector2d(0, -1),
+                      out);
       if (spec.camera.scale_from == "gravity")
         ScaleFromGravity(spec, options, BySlot(c_px, out.timing), Eigen::Vector2d(0, -1), out);
     }
