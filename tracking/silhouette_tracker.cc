@@ -2,18 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <condition_variable>
-#include <deque>
-#include <exception>
-#include <mutex>
 #include <numbers>
 #include <stdexcept>
-#include <thread>
 
 #include <Eigen/Dense>
 #include <opencv2/imgproc.hpp>
 
 #include "tracking/circle_fit.h"
+#include "tracking/read_ahead.h"
 
 namespace hoof::tracking {
 namespace {
@@ -440,83 +436,6 @@ cv::Mat BrightMask(const cv::Mat& f) {
   cv::threshold(u8, bin, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
   return bin;
 }
-
-/// Reads the frames of a source in order on a thread of its own, up to `depth` frames ahead of
-/// the caller, who takes them with Next(). A frame is handed to the caller as a header without
-/// ownership of the reader's buffer (no reference count), and its owning cv::Mat goes back to the
-/// reader thread, under the lock, when the caller asks for the next frame: so every change to a
-/// buffer's reference count happens on the reader thread or under the lock. That matters because
-/// a source may reuse its one frame buffer when no-one else holds it (tracking/camera_file.cc):
-/// the buffer of a frame the caller is still measuring is never reused, and there is no
-/// unsynchronised access to its count.
-class ReadAhead {
- public:
-  ReadAhead(FrameSource& source, int depth) : source_(source), depth_(depth) {
-    thread_ = std::thread([this] { Run(); });
-  }
-  ~ReadAhead() {
-    {
-      std::lock_guard lock(mutex_);
-      stop_ = true;
-    }
-    changed_.notify_all();
-    thread_.join();
-  }
-  ReadAhead(const ReadAhead&) = delete;
-  ReadAhead& operator=(const ReadAhead&) = delete;
-
-  /// The next frame in order (valid until the next call); rethrows the error of reading it.
-  cv::Mat Next() {
-    std::unique_lock lock(mutex_);
-    if (!current_.empty()) returned_.push_back(std::move(current_));
-    changed_.notify_all();
-    changed_.wait(lock, [&] { return !ready_.empty() || error_; });
-    if (ready_.empty()) std::rethrow_exception(error_);
-    current_ = std::move(ready_.front());
-    ready_.pop_front();
-    changed_.notify_all();
-    return cv::Mat(current_.rows, current_.cols, current_.type(), current_.data, current_.step[0]);
-  }
-
- private:
-  void Run() {
-    for (int i = 0; i < source_.count(); ++i) {
-      std::vector<cv::Mat> done;
-      {
-        std::unique_lock lock(mutex_);
-        changed_.wait(lock, [&] { return stop_ || static_cast<int>(ready_.size()) < depth_; });
-        if (stop_) return;
-        done.swap(returned_);
-      }
-      done.clear();  // the caller's finished frames, released on this thread
-      cv::Mat frame;
-      try {
-        frame = source_.Read(i);
-      } catch (...) {
-        std::lock_guard lock(mutex_);
-        error_ = std::current_exception();
-        changed_.notify_all();
-        return;
-      }
-      {
-        std::lock_guard lock(mutex_);
-        ready_.push_back(std::move(frame));
-      }
-      changed_.notify_all();
-    }
-  }
-
-  FrameSource& source_;
-  const int depth_;
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  std::deque<cv::Mat> ready_;      // read, not yet taken
-  std::vector<cv::Mat> returned_;  // taken and finished, to be released by the reader
-  cv::Mat current_;                // the frame the caller is measuring (owning)
-  std::exception_ptr error_;
-  bool stop_ = false;
-  std::thread thread_;  // last: started once the members above exist
-};
 
 }  // namespace
 
