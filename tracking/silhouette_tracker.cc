@@ -82,14 +82,18 @@ struct RayEdge {
 /// profile crosses the level midway between the local levels at 1.5..2.5 px, nearest the
 /// candidate: levels measured on the ray itself, so a shaded body, or a surround that changes
 /// from ray to ray, does not move it.
+/// `sum` and `count` are work space, resized here.
 std::optional<RayEdge> EdgeAlongRay(const std::vector<double>& profile,
                                     const std::vector<char>& valid, double a_lo, double step_px,
-                                    double r_lo, double r_hi, double sign, double threshold) {
+                                    double r_lo, double r_hi, double sign, double threshold,
+                                    std::vector<double>& sum, std::vector<int>& count) {
   const int n = static_cast<int>(profile.size());
   const int per_px = static_cast<int>(std::lround(1.0 / step_px));
   // Prefix sums of the valid samples.
-  std::vector<double> sum(static_cast<std::size_t>(n) + 1, 0.0);
-  std::vector<int> count(static_cast<std::size_t>(n) + 1, 0);
+  sum.resize(static_cast<std::size_t>(n) + 1);
+  count.resize(static_cast<std::size_t>(n) + 1);
+  sum[0] = 0.0;
+  count[0] = 0;
   for (int i = 0; i < n; ++i) {
     const auto k = static_cast<std::size_t>(i);
     sum[k + 1] = sum[k] + (valid[k] ? profile[k] : 0.0);
@@ -174,7 +178,7 @@ SilhouetteObservation MeasureBall(const cv::Mat& f, Eigen::Vector2d c0, double r
   // circle moves less than kConvergedPx (a body found afresh starts from its thresholded
   // region, which may be several px off for a shaded ball).
   constexpr int kMaxPasses = 8;
-  constexpr double kConvergedPx = 0.01;
+  constexpr double kConvergedPx = 0.02;
   for (int pass = 0; pass < kMaxPasses; ++pass) {
     if (!(r0 >= 3.0)) {
       obs.status = "too small for a circle fit (radius < 3 px)";
@@ -200,12 +204,15 @@ SilhouetteObservation MeasureBall(const cv::Mat& f, Eigen::Vector2d c0, double r
     }
     const double threshold = std::max(3.0 * std::sqrt(2.0) * obs.noise, 0.05 * std::abs(in - out));
     const double r_lo = std::max(0.4 * r0, r0 - h), r_hi = r0 + h;
-    const double a_lo = r_lo - 3.0, a_hi = r_hi + 3.0;
+    const double a_lo = r_lo - 2.5, a_hi = r_hi + 2.5;  // room for the wide levels
     const int samples = static_cast<int>(std::floor((a_hi - a_lo) / kStepPx)) + 1;
     std::vector<double> profile(static_cast<std::size_t>(samples));
     std::vector<char> valid(static_cast<std::size_t>(samples));
     std::vector<Eigen::Vector2d> points;
-    std::vector<double> weights;
+    std::vector<double> weights, sum;
+    std::vector<int> count;
+    points.reserve(static_cast<std::size_t>(rays));
+    weights.reserve(static_cast<std::size_t>(rays));
     for (int k = 0; k < rays; ++k) {
       const double a = 2 * kPi * k / rays;
       const Eigen::Vector2d u{std::cos(a), std::sin(a)};
@@ -216,7 +223,8 @@ SilhouetteObservation MeasureBall(const cv::Mat& f, Eigen::Vector2d c0, double r
             r > 0 && Sample(f, c0.x() + r * u.x(), c0.y() + r * u.y(), v);
         profile[static_cast<std::size_t>(i)] = v;
       }
-      const auto edge = EdgeAlongRay(profile, valid, a_lo, kStepPx, r_lo, r_hi, sign, threshold);
+      const auto edge =
+          EdgeAlongRay(profile, valid, a_lo, kStepPx, r_lo, r_hi, sign, threshold, sum, count);
       if (!edge) continue;
       points.push_back(c0 + edge->r * u);
       weights.push_back(edge->step * edge->step);
