@@ -178,7 +178,7 @@ SilhouetteObservation MeasureBall(const cv::Mat& f, Eigen::Vector2d c0, double r
   // circle moves less than kConvergedPx (a body found afresh starts from its thresholded
   // region, which may be several px off for a shaded ball).
   constexpr int kMaxPasses = 8;
-  constexpr double kConvergedPx = 0.02;
+  constexpr double kConvergedPx = 0.01;
   for (int pass = 0; pass < kMaxPasses; ++pass) {
     if (!(r0 >= 3.0)) {
       obs.status = "too small for a circle fit (radius < 3 px)";
@@ -204,7 +204,7 @@ SilhouetteObservation MeasureBall(const cv::Mat& f, Eigen::Vector2d c0, double r
     }
     const double threshold = std::max(3.0 * std::sqrt(2.0) * obs.noise, 0.05 * std::abs(in - out));
     const double r_lo = std::max(0.4 * r0, r0 - h), r_hi = r0 + h;
-    const double a_lo = r_lo - 2.5, a_hi = r_hi + 2.5;  // room for the wide levels
+    const double a_lo = r_lo - 3.0, a_hi = r_hi + 3.0;
     const int samples = static_cast<int>(std::floor((a_hi - a_lo) / kStepPx)) + 1;
     std::vector<double> profile(static_cast<std::size_t>(samples));
     std::vector<char> valid(static_cast<std::size_t>(samples));
