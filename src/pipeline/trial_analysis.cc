@@ -229,7 +229,8 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
   }
   const bool e_from_arc = out.round_end && out.round_end->measured;
   // C's path in px of W at the scale m_per_px (gravity along -y): from E and |EC| where the
-  // round end was found, else the centre (a ball's) or area centroid.
+  // round end was found and the scale is known (> 0), else the centre (a ball's) or area
+  // centroid.
   const auto c_path = [&](double m_per_px) {
     std::vector<std::optional<Eigen::Vector2d>> p;
     for (const auto& o : out.silhouette.frames) {
@@ -238,7 +239,7 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
         continue;
       }
       Eigen::Vector2d c = unit.ToWorld(o.p_I);
-      if (e_from_arc)
+      if (e_from_arc && m_per_px > 0)
         c += core::BodyRotation(AngleInWorld(unit, o.p_I, o.angle_I_rad))
                  .ToW(out.round_end->p_BE_px + Eigen::Vector2d(body.d_EC_m / m_per_px, 0));
       p.emplace_back(c);
@@ -264,7 +265,8 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
   out.m_per_px_used = spec.camera.m_per_px;
   out.scale_source = "camera.m_per_px";
   if (spec.camera.scale_from == "gravity") {
-    ScaleFromGravity(spec, options, BySlot(c_path(1.0), out.timing), Eigen::Vector2d(0, -1), out);
+    // First from the area centroid (C within a few px of it), then from C.
+    ScaleFromGravity(spec, options, BySlot(c_path(0.0), out.timing), Eigen::Vector2d(0, -1), out);
     // With E from the arc, C's path depends on the scale through |EC| in px: the fit is
     // repeated on C's path at the scale found until the scale settles.
     for (int it = 0; e_from_arc && it < 8 && out.gravity_scale->measured; ++it) {
