@@ -22,18 +22,17 @@ const fs::path kOut = fs::path(HOOF_BINARY_DIR) / "test-output" / "init_outline"
 
 json Results(const hoof::testing::CommandResult& r) { return json::parse(r.out)["results"]; }
 
-// Renders an unmarked specimen (lit as `synth_extra` says) onto steel at `angle_deg` (PNG frames, 8000 fps, every
-// camera effect on), writes the paper specimen into a study.json beside the trial folder, runs
-// init (with `init_extra`: the scale) and then track on what init wrote.
+// Renders an unmarked specimen (lit as `synth_extra` says) onto steel at `angle_deg` (PNG frames,
+// 8000 fps, every camera effect on), writes the paper specimen into a study.json beside the trial
+// folder, runs init (with `init_extra`: the scale) and then track on what init wrote.
 void InitThenTrack(const std::string& name, double angle_deg, int seed,
                    const std::string& synth_extra, const std::string& init_extra) {
   const fs::path dir = kOut / name;
   fs::remove_all(dir);
   const fs::path render = dir / "render";
-  const auto s =
-      RunHoofimpact("synth -o " + render.string() +
-                    " --body unmarked --surface steel --angle-deg " +
-                    std::to_string(angle_deg) + " --seed " + std::to_string(seed) + synth_extra);
+  const auto s = RunHoofimpact(
+      "synth -o " + render.string() + " --body unmarked --surface steel --angle-deg " +
+      std::to_string(angle_deg) + " --seed " + std::to_string(seed) + synth_extra);
   ASSERT_EQ(s.exit_code, 0) << s.err;
   const json truth = json::parse(std::ifstream(render / "truth.json"));
   // The paper's specimen as the renderer drew it (core/specimen.h's defaults).
