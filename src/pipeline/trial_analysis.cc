@@ -8,6 +8,7 @@
 
 #include "core/frames.h"
 #include "kinematics/gravity_scale.h"
+#include "pipeline/round_end.h"
 #include "pipeline/trial_impacts.h"
 #include "tracking/camera_file.h"
 #include "tracking/frame_differences.h"
@@ -211,6 +212,49 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
   FindFrameTiming(spec, source, tracked.Differences(), options, c_px, spec.camera.gravity_image,
                   out);
 
+  // An outline's E from its round end's arc (pipeline/round_end.h), as an offset from the area
+  // centroid in B measured over frames spread through the clip.
+  const tracking::ImageToWorld unit = TrialCamera(spec, 1.0);
+  if (!spec.body.is_ball()) {
+    const double r_guess =
+        spec.camera.m_per_px > 0 ? body.end_radius_m / spec.camera.m_per_px : 0.0;
+    std::vector<int> found;
+    for (int f = 0; f < out.silhouette.frame_count(); ++f)
+      if (out.silhouette.frames[static_cast<std::size_t>(f)].found) found.push_back(f);
+    std::vector<std::optional<RoundEndFit>> fits(out.silhouette.frames.size());
+    const std::size_t tried =
+        std::min(found.size(), static_cast<std::size_t>(std::max(1, options.round_end_frames)));
+    for (std::size_t k = 0; k < tried; ++k) {
+      const int f = found[tried > 1 ? k * (found.size() - 1) / (tried - 1) : 0];
+      fits[static_cast<std::size_t>(f)] = FitRoundEnd(
+          tracking::ToGrey(source.Read(f), source.Describe(f)),
+          out.silhouette.frames[static_cast<std::size_t>(f)], out.silhouette.polarity, r_guess);
+    }
+    out.round_end = EstimateRoundEndOffset(out.silhouette.frames, fits, unit);
+    if (!out.round_end->measured)
+      out.warnings.push_back("the outline's round end was not found (" + out.round_end->message +
+                             "): its area centroid is taken as the centre of mass C");
+  }
+  const bool e_from_arc = out.round_end && out.round_end->measured;
+  // C's path in px of W at the scale m_per_px (gravity along -y): from E and |EC| where the
+  // round end was found and the scale is known (> 0), else the centre (a ball's) or area
+  // centroid.
+  const auto c_path = [&](double m_per_px) {
+    std::vector<std::optional<Eigen::Vector2d>> p;
+    for (const auto& o : out.silhouette.frames) {
+      if (!o.found) {
+        p.emplace_back(std::nullopt);
+        continue;
+      }
+      Eigen::Vector2d c = unit.ToWorld(o.p_I);
+      if (e_from_arc && m_per_px > 0)
+        c += core::BodyRotation(AngleInWorld(unit, o.p_I, o.angle_I_rad))
+                 .ToW(out.round_end->p_BE_px + Eigen::Vector2d(body.d_EC_m / m_per_px, 0));
+      p.emplace_back(c);
+    }
+    return p;
+  };
+
   // The scale: stated, or a ball's known diameter over its fitted diameter.
   if (spec.body.is_ball()) {
     std::vector<double> d;
@@ -229,7 +273,16 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
   out.m_per_px_used = spec.camera.m_per_px;
   out.scale_source = "camera.m_per_px";
   if (spec.camera.scale_from == "gravity") {
-    ScaleFromGravity(spec, options, BySlot(c_px, out.timing), spec.camera.gravity_image, out);
+    // First from the area centroid (C within a few px of it), then from C.
+    ScaleFromGravity(spec, options, BySlot(c_path(0.0), out.timing), Eigen::Vector2d(0, -1), out);
+    // With E from the arc, C's path depends on the scale through |EC| in px: the fit is
+    // repeated on C's path at the scale found until the scale settles.
+    for (int it = 0; e_from_arc && it < 8 && out.gravity_scale->measured; ++it) {
+      const double before = out.m_per_px_used;
+      ScaleFromGravity(spec, options, BySlot(c_path(before), out.timing), Eigen::Vector2d(0, -1),
+                       out);
+      if (std::abs(out.m_per_px_used - before) < 1e-9 * before) break;
+    }
   } else if (!(spec.camera.m_per_px > 0) || spec.camera.scale_from == "body_diameter") {
     out.m_per_px_used = out.m_per_px_from_body;
     out.m_per_px_se = std::isnan(out.body_diameter_se_px)
@@ -256,7 +309,12 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
       // The centre is the ball's, or the outline's area centroid, taken as the centre of mass
       // C; E lies d_EC behind it along x_B. A ball's rotation is not seen: its angle stays 0.
       pose.theta_W_rad = o.has_orientation ? AngleInWorld(cam, o.p_I, o.angle_I_rad) : 0.0;
-      pose.p_WE = cam.ToWorld(o.p_I) - body.d_EC_m * core::BodyRotation(pose.theta_W_rad).x_B();
+      const core::BodyRotation R_WB(pose.theta_W_rad);
+      pose.p_WE = cam.ToWorld(o.p_I);
+      if (e_from_arc)
+        pose.p_WE += pose_scale * R_WB.ToW(out.round_end->p_BE_px);
+      else
+        pose.p_WE -= body.d_EC_m * R_WB.x_B();
       centres.emplace_back(cam.Undistort(o.p_I));
     } else {
       centres.emplace_back(std::nullopt);
