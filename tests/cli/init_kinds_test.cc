@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <string>
 #include <vector>
 
@@ -43,7 +44,9 @@ json Render(const std::string& name, const std::string& options) {
 // study (the renderer's specimen), the scale from the dots' spacing, the surface and the impact;
 // track then gives e and mu_eff within 0.01 of the truth.
 TEST(InitKindsTest, AMarkedSpecimenWithItsLayoutIsMeasuredWithoutEdits) {
-  const json truth = Render("markers", "--seed 1 --angle-deg 20");
+  const json truth = Render("markers",
+                            "--seed 1 --angle-deg 20 --width-px 384 --height-px 320 "
+                            "--frames-before 16 --frames-after 16");
   ASSERT_EQ(truth["body"]["kind"], "markers");
   const double truth_m_per_px =
       json::parse(std::ifstream(kOut / "markers" / "trial.json"))["camera"]["m_per_px"];
@@ -245,6 +248,9 @@ TEST(InitKindsTest, TheRealBallClipsSurfaceIsTheStripsTopEdge) {
   const auto y_at = [&](double x) { return y0 + (y1 - y0) * (x - x0) / (x1 - x0); };
   EXPECT_NEAR(y_at(xa), ya, 1.5);
   EXPECT_NEAR(y_at(xb), yb, 1.5);
+  std::cout << "surface: init " << j["surface_angle_deg"] << " deg, at the bands y " << y_at(xa)
+            << " and " << y_at(xb) << " px; independent " << angle << " deg, y " << ya << " and "
+            << yb << " px\n";
   EXPECT_EQ(j["trial"]["surface_angle_deg"], j["surface_angle_deg"]);
 }
 
