@@ -197,6 +197,21 @@ void MarkedSpecimen(const TrialSetupOptions& options, const fs::path& trial_abs,
   s.marker_layout_known = true;
 }
 
+/// A two-marker layout's spacing cannot be checked against the dots (one distance only): where
+/// gravity gives a scale, a layout scale off by more than 10 % and three of gravity's standard
+/// errors is a warning (a wrong markers_B_m or frame rate).
+void CheckLayoutAgainstGravity(TrialSetup& s) {
+  if (!s.gravity.measured || !(s.gravity.m_per_px > 0)) return;
+  const double off = s.m_per_px - s.gravity.m_per_px;
+  if (std::abs(off) > 0.1 * s.gravity.m_per_px && std::abs(off) > 3 * s.gravity.m_per_px_se) {
+    std::ostringstream os;
+    os << "the markers' spacing gives " << s.m_per_px << " m/px, but gravity's parabola "
+       << s.gravity.m_per_px << " +- " << s.gravity.m_per_px_se
+       << " m/px: check the specimen's markers_B_m and the frame rate";
+    s.warnings.push_back(os.str());
+  }
+}
+
 /// A marked body: white dots on black patches in the first frame (or as --body markers says).
 /// Follows each dot through the clip (a predicted search window, as the marker tracker) and
 /// puts the dots' mean in `c_px` where all are seen: the impacts and gravity's scale come from
@@ -405,6 +420,7 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
   } else if (s.shape == "markers" && layout_m_per_px > 0) {
     s.scale_from = "markers";
     s.m_per_px = layout_m_per_px;
+    CheckLayoutAgainstGravity(s);
   } else {
     s.scale_from = "gravity";
     if (s.gravity.measured) {

@@ -57,6 +57,7 @@ TEST(InitKindsTest, AMarkedSpecimenWithItsLayoutIsMeasuredWithoutEdits) {
                     " --fps 8000 --specimen A --study " + kStudy.string() + " --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json j = Results(r);
+  EXPECT_EQ(json::parse(r.out)["warnings"].size(), 0u) << r.out;
   EXPECT_EQ(j["body_shape"], "markers");
   EXPECT_EQ(j["marker_dots"], 2);
   EXPECT_TRUE(j["marker_layout_known"].get<bool>());
@@ -98,6 +99,7 @@ TEST(InitKindsTest, AMarkedSpecimenWithItsLayoutIsMeasuredWithoutEdits) {
 
   // A layout that is not the one seen is an error naming the specimen.
   const fs::path wrong_study = kOut / "wrong_layout" / "study.json";
+  fs::remove_all(wrong_study.parent_path());
   fs::create_directories(wrong_study.parent_path());
   json study = json::parse(std::ifstream(kStudy));
   study["specimens"]["A"]["markers_B_m"] = {
@@ -108,6 +110,18 @@ TEST(InitKindsTest, AMarkedSpecimenWithItsLayoutIsMeasuredWithoutEdits) {
                                " --fps 8000 --specimen A --study " + wrong_study.string());
   EXPECT_EQ(x.exit_code, 1);
   EXPECT_NE(x.err.find("specimen \"A\""), std::string::npos) << x.err;
+  // Two markers give one distance, which cannot disagree with itself: a spacing 30 % too wide
+  // is caught by gravity's scale instead, as a warning.
+  study["specimens"]["A"]["markers_B_m"] = {{"M1", {0.006, 0.0}}, {"M2", {0.0294, 0.0}}};
+  std::ofstream(wrong_study) << study.dump(1);
+  const auto y = RunHoofimpact("init " + (kOut / "markers" / "frames").string() + " -o " +
+                               (kOut / "wrong_layout" / "t").string() +
+                               " --fps 8000 --specimen A --json --study " + wrong_study.string());
+  ASSERT_EQ(y.exit_code, 0) << y.err;
+  const json yj = json::parse(y.out);
+  ASSERT_EQ(yj["warnings"].size(), 1u) << yj["warnings"].dump();
+  EXPECT_NE(yj["warnings"][0].get<std::string>().find("markers_B_m"), std::string::npos);
+  EXPECT_NEAR(yj["results"]["m_per_px"].get<double>(), 1.3 * truth_m_per_px, 0.01 * truth_m_per_px);
 }
 
 // A back-lit 10 mm ball at 1000 fps in a 12-bit MRAW, no scale given: init takes the scale from
