@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <numbers>
+#include <sstream>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -445,6 +447,51 @@ cv::Mat BrightMask(const cv::Mat& f) {
   return bin;
 }
 
+/// A ball's size does not change through a clip beyond a slow drift (nearing the lens, focus),
+/// so a frame whose fitted diameter departs from its neighbours' was fitted to the ball joined
+/// by something else: a lit surface or its reflection at the contact, which pulls the circle
+/// (and its centre) toward it while every edge point still lies on one larger circle. Such a
+/// frame is left out as not found, with a warning naming it. The neighbours are the found
+/// frames within kNeighbourFrames on each side; a frame departs when its diameter differs from
+/// their median by more than kDepartureSd robust s.d.s of that difference over the clip and by
+/// more than kDepartureFraction of the diameter.
+void LeaveOutJoinedBalls(SilhouetteTrack& track, const FrameSource& source) {
+  constexpr int kNeighbourFrames = 8;
+  constexpr double kDepartureSd = 6.0, kDepartureFraction = 0.005;
+  const int n = track.frame_count();
+  std::vector<double> local(static_cast<std::size_t>(n), std::nan("")), departure;
+  for (int i = 0; i < n; ++i) {
+    if (!track.frames[static_cast<std::size_t>(i)].found) continue;
+    std::vector<double> d;
+    for (int j = std::max(0, i - kNeighbourFrames); j <= std::min(n - 1, i + kNeighbourFrames); ++j)
+      if (j != i && track.frames[static_cast<std::size_t>(j)].found)
+        d.push_back(track.frames[static_cast<std::size_t>(j)].diameter_px);
+    if (d.size() < 4) continue;
+    local[static_cast<std::size_t>(i)] = MedianOf(d);
+    departure.push_back(std::abs(track.frames[static_cast<std::size_t>(i)].diameter_px -
+                                 local[static_cast<std::size_t>(i)]));
+  }
+  if (departure.size() < 5) return;
+  const double sd = 1.4826 * MedianOf(departure);
+  for (int i = 0; i < n; ++i) {
+    auto& o = track.frames[static_cast<std::size_t>(i)];
+    const double m = local[static_cast<std::size_t>(i)];
+    if (!o.found || !std::isfinite(m)) continue;
+    const double off = std::abs(o.diameter_px - m);
+    if (off > kDepartureSd * sd && off > kDepartureFraction * m) {
+      o.found = false;
+      const auto px = [](double v) {
+        std::ostringstream os;
+        os << std::fixed << std::setprecision(2) << v << " px";
+        return os.str();
+      };
+      o.status = "its fitted diameter " + px(o.diameter_px) + " departs from its neighbours' " +
+                 px(m) + " (the ball joined by a surface or a reflection)";
+      track.warnings.push_back(source.Describe(i) + ": the body was not found (" + o.status + ")");
+    }
+  }
+}
+
 }  // namespace
 
 std::string PolarityName(Polarity polarity) {
@@ -612,6 +659,7 @@ SilhouetteTrack TrackSilhouette(FrameSource& source, const SilhouetteOptions& op
     track.frames.push_back(obs);
     if (progress) progress(i);
   }
+  if (options.shape == SilhouetteShape::kBall) LeaveOutJoinedBalls(track, source);
   if (found_frames == 0)
     throw std::runtime_error(source.Describe(0) + " (and the other " +
                              std::to_string(source.count() - 1) +

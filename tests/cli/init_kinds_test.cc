@@ -1,8 +1,9 @@
 // `hoofimpact init` on each kind of clip, then `hoofimpact track` on the trial.json it wrote,
 // without edits, against the renderer's truth.json: a marked specimen's PNG frames (its layout
 // from a study.json, or missing and said so), a back-lit ball at 1000 fps with the scale from
-// gravity, a back-lit ball that bounces twice, a front-lit ball in a Phantom CINE, and the
-// surface line of the real Photron ball clip against an independent estimate from its pixels.
+// gravity, a back-lit ball that bounces twice, a front-lit ball in a Phantom CINE (e within
+// 0.01), and the surface line of the real Photron ball clip against an independent estimate
+// from its pixels.
 // (A back-lit ball MRAW at 8000 fps is in init_command_test.cc.)
 #include <algorithm>
 #include <cmath>
@@ -189,14 +190,16 @@ TEST(InitKindsTest, ABallThatBouncesTwiceHasBothImpactsListed) {
 }
 
 // A front-lit ball (bright on a dark studio) in a Phantom CINE at 8000 fps: init finds the
-// ball, its polarity and the surface angle. The silhouette tracker does not yet measure a
-// front-lit ball's centre well (its shading pulls the fitted circle: 78 px for 100), so no
-// impact, scale or e is asserted; track runs on init's trial and ends with a clear error or a
-// result, never a crash.
+// ball, its polarity and the surface angle, and track measures e on init's trial within 0.01
+// of the truth. In the frames at the contact the lit block joins the ball; the tracker leaves
+// them out by the ball's diameter (tracking/silhouette_tracker.h), which here moved e by 0.017
+// when they were kept. init's scale from gravity (60 frames of a slow fall) is too uncertain
+// to assert; e is scale-free.
 TEST(InitKindsTest, AFrontLitBallInACineClipIsFoundAndTracked) {
-  Render("front_ball",
-         "--body ball --lighting front --frame-format cine --seed 2 --angle-deg 10 --width-px 320 "
-         "--height-px 320");
+  const json truth = Render(
+      "front_ball",
+      "--body ball --lighting front --frame-format cine --seed 2 --angle-deg 10 --width-px 320 "
+      "--height-px 320");
   const fs::path trial = kOut / "front_ball_trial";
   fs::remove_all(trial);
   const auto r = RunHoofimpact("init " + (kOut / "front_ball" / "clip.cine").string() + " -o " +
@@ -209,11 +212,10 @@ TEST(InitKindsTest, AFrontLitBallInACineClipIsFoundAndTracked) {
   EXPECT_NEAR(j["surface_angle_deg"].get<double>(), 10.0, 0.5);
   EXPECT_EQ(j["frame_count"], 60);
   EXPECT_EQ(j["fps"], 8000.0);
-  const auto t = RunHoofimpact("track " + trial.string());
-  EXPECT_TRUE(t.exit_code == 0 || t.exit_code == 1 || t.exit_code == 4) << t.exit_code;
-  if (t.exit_code == 1) {
-    EXPECT_NE(t.err.find("trial.json"), std::string::npos) << t.err;
-  }
+  const auto t = RunHoofimpact("track " + trial.string() + " --json");
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  const json tr = Results(t);
+  EXPECT_NEAR(tr["e"].get<double>(), truth["e"].get<double>(), 0.01);
 }
 
 // The row where a column band's mean level crosses halfway from the back light (the top rows)
