@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "tracking/circle_fit.h"
+#include "tracking/image_sample.h"
 #include "tracking/read_ahead.h"
 
 namespace hoof::tracking {
@@ -27,15 +28,7 @@ double MedianOf(std::vector<double>& v) {
 
 /// Bilinear sample of a CV_32F image; false outside.
 bool Sample(const cv::Mat& img, double x, double y, double& value) {
-  if (!(x >= 0 && y >= 0 && x <= img.cols - 1.0 && y <= img.rows - 1.0)) return false;
-  const int x0 = std::min(static_cast<int>(x), img.cols - 2);
-  const int y0 = std::min(static_cast<int>(y), img.rows - 2);
-  const double fx = x - x0, fy = y - y0;
-  const float* r0 = img.ptr<float>(y0);
-  const float* r1 = img.ptr<float>(y0 + 1);
-  value =
-      (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) + fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
-  return true;
+  return SampleBilinear(img, x, y, value);
 }
 
 /// Robust noise s.d. from horizontal neighbour differences of the pixels where `mask` is set

@@ -7,6 +7,8 @@
 #include <Eigen/Dense>
 
 #include "core/frames.h"
+#include "tracking/circle_fit.h"
+#include "tracking/image_sample.h"
 
 namespace hoof::pipeline {
 namespace {
@@ -22,16 +24,7 @@ double MedianOf(std::vector<double> v) {
 
 /// Bilinear sample of a CV_32F image; false outside.
 bool Sample(const cv::Mat& img, const Eigen::Vector2d& p, double& value) {
-  const double x = p.x(), y = p.y();
-  if (!(x >= 0 && y >= 0 && x <= img.cols - 1.0 && y <= img.rows - 1.0)) return false;
-  const int x0 = std::min(static_cast<int>(x), img.cols - 2);
-  const int y0 = std::min(static_cast<int>(y), img.rows - 2);
-  const double fx = x - x0, fy = y - y0;
-  const float* r0 = img.ptr<float>(y0);
-  const float* r1 = img.ptr<float>(y0 + 1);
-  value =
-      (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) + fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
-  return true;
+  return tracking::SampleBilinear(img, p.x(), p.y(), value);
 }
 
 /// Where the profile from `from` along `u` (unit) crosses `mid`, searched from `r_hi` down to
@@ -58,63 +51,6 @@ double Crossing(const cv::Mat& f, const Eigen::Vector2d& from, const Eigen::Vect
     have_prev = true;
   }
   return best;
-}
-
-/// Geometric circle fit (Gauss-Newton on the distances) of the points in use from (c, r).
-void GeometricCircle(const std::vector<Eigen::Vector2d>& p, const std::vector<char>& use,
-                     Eigen::Vector2d& c, double& r) {
-  for (int it = 0; it < 30; ++it) {
-    Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      if (!use[i]) continue;
-      const Eigen::Vector2d d = p[i] - c;
-      const double dist = d.norm();
-      if (!(dist > 0)) continue;
-      const Eigen::Vector3d j{-d.x() / dist, -d.y() / dist, -1.0};
-      jtj += j * j.transpose();
-      jtr += j * (dist - r);
-    }
-    const Eigen::Vector3d step = -jtj.ldlt().solve(jtr);
-    if (!step.allFinite()) return;
-    c += step.head<2>();
-    r += step(2);
-    if (step.norm() < 1e-9) return;
-  }
-}
-
-/// The circle through the edge points `p` from the start (c, r), points farther from it than
-/// max(3.5 robust s.d., 0.05 px) dropped until the set stops changing (the silhouette
-/// tracker's rule for a ball, tracking/silhouette_tracker.cc). Written by hand with Eigen: OpenCV
-/// has no circle fit with outlier rejection.
-bool RobustCircle(const std::vector<Eigen::Vector2d>& p, Eigen::Vector2d& c, double& r,
-                  RoundEndFit& fit) {
-  std::vector<char> use(p.size(), 1);
-  if (p.size() < 8) return false;
-  for (int round = 0; round < 12; ++round) {
-    GeometricCircle(p, use, c, r);
-    std::vector<double> d(p.size()), dev;
-    for (std::size_t i = 0; i < p.size(); ++i) d[i] = (p[i] - c).norm() - r;
-    const double med = MedianOf(d);
-    for (double x : d) dev.push_back(std::abs(x - med));
-    const double threshold = std::max(3.5 * 1.4826 * MedianOf(dev), 0.05);
-    std::vector<char> next(p.size());
-    for (std::size_t i = 0; i < p.size(); ++i) next[i] = std::abs(d[i]) <= threshold;
-    if (next == use || std::count(next.begin(), next.end(), 1) < 8) break;
-    use = next;
-  }
-  double ss = 0;
-  int n = 0;
-  for (std::size_t i = 0; i < p.size(); ++i)
-    if (use[i]) {
-      ss += std::pow((p[i] - c).norm() - r, 2);
-      ++n;
-    }
-  if (n < 8 || !(r > 0) || !c.allFinite()) return false;
-  fit.points = n;
-  fit.rejected = static_cast<int>(p.size()) - n;
-  fit.rms_px = std::sqrt(ss / n);
-  return true;
 }
 
 }  // namespace
@@ -194,10 +130,18 @@ RoundEndFit FitRoundEnd(const cv::Mat& grey, const tracking::SilhouetteObservati
       const double rc = Crossing(f, c, u, std::max(0.4 * r, r - h), r + h, r, mid);
       if (std::isfinite(rc)) points.push_back(c + rc * u);
     }
-    if (!RobustCircle(points, c, r, fit)) {
+    // Points farther from the circle than max(3.5 robust s.d., 0.05 px) are dropped until the
+    // set stops changing: the silhouette tracker's rule for a ball (tracking/circle_fit.h).
+    const tracking::CircleFit circle = tracking::FitCircleRobust(points, {}, 3.5, 0.05);
+    if (!circle.ok || !(circle.r > 0) || !circle.c.allFinite()) {
       fit.status = "too few edge points on the round end";
       return fit;
     }
+    c = circle.c;
+    r = circle.r;
+    fit.points = circle.n;
+    fit.rejected = circle.rejected;
+    fit.rms_px = circle.rms;
   }
   fit.ok = true;
   fit.status = "ok";
