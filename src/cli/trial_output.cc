@@ -179,6 +179,7 @@ nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
                         {"p_BE_px", JsonVector(e.p_BE_px)},
                         {"p_BE_se_px", JsonVector(e.p_BE_se_px)},
                         {"radius_px", JsonNumber(e.radius_px)},
+                        {"radius_se_px", JsonNumber(e.radius_se_px)},
                         {"frames_used", e.frames_used},
                         {"frames_tried", e.frames_tried}};
     }

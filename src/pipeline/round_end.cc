@@ -185,7 +185,33 @@ RoundEndOffset EstimateRoundEndOffset(const std::vector<tracking::SilhouetteObse
   out.p_BE_px = {MedianOf(x), MedianOf(y)};
   out.p_BE_se_px = {robust_se(x, out.p_BE_px.x()), robust_se(y, out.p_BE_px.y())};
   out.radius_px = MedianOf(radius);
+  out.radius_se_px = robust_se(radius, out.radius_px);
   return out;
+}
+
+EndRadiusScale ScaleOfEndRadius(double end_radius_m, const RoundEndOffset& end) {
+  constexpr double kEdgeOffsetSdPx = 0.5;
+  EndRadiusScale s;
+  s.m_per_px = end_radius_m / end.radius_px;
+  s.m_per_px_se = s.m_per_px * std::hypot(end.radius_se_px, kEdgeOffsetSdPx) / end.radius_px;
+  return s;
+}
+
+RoundEndOffset MeasureRoundEnd(tracking::FrameSource& source,
+                               const tracking::SilhouetteTrack& track, double radius_guess_px,
+                               int frames, const tracking::ImageToWorld& unit) {
+  std::vector<int> found;
+  for (int f = 0; f < track.frame_count(); ++f)
+    if (track.frames[static_cast<std::size_t>(f)].found) found.push_back(f);
+  std::vector<std::optional<RoundEndFit>> fits(track.frames.size());
+  const std::size_t tried = std::min(found.size(), static_cast<std::size_t>(std::max(1, frames)));
+  for (std::size_t k = 0; k < tried; ++k) {
+    const int f = found[tried > 1 ? k * (found.size() - 1) / (tried - 1) : 0];
+    fits[static_cast<std::size_t>(f)] =
+        FitRoundEnd(tracking::ToGrey(source.Read(f), source.Describe(f)),
+                    track.frames[static_cast<std::size_t>(f)], track.polarity, radius_guess_px);
+  }
+  return EstimateRoundEndOffset(track.frames, fits, unit);
 }
 
 }  // namespace hoof::pipeline

@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include "tracking/frame_source.h"
 #include "tracking/pose.h"
 #include "tracking/silhouette_tracker.h"
 
@@ -46,7 +47,8 @@ struct RoundEndOffset {
   /// over the frames whose round end was fitted, and its robust standard error.
   Eigen::Vector2d p_BE_px{0.0, 0.0};
   Eigen::Vector2d p_BE_se_px{0.0, 0.0};
-  double radius_px = 0.0;  ///< median fitted radius
+  double radius_px = 0.0;     ///< median fitted radius
+  double radius_se_px = 0.0;  ///< its robust standard error over the frames
   int frames_used = 0, frames_tried = 0;
 };
 
@@ -56,5 +58,25 @@ struct RoundEndOffset {
 RoundEndOffset EstimateRoundEndOffset(const std::vector<tracking::SilhouetteObservation>& obs,
                                       const std::vector<std::optional<RoundEndFit>>& fits,
                                       const tracking::ImageToWorld& unit);
+
+/// A scale from an unmarked specimen's known end radius (study.json's `end_radius_m`).
+struct EndRadiusScale {
+  double m_per_px = 0.0;
+  double m_per_px_se = 0.0;
+};
+
+/// The scale `end_radius_m` / `end.radius_px` (which must be measured and > 0). Its standard
+/// error is the radius's relative one: the median's scatter over the frames (radius_se_px)
+/// and, in quadrature, 0.5 px for where an edge's mid-level crossing lies off the true edge,
+/// which is the same in every frame and so does not average out (shading, a darker rim, blur:
+/// the rendered specimen's radius reads up to 1 px small front-lit, 0.1 px back-lit).
+EndRadiusScale ScaleOfEndRadius(double end_radius_m, const RoundEndOffset& end);
+
+/// The round end measured over the clip: FitRoundEnd on at most `frames` of the frames where
+/// `track` found the outline, spread evenly through them, then EstimateRoundEndOffset. Reads
+/// those frames from `source` (the clip `track` was measured on).
+RoundEndOffset MeasureRoundEnd(tracking::FrameSource& source,
+                               const tracking::SilhouetteTrack& track, double radius_guess_px,
+                               int frames, const tracking::ImageToWorld& unit);
 
 }  // namespace hoof::pipeline

@@ -318,10 +318,12 @@ CameraSpec ParseCamera(const json& camera, const fs::path& file,
   if (camera.contains("scale_from")) {
     out.scale_from = Text(camera, "scale_from", file, "camera.");
     if (out.scale_from != "m_per_px" && out.scale_from != "body_diameter" &&
-        out.scale_from != "markers" && out.scale_from != "gravity")
+        out.scale_from != "markers" && out.scale_from != "gravity" &&
+        out.scale_from != "end_radius")
       Fail(file, "camera.scale_from",
            "is \"" + out.scale_from +
-               "\": must be \"m_per_px\", \"body_diameter\", \"markers\" or \"gravity\"");
+               "\": must be \"m_per_px\", \"body_diameter\", \"markers\", \"gravity\" or "
+               "\"end_radius\"");
   }
   // Required unless a ball's known diameter gives the scale (checked by ReadTrial).
   if (camera.contains("m_per_px")) out.m_per_px = Number(camera, "m_per_px", file, "camera.", true);
@@ -440,6 +442,10 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
              from + "\" gives the scale used");
   if (from == "markers" && t.body.is_silhouette())
     Fail(file, "camera.scale_from", "is \"markers\" but the body is tracked by its silhouette");
+  if (from == "end_radius" && !(t.body.is_silhouette() && !t.body.is_ball()))
+    Fail(file, "camera.scale_from",
+         "is \"end_radius\" but the body is not an unmarked outline (a ball's scale is "
+         "\"body_diameter\")");
   if (t.body.is_ball()) {
     if (t.body.diameter_m > 0) t.specimen.end_radius_m = t.body.diameter_m / 2;
     t.specimen.d_EC_m = 0.0;  // a ball's centre is its round end's centre and its mass centre

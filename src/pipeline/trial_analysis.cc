@@ -218,19 +218,8 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
   if (!spec.body.is_ball()) {
     const double r_guess =
         spec.camera.m_per_px > 0 ? body.end_radius_m / spec.camera.m_per_px : 0.0;
-    std::vector<int> found;
-    for (int f = 0; f < out.silhouette.frame_count(); ++f)
-      if (out.silhouette.frames[static_cast<std::size_t>(f)].found) found.push_back(f);
-    std::vector<std::optional<RoundEndFit>> fits(out.silhouette.frames.size());
-    const std::size_t tried =
-        std::min(found.size(), static_cast<std::size_t>(std::max(1, options.round_end_frames)));
-    for (std::size_t k = 0; k < tried; ++k) {
-      const int f = found[tried > 1 ? k * (found.size() - 1) / (tried - 1) : 0];
-      fits[static_cast<std::size_t>(f)] = FitRoundEnd(
-          tracking::ToGrey(source.Read(f), source.Describe(f)),
-          out.silhouette.frames[static_cast<std::size_t>(f)], out.silhouette.polarity, r_guess);
-    }
-    out.round_end = EstimateRoundEndOffset(out.silhouette.frames, fits, unit);
+    out.round_end =
+        MeasureRoundEnd(source, out.silhouette, r_guess, options.round_end_frames, unit);
     if (!out.round_end->measured)
       out.warnings.push_back("the outline's round end was not found (" + out.round_end->message +
                              "): its area centroid is taken as the centre of mass C");
@@ -283,6 +272,23 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
                        out);
       if (std::abs(out.m_per_px_used - before) < 1e-9 * before) break;
     }
+  } else if (spec.camera.scale_from == "end_radius") {
+    // The specimen's known end radius over the round end's fitted radius (median over the
+    // frames): a known length of an unmarked specimen.
+    if (!e_from_arc)
+      throw std::runtime_error(
+          frames_named +
+          ": camera.scale_from \"end_radius\": the outline's round end was "
+          "not measured (" +
+          (out.round_end ? out.round_end->message : std::string("no outline")) + ")");
+    if (!(body.end_radius_m > 0))
+      throw std::runtime_error(frames_named +
+                               ": camera.scale_from \"end_radius\": the specimen's end_radius_m "
+                               "is not known");
+    const EndRadiusScale scale = ScaleOfEndRadius(body.end_radius_m, *out.round_end);
+    out.m_per_px_used = scale.m_per_px;
+    out.m_per_px_se = scale.m_per_px_se;
+    out.scale_source = "specimen.end_radius_m";
   } else if (!(spec.camera.m_per_px > 0) || spec.camera.scale_from == "body_diameter") {
     out.m_per_px_used = out.m_per_px_from_body;
     out.m_per_px_se = std::isnan(out.body_diameter_se_px)

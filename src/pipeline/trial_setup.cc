@@ -13,7 +13,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "format/number_format.h"
+#include "pipeline/round_end.h"
 #include "pipeline/study_format.h"
+#include "pipeline/trial_analysis.h"
 #include "tracking/camera_file.h"
 #include "tracking/dot_detector.h"
 #include "tracking/frame_source.h"
@@ -169,6 +171,26 @@ double ScaleOfLayout(const json& markers_B_m, const std::vector<Eigen::Vector2d>
                                ": its markers_B_m do not match the dots seen in the "
                                "first frame (their distances disagree by more than 15 %)");
   return m;
+}
+
+/// An unmarked specimen's scale from its known end radius (`end_radius_m`) over the median
+/// radius of its round end's arc fitted in up to 40 frames (pipeline/round_end.h), as `track`
+/// measures it with camera.scale_from "end_radius". False (with a warning) when the round end
+/// is not found.
+bool ScaleFromEndRadius(tracking::FrameSource& source, double end_radius_m,
+                        const std::string& named, TrialSetup& s) {
+  const RoundEndOffset end = MeasureRoundEnd(
+      source, s.track, 0.0, TrialAnalysisOptions{}.round_end_frames, tracking::ImageToWorld{});
+  if (!end.measured || !(end.radius_px > 0)) {
+    s.warnings.push_back(named + ": the round end's radius was not measured (" + end.message +
+                         "), so the specimen's end_radius_m gives no scale");
+    return false;
+  }
+  s.scale_from = "end_radius";
+  const EndRadiusScale scale = ScaleOfEndRadius(end_radius_m, end);
+  s.m_per_px = scale.m_per_px;
+  s.m_per_px_se = scale.m_per_px_se;
+  return true;
 }
 
 /// A marked body's specimen: study.json's `--specimen` into `specimen` (null without one) and
@@ -401,6 +423,15 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
   double layout_m_per_px = core::kNaN;
   if (s.shape == "markers") MarkedSpecimen(options, trial_abs, s, marked_specimen, layout_m_per_px);
 
+  // An outline's specimen (study.json), whose end radius gives a scale.
+  json outline_specimen;
+  double outline_end_radius_m = 0.0;
+  if (s.shape == "outline" && !options.specimen.empty()) {
+    outline_specimen = SpecimenOfStudy(options, trial_abs);
+    if (outline_specimen.contains("end_radius_m") && outline_specimen["end_radius_m"].is_number())
+      outline_end_radius_m = outline_specimen["end_radius_m"].get<double>();
+  }
+
   // Impacts and the scale from gravity: one fit.
   kinematics::GravityScaleOptions go;
   go.gravity_m_s2 = options.gravity_m_s2;
@@ -421,11 +452,19 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
     s.scale_from = "markers";
     s.m_per_px = layout_m_per_px;
     CheckLayoutAgainstGravity(s);
+  } else if (outline_end_radius_m > 0 &&
+             ScaleFromEndRadius(*source, outline_end_radius_m, named, s)) {
+    // An unmarked specimen's known end radius over its round end's fitted radius.
   } else {
     s.scale_from = "gravity";
     if (s.gravity.measured) {
       s.m_per_px = s.gravity.m_per_px;
       s.m_per_px_se = s.gravity.m_per_px_se;
+      if (s.shape == "outline")
+        s.warnings.push_back(
+            "an outline's scale from gravity is doubtful: on rendered clips it passed its test "
+            "biased by 11-26 % (docs/init.md); give --m-per-px, or --specimen with its "
+            "end_radius_m");
     } else {
       s.warnings.push_back(s.gravity.message + "; give the scale with --m-per-px" +
                            (s.shape == "markers" ? std::string(" or the specimen's layout")
@@ -471,7 +510,7 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
   if (s.shape == "outline") {
     if (!options.specimen.empty()) {
       t["specimen"] = options.specimen;
-      t["specimen_parameters"] = SpecimenOfStudy(options, trial_abs);
+      t["specimen_parameters"] = outline_specimen;
     } else {
       s.warnings.push_back(
           "an outline needs its specimen (mass, inertia, end radius, |EC|): give --specimen "

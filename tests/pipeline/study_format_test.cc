@@ -86,6 +86,11 @@ TEST(StudyFormatTest, MissingOrWrongFieldsNameFileAndField) {
   ExpectError([&] { ReadTrial(Write("format_nodiameter", kStudy, trial) / "t1"); },
               "field \"camera.scale_from\" is \"body_diameter\" but the body is not a ball");
   trial = kTrial;
+  trial.replace(trial.find("\"m_per_px\": 1.5e-4"), 18, "\"scale_from\": \"end_radius\"");
+  ExpectError([&] { ReadTrial(Write("format_endradius_markers", kStudy, trial) / "t1"); },
+              "field \"camera.scale_from\" is \"end_radius\" but the body is not an unmarked "
+              "outline");
+  trial = kTrial;
   trial.replace(trial.find("\"specimen\": \"A\""), 15, "\"specimen\": \"B\"");
   ExpectError([&] { ReadTrial(Write("format_nospecimen", kStudy, trial) / "t1"); },
               "field \"specimen\" names \"B\"");
