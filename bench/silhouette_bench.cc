@@ -1,7 +1,8 @@
 // Reading and tracking a camera file by the body's silhouette (issue 16: "reading and tracking a
 // 16-bit 1024 x 1024 MRAW clip keeps up with at least 2000 frames/s on 2 cores, and memory stays
 // flat with clip length"): open + read + track (TrackSilhouette) of every frame of a 16-bit
-// 1024 x 1024 Photron MRAW clip, in frames/s (items_per_second).
+// 1024 x 1024 Photron MRAW clip, in frames/s (items_per_second); with timing=1 the frames also
+// pass through the frame-timing comparison on the way, as in `hoofimpact track`.
 //   build/bench/silhouette_bench --benchmark_repetitions=5
 //
 // The clip: a back-lit ball (a dark disc of radius 40 px with an anti-aliased edge, on a bright
@@ -33,6 +34,8 @@
 #include <opencv2/core.hpp>
 
 #include "tracking/camera_file.h"
+#include "tracking/frame_differences.h"
+#include "tracking/frame_timing.h"
 #include "tracking/silhouette_tracker.h"
 
 namespace hoof::tracking {
@@ -141,6 +144,9 @@ void BM_ReadAndTrack(benchmark::State& state) {
   const auto truth = Path(frames);
   SilhouetteOptions options;
   options.read_ahead_frames = static_cast<int>(state.range(1));
+  // timing 1: the frames pass through the frame-timing comparison on their way to the tracker,
+  // as in `hoofimpact track` (src/pipeline/trial_analysis.cc); its result is checked to exist.
+  const bool timing = state.range(2) != 0;
   double worst_px = 0, rss_growth = 0, peak_mb = 0, cpu_ms = 0;
   int found = 0;
   for (auto _ : state) {
@@ -150,8 +156,12 @@ void BM_ReadAndTrack(benchmark::State& state) {
     const double cpu0 = CpuMs();
     state.ResumeTiming();
     auto src = OpenCameraFile(path);
-    const SilhouetteTrack track = TrackSilhouette(*src, options);
+    DifferencingSource compared(*src, FrameTimingOptions{}.max_grid_pixels, timing);
+    const SilhouetteTrack track = TrackSilhouette(compared, options);
+    const bool timing_complete = compared.Differences().has_value();
     state.PauseTiming();
+    if (timing && !timing_complete)
+      state.SkipWithError("the frame-timing comparison is incomplete");
     cpu_ms += CpuMs() - cpu0;
     rss_growth = static_cast<double>(StatusKb("VmRSS:") - rss0) / 1024.0;
     peak_mb = static_cast<double>(StatusKb("VmHWM:")) / 1024.0;
@@ -174,11 +184,13 @@ void BM_ReadAndTrack(benchmark::State& state) {
   state.counters["rss_growth_MB"] = rss_growth;
 }
 BENCHMARK(BM_ReadAndTrack)
-    ->ArgNames({"frames", "read_ahead"})
-    ->Args({250, 0})
-    ->Args({250, 2})
-    ->Args({250, 8})
-    ->Args({2000, 8})
+    ->ArgNames({"frames", "read_ahead", "timing"})
+    ->Args({250, 0, 0})
+    ->Args({250, 2, 0})
+    ->Args({250, 8, 0})
+    ->Args({2000, 8, 0})
+    ->Args({250, 2, 1})
+    ->Args({2000, 2, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

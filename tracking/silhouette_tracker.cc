@@ -2,16 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <condition_variable>
-#include <deque>
-#include <exception>
-#include <mutex>
 #include <numbers>
 #include <stdexcept>
-#include <thread>
 
 #include <Eigen/Dense>
 #include <opencv2/imgproc.hpp>
+
+#include "tracking/circle_fit.h"
+#include "tracking/read_ahead.h"
 
 namespace hoof::tracking {
 namespace {
@@ -58,121 +56,130 @@ cv::Mat ToFloat(const cv::Mat& grey) {
   return f;
 }
 
-/// A circle fitted to edge points, with outliers rejected.
-struct CircleFit {
-  bool ok = false;
-  Eigen::Vector2d c{0, 0};
-  double r = 0;
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();  ///< of (cx, cy, r)
-  int n = 0, rejected = 0;
-  double rms = 0;
+/// Noise s.d. of `f` on the ring from r + 3 to r + 8 px about c: the ball's surround.
+double SurroundNoise(const cv::Mat& f, const Eigen::Vector2d& c, double r) {
+  cv::Mat ring(f.size(), CV_8U, cv::Scalar(0));
+  const cv::Point centre(static_cast<int>(std::lround(c.x())),
+                         static_cast<int>(std::lround(c.y())));
+  cv::circle(ring, centre, static_cast<int>(std::lround(r + 8)), cv::Scalar(255), cv::FILLED);
+  cv::circle(ring, centre, static_cast<int>(std::lround(r + 3)), cv::Scalar(0), cv::FILLED);
+  return NoiseOf(f, ring);
+}
+
+/// One ray's edge point: where the profile steps from the body's level to the surround's.
+struct RayEdge {
+  double r = 0;     ///< distance from the ray's origin (px)
+  double step = 0;  ///< local step, body minus surround, sign-adjusted to be > 0 (frame units)
 };
 
-/// Algebraic (Kasa) circle: x^2 + y^2 + D x + E y + F = 0 in least squares.
-bool KasaFit(const std::vector<Eigen::Vector2d>& p, const std::vector<char>& use,
-             Eigen::Vector2d& c, double& r) {
-  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d b = Eigen::Vector3d::Zero();
-  int n = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (!use[i]) continue;
-    const Eigen::Vector3d row{p[i].x(), p[i].y(), 1.0};
-    A += row * row.transpose();
-    b -= row * p[i].squaredNorm();
-    ++n;
+/// The edge along one ray. `profile` holds samples every `step_px` from `a_lo`; `valid` says
+/// which could be sampled. Candidates are the positions in [r_lo, r_hi] where the narrow step
+/// (the mean over 0.5..1.5 px inside minus the mean over 0.5..1.5 px outside, times `sign`) is a
+/// local maximum above `threshold`, and whose wide step (1.5..2.5 px on either side) is above it
+/// too: a sharp edge of the body's polarity. Of these the outermost is taken (the limb of a
+/// convex body lies outside any shading or terminator on it; a surface, shadow or reflection
+/// beyond it gives a point off the circle that the robust fit drops). The point is where the
+/// profile crosses the level midway between the local levels at 1.5..2.5 px, nearest the
+/// candidate: levels measured on the ray itself, so a shaded body, or a surround that changes
+/// from ray to ray, does not move it.
+/// `sum` and `count` are work space, resized here.
+std::optional<RayEdge> EdgeAlongRay(const std::vector<double>& profile,
+                                    const std::vector<char>& valid, double a_lo, double step_px,
+                                    double r_lo, double r_hi, double sign, double threshold,
+                                    std::vector<double>& sum, std::vector<int>& count) {
+  const int n = static_cast<int>(profile.size());
+  const int per_px = static_cast<int>(std::lround(1.0 / step_px));
+  // Prefix sums of the valid samples.
+  sum.resize(static_cast<std::size_t>(n) + 1);
+  count.resize(static_cast<std::size_t>(n) + 1);
+  sum[0] = 0.0;
+  count[0] = 0;
+  for (int i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    sum[k + 1] = sum[k] + (valid[k] ? profile[k] : 0.0);
+    count[k + 1] = count[k] + (valid[k] ? 1 : 0);
   }
-  if (n < 3) return false;
-  const Eigen::Vector3d s = A.ldlt().solve(b);
-  c = {-s(0) / 2, -s(1) / 2};
-  const double r2 = c.squaredNorm() - s(2);
-  if (!(r2 > 0) || !s.allFinite()) return false;
-  r = std::sqrt(r2);
-  return true;
-}
-
-/// Geometric circle fit (Gauss-Newton on the distances to the circle) of the points in use,
-/// starting from (c, r). Returns J^T J of the last step.
-Eigen::Matrix3d GeometricFit(const std::vector<Eigen::Vector2d>& p, const std::vector<char>& use,
-                             Eigen::Vector2d& c, double& r) {
-  Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
-  for (int it = 0; it < 20; ++it) {
-    jtj.setZero();
-    Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      if (!use[i]) continue;
-      const Eigen::Vector2d d = p[i] - c;
-      const double dist = d.norm();
-      if (!(dist > 0)) continue;
-      const Eigen::Vector3d j{-d.x() / dist, -d.y() / dist, -1.0};
-      jtj += j * j.transpose();
-      jtr += j * (dist - r);
+  // Mean of samples i0..i1 (inclusive) when all are valid.
+  const auto mean = [&](int i0, int i1, double& m) {
+    if (i0 < 0 || i1 >= n || i1 < i0) return false;
+    const int c = count[static_cast<std::size_t>(i1) + 1] - count[static_cast<std::size_t>(i0)];
+    if (c != i1 - i0 + 1) return false;
+    m = (sum[static_cast<std::size_t>(i1) + 1] - sum[static_cast<std::size_t>(i0)]) / c;
+    return true;
+  };
+  const auto narrow = [&](int i, double& d) {
+    double in = 0, out = 0;
+    if (!mean(i - 3 * per_px / 2, i - per_px / 2, in) ||
+        !mean(i + per_px / 2, i + 3 * per_px / 2, out))
+      return false;
+    d = sign * (in - out);
+    return true;
+  };
+  const int i_lo = std::max(0, static_cast<int>(std::ceil((r_lo - a_lo) / step_px)));
+  const int i_hi = std::min(n - 1, static_cast<int>(std::floor((r_hi - a_lo) / step_px)));
+  const int half = per_px / 2;  // local maximum over +-0.5 px
+  for (int i = i_hi; i >= i_lo; --i) {
+    double d = 0;
+    if (!narrow(i, d) || !(d > threshold)) continue;
+    bool peak = true;
+    for (int j = i - half; j <= i + half && peak; ++j) {
+      double dj = 0;
+      if (j != i && narrow(j, dj) && dj > d) peak = false;
     }
-    const Eigen::Vector3d step = -jtj.ldlt().solve(jtr);
-    if (!step.allFinite()) break;
-    c += step.head<2>();
-    r += step(2);
-    if (step.norm() < 1e-9) break;
-  }
-  return jtj;
-}
-
-/// Circle through `p` with outliers rejected: algebraic start, geometric fit, then points
-/// farther than max(k sigma, floor) from the circle dropped (sigma from the median absolute
-/// deviation of all the points' distances, so up to half of them may be wrong), until the set
-/// of inliers stops changing.
-CircleFit RobustCircle(const std::vector<Eigen::Vector2d>& p, const SilhouetteOptions& options) {
-  CircleFit fit;
-  std::vector<char> use(p.size(), 1);
-  Eigen::Vector2d c;
-  double r = 0;
-  if (p.size() < 8 || !KasaFit(p, use, c, r)) return fit;
-  Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
-  for (int round = 0; round < 12; ++round) {
-    jtj = GeometricFit(p, use, c, r);
-    std::vector<double> d(p.size());
-    for (std::size_t i = 0; i < p.size(); ++i) d[i] = (p[i] - c).norm() - r;
-    std::vector<double> dev;
-    std::vector<double> tmp = d;
-    const double med = MedianOf(tmp);
-    for (double x : d) dev.push_back(std::abs(x - med));
-    const double sigma = 1.4826 * MedianOf(dev);
-    const double threshold = std::max(options.outlier_sigmas * sigma, options.min_outlier_px);
-    std::vector<char> next(p.size());
-    for (std::size_t i = 0; i < p.size(); ++i) next[i] = std::abs(d[i]) <= threshold;
-    if (next == use) break;
-    if (std::count(next.begin(), next.end(), 1) < 8) break;
-    use = next;
-  }
-  double ss = 0;
-  int n = 0;
-  for (std::size_t i = 0; i < p.size(); ++i)
-    if (use[i]) {
-      ss += std::pow((p[i] - c).norm() - r, 2);
-      ++n;
+    if (!peak) continue;
+    double in = 0, out = 0;
+    if (!mean(i - 5 * per_px / 2, i - 3 * per_px / 2, in) ||
+        !mean(i + 3 * per_px / 2, i + 5 * per_px / 2, out))
+      continue;
+    const double wide = sign * (in - out);
+    if (!(wide > threshold)) continue;
+    const double mid = 0.5 * (in + out);
+    double best = -1, best_gap = 1e300;
+    for (int j = std::max(1, i - 3 * per_px / 2); j <= std::min(n - 1, i + 3 * per_px / 2); ++j) {
+      const auto k = static_cast<std::size_t>(j);
+      if (!valid[k] || !valid[k - 1]) continue;
+      const double v0 = profile[k - 1], v1 = profile[k];
+      if ((v0 - mid) * (v1 - mid) > 0 || v0 == v1) continue;
+      const double rc = a_lo + (j - 1 + (mid - v0) / (v1 - v0)) * step_px;
+      const double gap = std::abs(rc - (a_lo + i * step_px));
+      if (gap < best_gap) {
+        best_gap = gap;
+        best = rc;
+      }
     }
-  if (n < 8 || !(r > 0)) return fit;
-  fit.ok = true;
-  fit.c = c;
-  fit.r = r;
-  fit.n = n;
-  fit.rejected = static_cast<int>(p.size()) - n;
-  fit.rms = std::sqrt(ss / n);
-  // Each edge point comes from its own ray, spaced about 2 px apart along the edge, so their
-  // errors are taken as independent: the covariance is s^2 (J^T J)^-1.
-  fit.cov = ss / (n - 3) * jtj.inverse();
-  return fit;
+    if (best > 0) return RayEdge{best, wide};
+  }
+  return std::nullopt;
 }
 
-/// The ball in `f` (a CV_32F window) near the circle (c0, r0): sub-pixel edge points where
-/// the profile along each ray from the centre crosses the level midway between the body and
-/// its surround (the crossing nearest r0 within +-h), then the robust circle, twice (the
-/// second pass with a narrow band about the first fit). Coordinates are the window's.
+/// The ball in `f` (a CV_32F window) near the circle (c0, r0): along rays from the centre, the
+/// outermost sharp step of the body's polarity within +-h of r0 (EdgeAlongRay), located where
+/// the profile crosses the level midway between its own levels just inside and just outside,
+/// and weighted by the square of that step over the noise (the variance of a crossing goes as
+/// (noise / step)^2); then the weighted robust circle, repeated with a 3 px band about the
+/// last fit until it settles. A ray whose step is not significant (3 noise s.d. of a difference of
+/// two means, and at least 5 % of the body's contrast) gives no point: a shaded limb against
+/// an equally dark surround, or the contact side against the surface. Coordinates are the
+/// window's.
 SilhouetteObservation MeasureBall(const cv::Mat& f, Eigen::Vector2d c0, double r0, double search,
                                   Polarity polarity, const SilhouetteOptions& options) {
   SilhouetteObservation obs;
   obs.status = "lost";
+  if (polarity == Polarity::kAuto) return obs;
+  const double sign = polarity == Polarity::kBrightOnDark ? 1.0 : -1.0;
+  if (!(r0 >= 3.0)) {
+    obs.status = "too small for a circle fit (radius < 3 px)";
+    return obs;
+  }
+  obs.noise = SurroundNoise(f, c0, r0);
   CircleFit fit;
-  for (int pass = 0; pass < 2; ++pass) {
+  constexpr double kStepPx = 0.25;
+  // Passes: the first within the search band, then 3 px bands about the last fit until the
+  // circle moves less than kConvergedPx (a body found afresh starts from its thresholded
+  // region, which may be several px off for a shaded ball).
+  constexpr int kMaxPasses = 8;
+  constexpr double kConvergedPx = 0.01;
+  for (int pass = 0; pass < kMaxPasses; ++pass) {
     if (!(r0 >= 3.0)) {
       obs.status = "too small for a circle fit (radius < 3 px)";
       return obs;
@@ -191,59 +198,46 @@ SilhouetteObservation MeasureBall(const cv::Mat& f, Eigen::Vector2d c0, double r
     if (inner.size() < 8 || outer.size() < 8) return obs;
     const double in = MedianOf(inner), out = MedianOf(outer);
     obs.contrast = in - out;
-    if ((polarity == Polarity::kDarkOnBright && !(in < out)) ||
-        (polarity == Polarity::kBrightOnDark && !(in > out))) {
+    if (!(sign * (in - out) > 0)) {
       obs.status = "the body's polarity does not match the frame";
       return obs;
     }
-    const double mid = 0.5 * (in + out);
+    const double threshold = std::max(3.0 * std::sqrt(2.0) * obs.noise, 0.05 * std::abs(in - out));
+    const double r_lo = std::max(0.4 * r0, r0 - h), r_hi = r0 + h;
+    const double a_lo = r_lo - 3.0, a_hi = r_hi + 3.0;
+    const int samples = static_cast<int>(std::floor((a_hi - a_lo) / kStepPx)) + 1;
+    std::vector<double> profile(static_cast<std::size_t>(samples));
+    std::vector<char> valid(static_cast<std::size_t>(samples));
     std::vector<Eigen::Vector2d> points;
-    const double step = 0.25;
-    const double r_lo = std::max(0.4 * r0, r0 - h);
+    std::vector<double> weights, sum;
+    std::vector<int> count;
+    points.reserve(static_cast<std::size_t>(rays));
+    weights.reserve(static_cast<std::size_t>(rays));
     for (int k = 0; k < rays; ++k) {
       const double a = 2 * kPi * k / rays;
       const Eigen::Vector2d u{std::cos(a), std::sin(a)};
-      double best = -1, best_gap = 1e300, prev_v = 0, prev_r = 0;
-      bool have_prev = false;
-      for (double r = r0 + h; r >= r_lo; r -= step) {
+      for (int i = 0; i < samples; ++i) {
+        const double r = a_lo + i * kStepPx;
         double v = 0;
-        if (!Sample(f, c0.x() + r * u.x(), c0.y() + r * u.y(), v)) {
-          have_prev = false;
-          continue;
-        }
-        if (have_prev && (prev_v - mid) * (v - mid) <= 0 && prev_v != v) {
-          const double rc = prev_r + (r - prev_r) * (mid - prev_v) / (v - prev_v);
-          if (std::abs(rc - r0) < best_gap) {
-            best_gap = std::abs(rc - r0);
-            best = rc;
-          }
-        }
-        prev_v = v;
-        prev_r = r;
-        have_prev = true;
+        valid[static_cast<std::size_t>(i)] =
+            r > 0 && Sample(f, c0.x() + r * u.x(), c0.y() + r * u.y(), v);
+        profile[static_cast<std::size_t>(i)] = v;
       }
-      if (best > 0) points.push_back(c0 + best * u);
+      const auto edge =
+          EdgeAlongRay(profile, valid, a_lo, kStepPx, r_lo, r_hi, sign, threshold, sum, count);
+      if (!edge) continue;
+      points.push_back(c0 + edge->r * u);
+      weights.push_back(edge->step * edge->step);
     }
-    fit = RobustCircle(points, options);
+    fit = FitCircleRobust(points, weights, options.outlier_sigmas, options.min_outlier_px);
     if (!fit.ok) {
       obs.status = "too few edge points for a circle";
       return obs;
     }
+    const double moved = std::max((fit.c - c0).norm(), std::abs(fit.r - r0));
     c0 = fit.c;
     r0 = fit.r;
-  }
-  // Noise on the surround, for the significance rule.
-  {
-    cv::Mat ring(f.size(), CV_8U, cv::Scalar(0));
-    cv::circle(
-        ring,
-        cv::Point(static_cast<int>(std::lround(c0.x())), static_cast<int>(std::lround(c0.y()))),
-        static_cast<int>(std::lround(r0 + 8)), cv::Scalar(255), cv::FILLED);
-    cv::circle(
-        ring,
-        cv::Point(static_cast<int>(std::lround(c0.x())), static_cast<int>(std::lround(c0.y()))),
-        static_cast<int>(std::lround(r0 + 3)), cv::Scalar(0), cv::FILLED);
-    obs.noise = NoiseOf(f, ring);
+    if (pass >= 1 && moved < kConvergedPx) break;
   }
   if (std::abs(obs.contrast) < options.min_significance * obs.noise) {
     obs.status = "no significant contrast at the edge";
@@ -450,83 +444,6 @@ cv::Mat BrightMask(const cv::Mat& f) {
   cv::threshold(u8, bin, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
   return bin;
 }
-
-/// Reads the frames of a source in order on a thread of its own, up to `depth` frames ahead of
-/// the caller, who takes them with Next(). A frame is handed to the caller as a header without
-/// ownership of the reader's buffer (no reference count), and its owning cv::Mat goes back to the
-/// reader thread, under the lock, when the caller asks for the next frame: so every change to a
-/// buffer's reference count happens on the reader thread or under the lock. That matters because
-/// a source may reuse its one frame buffer when no-one else holds it (tracking/camera_file.cc):
-/// the buffer of a frame the caller is still measuring is never reused, and there is no
-/// unsynchronised access to its count.
-class ReadAhead {
- public:
-  ReadAhead(FrameSource& source, int depth) : source_(source), depth_(depth) {
-    thread_ = std::thread([this] { Run(); });
-  }
-  ~ReadAhead() {
-    {
-      std::lock_guard lock(mutex_);
-      stop_ = true;
-    }
-    changed_.notify_all();
-    thread_.join();
-  }
-  ReadAhead(const ReadAhead&) = delete;
-  ReadAhead& operator=(const ReadAhead&) = delete;
-
-  /// The next frame in order (valid until the next call); rethrows the error of reading it.
-  cv::Mat Next() {
-    std::unique_lock lock(mutex_);
-    if (!current_.empty()) returned_.push_back(std::move(current_));
-    changed_.notify_all();
-    changed_.wait(lock, [&] { return !ready_.empty() || error_; });
-    if (ready_.empty()) std::rethrow_exception(error_);
-    current_ = std::move(ready_.front());
-    ready_.pop_front();
-    changed_.notify_all();
-    return cv::Mat(current_.rows, current_.cols, current_.type(), current_.data, current_.step[0]);
-  }
-
- private:
-  void Run() {
-    for (int i = 0; i < source_.count(); ++i) {
-      std::vector<cv::Mat> done;
-      {
-        std::unique_lock lock(mutex_);
-        changed_.wait(lock, [&] { return stop_ || static_cast<int>(ready_.size()) < depth_; });
-        if (stop_) return;
-        done.swap(returned_);
-      }
-      done.clear();  // the caller's finished frames, released on this thread
-      cv::Mat frame;
-      try {
-        frame = source_.Read(i);
-      } catch (...) {
-        std::lock_guard lock(mutex_);
-        error_ = std::current_exception();
-        changed_.notify_all();
-        return;
-      }
-      {
-        std::lock_guard lock(mutex_);
-        ready_.push_back(std::move(frame));
-      }
-      changed_.notify_all();
-    }
-  }
-
-  FrameSource& source_;
-  const int depth_;
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  std::deque<cv::Mat> ready_;      // read, not yet taken
-  std::vector<cv::Mat> returned_;  // taken and finished, to be released by the reader
-  cv::Mat current_;                // the frame the caller is measuring (owning)
-  std::exception_ptr error_;
-  bool stop_ = false;
-  std::thread thread_;  // last: started once the members above exist
-};
 
 }  // namespace
 

@@ -6,8 +6,9 @@
 /// where the outline has one, and an uncertainty from the fit's own residuals.
 ///
 /// Nothing is normalised to an assumed full scale: the levels come from the data (percentiles
-/// of the frame for finding the body, medians just inside and just outside its edge for the
-/// sub-pixel work), so 8-bit frames and 16-bit frames holding 12-bit values are measured alike.
+/// of the frame for finding the body; for the sub-pixel work, a ball's levels along each ray
+/// just inside and just outside its edge, an outline's medians just inside and just outside),
+/// so 8-bit frames and 16-bit frames holding 12-bit values are measured alike.
 
 #include <functional>
 #include <optional>

@@ -20,7 +20,11 @@ struct ImageLine {
 /// The longest straight edge within 60 deg of the image horizontal that spans at least a third
 /// of the image width: the surface. Edges come from Canny with thresholds set from the image's
 /// own gradient distribution; the line is refined by a robust (Huber) fit of nearby edge
-/// points. nullopt when there is no such edge.
+/// points. When there is no such edge, the surface is taken as a region: the top edge of the
+/// region, unlike the background above it, that fills the bottom of the image (Otsu's split of
+/// the smoothed image; a line fitted to each column's topmost pixel of that region, points off
+/// it by more than three robust deviations dropped), as for a textured strip whose texture
+/// hides its edge from Canny. nullopt when there is neither.
 std::optional<ImageLine> FindSurfaceLine(const cv::Mat& grey);
 
 }  // namespace hoof::tracking

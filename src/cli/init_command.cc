@@ -100,6 +100,19 @@ pipeline::InitCalibration ParseCalibration(const CalibrationArgs& c,
 
 }  // namespace
 
+namespace {
+
+/// The ends of the surface edge found ([[x, y], [x, y]] in px), or null.
+nlohmann::json SurfaceEnds(const pipeline::TrialSetup& s) {
+  if (!s.surface_line) return nullptr;
+  const auto& l = *s.surface_line;
+  const Eigen::Vector2d a = l.point_I - 0.5 * l.length_px * l.direction_I,
+                        b = l.point_I + 0.5 * l.length_px * l.direction_I;
+  return {{a.x(), a.y()}, {b.x(), b.y()}};
+}
+
+}  // namespace
+
 void RegisterInit(CLI::App& app, RunState& state) {
   struct Args {
     std::string clip;
@@ -119,8 +132,9 @@ void RegisterInit(CLI::App& app, RunState& state) {
          "Camera file (.mraw/.cihx/.cih, .cine, .tif), video, or folder of numbered frames")
       ->required();
   cmd->add_option("-o,--output", args->trial_dir, "Trial folder to write (created)")->required();
-  cmd->add_option("--body", args->options.body, "Body: auto, ball or outline")
-      ->check(CLI::IsMember({"auto", "ball", "outline"}))
+  cmd->add_option("--body", args->options.body,
+                  "Body: auto, markers (white dots on black patches), ball or outline")
+      ->check(CLI::IsMember({"auto", "markers", "ball", "outline"}))
       ->capture_default_str();
   cmd->add_option("--diameter-m", args->options.diameter_m,
                   "A ball's known diameter (m): the scale from it")
@@ -133,7 +147,8 @@ void RegisterInit(CLI::App& app, RunState& state) {
   cmd->add_option("--surface", args->options.surface, "The surface's name in trial.json")
       ->capture_default_str();
   cmd->add_option("--specimen", args->options.specimen,
-                  "An outline's specimen id, copied from study.json into the trial");
+                  "The specimen id of an outline or a marked body (its marker layout), copied "
+                  "from study.json into the trial");
   cmd->add_option("--study", args->options.study_json,
                   "study.json that defines --specimen (default: the one beside the trial folder)");
   AddCalibrationOptions(cmd, args->calibration);
@@ -158,31 +173,42 @@ void RegisterInit(CLI::App& app, RunState& state) {
     io::WriteTextAtomically(dir / "trial.json", s.trial_json);
     state.exit_code = kExitOk;
     if (a.json) {
-      nlohmann::json r = {{"trial_json", (dir / "trial.json").string()},
-                          {"contact_sheet", sheet.string()},
-                          {"clip", s.clip.string()},
-                          {"frames", s.frames_reference},
-                          {"frame_count", s.count},
-                          {"fps", s.fps},
-                          {"body_shape", s.shape},
-                          {"polarity", tracking::PolarityName(s.track.polarity)},
-                          {"body_diameter_px", JsonNumber(s.body_diameter_px)},
-                          {"surface_found", s.surface_line.has_value()},
-                          {"surface_angle_deg", s.surface_angle_deg},
-                          {"impact_frames", s.impact_frames},
-                          {"scale_source", s.scale_from},
-                          {"m_per_px", JsonNumber(s.m_per_px)},
-                          {"m_per_px_se", JsonNumber(s.m_per_px_se)},
-                          {"gravity_m_per_px", JsonNumber(s.gravity.m_per_px)},
-                          {"gravity_m_per_px_se", JsonNumber(s.gravity.m_per_px_se)},
-                          {"trial", nlohmann::json::parse(s.trial_json)}};
+      nlohmann::json r = {
+          {"trial_json", (dir / "trial.json").string()},
+          {"contact_sheet", sheet.string()},
+          {"clip", s.clip.string()},
+          {"frames", s.frames_reference},
+          {"frame_count", s.count},
+          {"fps", s.fps},
+          {"body_shape", s.shape},
+          {"polarity", s.shape == "markers"
+                           ? nlohmann::json(nullptr)
+                           : nlohmann::json(tracking::PolarityName(s.track.polarity))},
+          {"body_diameter_px", JsonNumber(s.body_diameter_px)},
+          {"marker_dots", s.marker_dots_px.size()},
+          {"marker_layout_known", s.marker_layout_known},
+          {"surface_found", s.surface_line.has_value()},
+          {"surface_angle_deg", s.surface_angle_deg},
+          {"surface_line_px", SurfaceEnds(s)},
+          {"impact_frames", s.impact_frames},
+          {"scale_source", s.scale_from},
+          {"m_per_px", JsonNumber(s.m_per_px)},
+          {"m_per_px_se", JsonNumber(s.m_per_px_se)},
+          {"gravity_m_per_px", JsonNumber(s.gravity.m_per_px)},
+          {"gravity_m_per_px_se", JsonNumber(s.gravity.m_per_px_se)},
+          {"trial", nlohmann::json::parse(s.trial_json)}};
       PrintEnvelope("init", kExitOk, std::move(r), {}, s.warnings);
       return;
     }
     using format::Kind;
     std::cout << "Clip " << s.clip.string() << ": " << s.count << " frames at "
               << format::Number(s.fps, Kind::kMeasured) << " fps\n";
-    std::cout << "  body     " << s.shape << ", " << tracking::PolarityName(s.track.polarity);
+    std::cout << "  body     " << s.shape << ", ";
+    if (s.shape == "markers")
+      std::cout << s.marker_dots_px.size() << " white dots"
+                << (s.marker_layout_known ? ", layout from the specimen" : ", layout not given");
+    else
+      std::cout << tracking::PolarityName(s.track.polarity);
     if (s.shape == "ball")
       std::cout << ", diameter " << format::Number(s.body_diameter_px, Kind::kMeasured) << " px";
     std::cout << "\n  surface  "

@@ -181,6 +181,16 @@ nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
     j["body_diameter_px"] = JsonNumber(r.body_diameter_px);
     j["body_diameter_se_px"] = JsonNumber(r.body_diameter_se_px);
     j["m_per_px_from_body"] = JsonNumber(r.m_per_px_from_body);
+    if (r.round_end) {
+      const auto& e = *r.round_end;
+      j["round_end"] = {{"measured", e.measured},
+                        {"message", e.message},
+                        {"p_BE_px", JsonVector(e.p_BE_px)},
+                        {"p_BE_se_px", JsonVector(e.p_BE_se_px)},
+                        {"radius_px", JsonNumber(e.radius_px)},
+                        {"frames_used", e.frames_used},
+                        {"frames_tried", e.frames_tried}};
+    }
   }
   if (r.no_impact) {
     const auto& m = r.motion;

@@ -60,10 +60,10 @@ GravityScale EstimateGravityScale(const std::vector<std::optional<Eigen::Vector2
   for (double x : all) dev.push_back(std::abs(x - med));
   const double spread = 1.4826 * Median(dev);
   std::vector<bool> excluded(static_cast<std::size_t>(n_frames), false);
+  // At least a tiny floor, so a noise-free clip does not call every rounding a contact.
+  const double threshold =
+      med - std::max(options.contact_sigmas * spread, 1e-6 + 0.5 * std::abs(med));
   if (!all.empty()) {
-    // At least a tiny floor, so a noise-free clip does not call every rounding a contact.
-    const double threshold =
-        med - std::max(options.contact_sigmas * spread, 1e-6 + 0.5 * std::abs(med));
     for (int f = 1; f + 1 < n_frames; ++f) {
       const double x = dd[static_cast<std::size_t>(f)];
       if (!(x < threshold)) continue;
@@ -72,6 +72,28 @@ GravityScale EstimateGravityScale(const std::vector<std::optional<Eigen::Vector2
         if (g >= 0 && g < n_frames) excluded[static_cast<std::size_t>(g)] = true;
     }
   }
+  // A contact the tracker could not follow (the body lost in the frames that show it: a surface
+  // joining its silhouette) leaves a gap instead: a run of missing frames across which the body
+  // slows along gravity as no free flight does: the velocity along gravity after it minus the
+  // velocity before it (px per frame) is below the contact threshold of the second differences.
+  // Its frames and `contact_margin_frames` on each side are left out, and its first frame is
+  // listed as a contact.
+  for (int a = 2; a + 2 < n_frames;) {
+    if (valid(a)) {
+      ++a;
+      continue;
+    }
+    int b = a;
+    while (b + 1 < n_frames && !valid(b + 1)) ++b;
+    if (!all.empty() && valid(a - 1) && valid(a - 2) && valid(b + 1) && valid(b + 2) &&
+        (s(b + 2) - s(b + 1)) - (s(a - 1) - s(a - 2)) < threshold) {
+      out.contact_frames.push_back(a);
+      for (int g = a - options.contact_margin_frames; g <= b + options.contact_margin_frames; ++g)
+        if (g >= 0 && g < n_frames) excluded[static_cast<std::size_t>(g)] = true;
+    }
+    a = b + 1;
+  }
+  std::sort(out.contact_frames.begin(), out.contact_frames.end());
   // A contact between frames f and f + 1 makes both their second differences negative; those
   // frames and `contact_margin_frames` on each side are left out, and the arcs are cut there.
   for (int f = 0; f < n_frames;) {

@@ -9,8 +9,10 @@
 #include "core/frames.h"
 #include "kinematics/gravity_scale.h"
 #include "pipeline/calibration_scale.h"
+#include "pipeline/round_end.h"
 #include "pipeline/trial_impacts.h"
 #include "tracking/camera_file.h"
+#include "tracking/frame_differences.h"
 #include "tracking/frame_source.h"
 #include "tracking/surface_line.h"
 
@@ -134,6 +136,7 @@ void ApplyCalibrationScale(TrialAnalysis& out) {
 /// image is no sample of the motion, and a missing capture shifts the frames after it. Flags
 /// and warnings name the frames.
 void FindFrameTiming(const TrialSpec& spec, tracking::FrameSource& source,
+                     const std::optional<tracking::ImageDifferences>& compared,
                      const TrialAnalysisOptions& options,
                      const std::vector<std::optional<Eigen::Vector2d>>& p_px,
                      const Eigen::Vector2d& gravity_dir, TrialAnalysis& out) {
@@ -142,8 +145,13 @@ void FindFrameTiming(const TrialSpec& spec, tracking::FrameSource& source,
     out.timing.notes.push_back("off: every frame is a new capture at index / fps");
     return;
   }
-  out.timing = tracking::AnalyzeFrameTiming(source, spec.fps, tracking::TimeStamps(source), p_px,
-                                            gravity_dir, options.timing);
+  // The images were compared while the tracker read them, in the one pass over the clip; when
+  // it did not read them in order the clip is read once more for it.
+  out.timing = compared
+                   ? tracking::AnalyzeFrameTiming(*compared, spec.fps, tracking::TimeStamps(source),
+                                                  p_px, gravity_dir, options.timing)
+                   : tracking::AnalyzeFrameTiming(source, spec.fps, tracking::TimeStamps(source),
+                                                  p_px, gravity_dir, options.timing);
   const auto& t = out.timing;
   const auto list = [](const std::vector<int>& v) {
     std::string s;
@@ -189,7 +197,7 @@ std::vector<std::optional<Eigen::Vector2d>> BySlot(
 /// trial states none), the poses, and the motion's straight-line summary. Throws naming the
 /// frames for a body that is not found or does not move.
 void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
-                       const TrialAnalysisOptions& options,
+                       tracking::DifferencingSource& tracked, const TrialAnalysisOptions& options,
                        const std::function<void(int)>& progress, TrialAnalysis& out,
                        std::vector<kinematics::PoseSample>& samples,
                        core::SpecimenParameters& body) {
@@ -198,7 +206,7 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
       spec.body.is_ball() ? tracking::SilhouetteShape::kBall : tracking::SilhouetteShape::kOutline;
   so.polarity = PolarityOf(spec.body.polarity);
   so.gravity_I = spec.camera.gravity_image;
-  out.silhouette = tracking::TrackSilhouette(source, so, progress);
+  out.silhouette = tracking::TrackSilhouette(tracked, so, progress);
   for (const auto& w : out.silhouette.warnings) out.warnings.push_back(w);
   const std::string frames_named =
       source.Describe(0) + " .. " + source.Describe(source.count() - 1);
@@ -209,7 +217,54 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
   const tracking::ImageToWorld lens = TrialCamera(spec, 1.0);
   for (const auto& o : out.silhouette.frames)
     c_px.push_back(o.found ? std::optional<Eigen::Vector2d>(lens.Undistort(o.p_I)) : std::nullopt);
-  FindFrameTiming(spec, source, options, c_px, spec.camera.gravity_image, out);
+  FindFrameTiming(spec, source, tracked.Differences(), options, c_px, spec.camera.gravity_image,
+                  out);
+
+  // An outline's E from its round end's arc (pipeline/round_end.h), as an offset from the area
+  // centroid in B measured over frames spread through the clip.
+  const tracking::ImageToWorld unit = TrialCamera(spec, 1.0);
+  if (!spec.body.is_ball()) {
+    // The scale known before the track: the stated one, else the calibration image's.
+    const double known_scale = spec.camera.m_per_px > 0 ? spec.camera.m_per_px
+                               : out.calibration_scale ? out.calibration_scale->m_per_px
+                                                       : 0.0;
+    const double r_guess = known_scale > 0 ? body.end_radius_m / known_scale : 0.0;
+    std::vector<int> found;
+    for (int f = 0; f < out.silhouette.frame_count(); ++f)
+      if (out.silhouette.frames[static_cast<std::size_t>(f)].found) found.push_back(f);
+    std::vector<std::optional<RoundEndFit>> fits(out.silhouette.frames.size());
+    const std::size_t tried =
+        std::min(found.size(), static_cast<std::size_t>(std::max(1, options.round_end_frames)));
+    for (std::size_t k = 0; k < tried; ++k) {
+      const int f = found[tried > 1 ? k * (found.size() - 1) / (tried - 1) : 0];
+      fits[static_cast<std::size_t>(f)] = FitRoundEnd(
+          tracking::ToGrey(source.Read(f), source.Describe(f)),
+          out.silhouette.frames[static_cast<std::size_t>(f)], out.silhouette.polarity, r_guess);
+    }
+    out.round_end = EstimateRoundEndOffset(out.silhouette.frames, fits, unit);
+    if (!out.round_end->measured)
+      out.warnings.push_back("the outline's round end was not found (" + out.round_end->message +
+                             "): its area centroid is taken as the centre of mass C");
+  }
+  const bool e_from_arc = out.round_end && out.round_end->measured;
+  // C's path in px of W at the scale m_per_px (gravity along -y): from E and |EC| where the
+  // round end was found and the scale is known (> 0), else the centre (a ball's) or area
+  // centroid.
+  const auto c_path = [&](double m_per_px) {
+    std::vector<std::optional<Eigen::Vector2d>> p;
+    for (const auto& o : out.silhouette.frames) {
+      if (!o.found) {
+        p.emplace_back(std::nullopt);
+        continue;
+      }
+      Eigen::Vector2d c = unit.ToWorld(o.p_I);
+      if (e_from_arc && m_per_px > 0)
+        c += core::BodyRotation(AngleInWorld(unit, o.p_I, o.angle_I_rad))
+                 .ToW(out.round_end->p_BE_px + Eigen::Vector2d(body.d_EC_m / m_per_px, 0));
+      p.emplace_back(c);
+    }
+    return p;
+  };
 
   // The scale: stated, or a ball's known diameter over its fitted diameter.
   if (spec.body.is_ball()) {
@@ -229,7 +284,16 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
   out.m_per_px_used = spec.camera.m_per_px;
   out.scale_source = "camera.m_per_px";
   if (spec.camera.scale_from == "gravity") {
-    ScaleFromGravity(spec, options, BySlot(c_px, out.timing), spec.camera.gravity_image, out);
+    // First from the area centroid (C within a few px of it), then from C.
+    ScaleFromGravity(spec, options, BySlot(c_path(0.0), out.timing), Eigen::Vector2d(0, -1), out);
+    // With E from the arc, C's path depends on the scale through |EC| in px: the fit is
+    // repeated on C's path at the scale found until the scale settles.
+    for (int it = 0; e_from_arc && it < 8 && out.gravity_scale->measured; ++it) {
+      const double before = out.m_per_px_used;
+      ScaleFromGravity(spec, options, BySlot(c_path(before), out.timing), Eigen::Vector2d(0, -1),
+                       out);
+      if (std::abs(out.m_per_px_used - before) < 1e-9 * before) break;
+    }
   } else if (out.calibration_scale) {
     ApplyCalibrationScale(out);
   } else if (!(spec.camera.m_per_px > 0) || spec.camera.scale_from == "body_diameter") {
@@ -258,7 +322,12 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
       // The centre is the ball's, or the outline's area centroid, taken as the centre of mass
       // C; E lies d_EC behind it along x_B. A ball's rotation is not seen: its angle stays 0.
       pose.theta_W_rad = o.has_orientation ? AngleInWorld(cam, o.p_I, o.angle_I_rad) : 0.0;
-      pose.p_WE = cam.ToWorld(o.p_I) - body.d_EC_m * core::BodyRotation(pose.theta_W_rad).x_B();
+      const core::BodyRotation R_WB(pose.theta_W_rad);
+      pose.p_WE = cam.ToWorld(o.p_I);
+      if (e_from_arc)
+        pose.p_WE += pose_scale * R_WB.ToW(out.round_end->p_BE_px);
+      else
+        pose.p_WE -= body.d_EC_m * R_WB.x_B();
       centres.emplace_back(cam.Undistort(o.p_I));
     } else {
       centres.emplace_back(std::nullopt);
@@ -384,10 +453,14 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
   try {
     auto source = OpenFrames(spec);
     if (UsesCalibrationImage(spec)) out.calibration_scale = MeasureCalibrationScale(spec);
+    // The trackers read the clip through this, which compares each frame with the one before
+    // for the frame timing as it passes (one read of the clip, not two).
+    tracking::DifferencingSource tracked(*source, options.timing.max_grid_pixels,
+                                         options.timing.enabled);
     if (spec.body.is_silhouette()) {
       std::vector<kinematics::PoseSample> samples;
       core::SpecimenParameters body = spec.specimen;
-      AnalyzeSilhouette(spec, *source, options, progress, out, samples, body);
+      AnalyzeSilhouette(spec, *source, tracked, options, progress, out, samples, body);
       kinematics::KinematicsOptions kin = options.kinematics;
       const bool scaled = std::isfinite(out.m_per_px_used);
       if (!scaled) kin.gravity_m_s2 = 0;  // poses in px: see AnalyzeSilhouette
@@ -422,7 +495,7 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
     const double tracker_scale = out.calibration_scale && !(spec.camera.m_per_px > 0)
                                      ? out.calibration_scale->m_per_px
                                      : spec.camera.m_per_px;
-    out.tracks = tracking::TrackMarkers(*source, spec.specimen.markers_B_m, tracker_scale,
+    out.tracks = tracking::TrackMarkers(tracked, spec.specimen.markers_B_m, tracker_scale,
                                         spec.camera.gravity_image, options.tracker, progress);
     for (const auto& w : out.tracks.warnings) out.warnings.push_back(w);
     for (const auto& row : out.tracks.frames)
@@ -486,7 +559,8 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
                                  out.m_per_px_used)
                            : std::nullopt);
       }
-      FindFrameTiming(spec, *source, options, c_px, Eigen::Vector2d(0, -1), out);
+      FindFrameTiming(spec, *source, tracked.Differences(), options, c_px, Eigen::Vector2d(0, -1),
+                      out);
       if (spec.camera.scale_from == "gravity")
         ScaleFromGravity(spec, options, BySlot(c_px, out.timing), Eigen::Vector2d(0, -1), out);
     }

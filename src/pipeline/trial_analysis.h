@@ -10,6 +10,7 @@
 
 #include "kinematics/gravity_scale.h"
 #include "kinematics/impact_kinematics.h"
+#include "pipeline/round_end.h"
 #include "pipeline/study_format.h"
 #include "tracking/calibration_target.h"
 #include "tracking/frame_timing.h"
@@ -36,6 +37,9 @@ struct TrialAnalysisOptions {
   double out_of_plane_threshold = 0.003;
   /// Warn when the measured surface angle differs from trial.json by more than this (deg).
   double surface_angle_tolerance_deg = 1.0;
+  /// An outline: the frames (spread evenly over those where it was found) whose round end is
+  /// fitted to place E (pipeline/round_end.h); >= 1.
+  int round_end_frames = 40;
 };
 
 /// The body's motion over the clip as a straight line in the image (with gravity's known
@@ -86,6 +90,9 @@ struct TrialAnalysis {
   /// The calibration image's measurement, when camera.scale_from is "checkerboard" or "ruler"
   /// (pipeline/calibration_scale.h).
   std::optional<tracking::CalibrationScale> calibration_scale;
+  /// An outline: where its round end's centre E lies from the area centroid (nullopt for markers
+  /// and balls). When not measured, the area centroid is taken as C.
+  std::optional<RoundEndOffset> round_end;
   /// Ball: the median fitted diameter (px) over the frames and its standard error (the
   /// scatter of the frames' diameters over sqrt(n)); NaN for other bodies.
   double body_diameter_px = core::kNaN, body_diameter_se_px = core::kNaN;

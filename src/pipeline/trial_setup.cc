@@ -15,6 +15,7 @@
 #include "format/number_format.h"
 #include "pipeline/study_format.h"
 #include "tracking/camera_file.h"
+#include "tracking/dot_detector.h"
 #include "tracking/frame_source.h"
 
 namespace hoof::pipeline {
@@ -95,6 +96,238 @@ double SurfaceAngleDeg(const tracking::ImageLine& line) {
   return phi;
 }
 
+/// The white dots of a marked body in `grey`: the most significant dot and the dots alike in
+/// size (radii within a factor 1.5) and contrast (at least a quarter of its significance)
+/// within 30 of its radii. Empty unless there are two or more: a lone bright disc (a front-lit
+/// ball) is a body, not a marker.
+std::vector<tracking::Dot> MarkerDots(const cv::Mat& grey) {
+  const auto found = tracking::FindDots(grey, 12);
+  if (found.size() < 2) return {};
+  const tracking::Dot& top = found.front();
+  std::vector<tracking::Dot> alike;
+  for (const auto& d : found)
+    if (d.radius_px < 1.5 * top.radius_px && d.radius_px > top.radius_px / 1.5 &&
+        d.significance > 0.25 * top.significance && (d.p_I - top.p_I).norm() < 30 * top.radius_px)
+      alike.push_back(d);
+  if (alike.size() < 2) return {};
+  return alike;
+}
+
+/// study.json's specimen `options.specimen` (the study beside the trial folder unless
+/// `options.study_json`). Throws naming the file for an unreadable study or an unknown id.
+json SpecimenOfStudy(const TrialSetupOptions& options, const fs::path& trial_abs) {
+  const fs::path study_file = options.study_json.empty() ? trial_abs.parent_path() / "study.json"
+                                                         : fs::path(options.study_json);
+  std::ifstream in(study_file);
+  if (!in) throw std::runtime_error(study_file.string() + ": cannot be read");
+  json study;
+  try {
+    study = json::parse(in);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(study_file.string() + ": not JSON: " + e.what());
+  }
+  if (!study.contains("specimens") || !study["specimens"].contains(options.specimen))
+    throw std::runtime_error(study_file.string() + ": defines no specimen \"" + options.specimen +
+                             "\" (--specimen)");
+  return study["specimens"][options.specimen];
+}
+
+/// The scale (m/px) a marker layout gives the dots seen: the median ratio of the layout's
+/// pairwise distances to the dots' (both sorted, so no identities are needed). Throws naming
+/// `what` when fewer dots are seen than the layout has, or when the ratios disagree by more
+/// than 15 % (a layout that is not the one seen).
+double ScaleOfLayout(const json& markers_B_m, const std::vector<Eigen::Vector2d>& dots,
+                     const std::string& what) {
+  std::vector<Eigen::Vector2d> layout;
+  if (!markers_B_m.is_object() || markers_B_m.size() < 2)
+    throw std::runtime_error(what + ": markers_B_m must name at least two markers");
+  for (const auto& [name, p] : markers_B_m.items()) {
+    if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number())
+      throw std::runtime_error(what + ": markers_B_m." + name + " must be [x, y] in metres");
+    layout.emplace_back(p[0].get<double>(), p[1].get<double>());
+  }
+  if (dots.size() < layout.size())
+    throw std::runtime_error(what + ": its layout has " + std::to_string(layout.size()) +
+                             " markers, but the first frame shows " + std::to_string(dots.size()) +
+                             " dots");
+  auto pairwise = [](const std::vector<Eigen::Vector2d>& p) {
+    std::vector<double> d;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      for (std::size_t j = i + 1; j < p.size(); ++j) d.push_back((p[i] - p[j]).norm());
+    std::sort(d.begin(), d.end());
+    return d;
+  };
+  std::vector<Eigen::Vector2d> seen;
+  for (std::size_t i = 0; i < layout.size(); ++i) seen.push_back(dots[i]);
+  const auto L = pairwise(layout), D = pairwise(seen);
+  std::vector<double> ratio;
+  for (std::size_t k = 0; k < L.size(); ++k) ratio.push_back(L[k] / std::max(1e-9, D[k]));
+  const double m = Median(ratio);
+  for (double r : ratio)
+    if (!(std::abs(r / m - 1) < 0.15))
+      throw std::runtime_error(what +
+                               ": its markers_B_m do not match the dots seen in the "
+                               "first frame (their distances disagree by more than 15 %)");
+  return m;
+}
+
+/// A marked body's specimen: study.json's `--specimen` into `specimen` (null without one) and
+/// the scale its markers_B_m give the dots of the first frame into `layout_m_per_px`. Without
+/// a specimen or a layout, a warning says what trial.json still needs; nothing is invented.
+void MarkedSpecimen(const TrialSetupOptions& options, const fs::path& trial_abs, TrialSetup& s,
+                    json& specimen, double& layout_m_per_px) {
+  const std::string dots = std::to_string(s.marker_dots_px.size()) + " white dots";
+  if (options.specimen.empty()) {
+    s.warnings.push_back(
+        "a marked body (" + dots +
+        " in the first frame) needs its specimen: the marker layout (markers_B_m) and its mass, "
+        "inertia, end radius and |EC|; give --specimen ID (and --study study.json), or add "
+        "\"specimen\" (an id of study.json) or \"specimen_parameters\" to trial.json before "
+        "track");
+    return;
+  }
+  specimen = SpecimenOfStudy(options, trial_abs);
+  const std::string what = "specimen \"" + options.specimen + "\" (--specimen)";
+  if (!specimen.contains("markers_B_m")) {
+    s.warnings.push_back(what + " has no markers_B_m: add the layout of the " + dots +
+                         " before track");
+    return;
+  }
+  layout_m_per_px = ScaleOfLayout(specimen["markers_B_m"], s.marker_dots_px, what);
+  s.marker_layout_known = true;
+}
+
+/// A two-marker layout's spacing cannot be checked against the dots (one distance only): where
+/// gravity gives a scale, a layout scale off by more than 10 % and three of gravity's standard
+/// errors is a warning (a wrong markers_B_m or frame rate).
+void CheckLayoutAgainstGravity(TrialSetup& s) {
+  if (!s.gravity.measured || !(s.gravity.m_per_px > 0)) return;
+  const double off = s.m_per_px - s.gravity.m_per_px;
+  if (std::abs(off) > 0.1 * s.gravity.m_per_px && std::abs(off) > 3 * s.gravity.m_per_px_se) {
+    std::ostringstream os;
+    os << "the markers' spacing gives " << s.m_per_px << " m/px, but gravity's parabola "
+       << s.gravity.m_per_px << " +- " << s.gravity.m_per_px_se
+       << " m/px: check the specimen's markers_B_m and the frame rate";
+    s.warnings.push_back(os.str());
+  }
+}
+
+/// A marked body: white dots on black patches in the first frame (or as --body markers says).
+/// Follows each dot through the clip (a predicted search window, as the marker tracker) and
+/// puts the dots' mean in `c_px` where all are seen: the impacts and gravity's scale come from
+/// it. Returns false (and changes nothing) when the body is not a marked one.
+bool SetUpMarkers(tracking::FrameSource& source, const TrialSetupOptions& options,
+                  const std::string& named, TrialSetup& s,
+                  std::vector<std::optional<Eigen::Vector2d>>& c_px, double& travel) {
+  if (options.body != "auto" && options.body != "markers") return false;
+  const cv::Mat first = tracking::ToGrey(source.Read(0), source.Describe(0));
+  const std::vector<tracking::Dot> dots = MarkerDots(first);
+  if (dots.size() < 2) {
+    if (options.body == "markers")
+      throw std::runtime_error(source.Describe(0) +
+                               ": --body markers, but fewer than two white dots alike are seen "
+                               "in the first frame");
+    return false;
+  }
+  s.shape = "markers";
+  s.marker_dot_radius_px = Median([&] {
+    std::vector<double> r;
+    for (const auto& d : dots) r.push_back(d.radius_px);
+    return r;
+  }());
+  std::vector<Eigen::Vector2d> p, v(dots.size(), Eigen::Vector2d::Zero());
+  for (const auto& d : dots) p.push_back(d.p_I);
+  s.marker_dots_px = p;
+  const Eigen::Vector2d start = [&] {
+    Eigen::Vector2d c = Eigen::Vector2d::Zero();
+    for (const auto& q : p) c += q;
+    return Eigen::Vector2d(c / static_cast<double>(p.size()));
+  }();
+  travel = 0;
+  for (int f = 0; f < source.count(); ++f) {
+    const cv::Mat grey = f == 0 ? first : tracking::ToGrey(source.Read(f), source.Describe(f));
+    std::vector<Eigen::Vector2d> seen;
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const Eigen::Vector2d predicted = p[i] + v[i];
+      const double search = std::max(6.0, 0.5 * s.marker_dot_radius_px + 3 * v[i].norm());
+      const auto d = f == 0
+                         ? std::optional<tracking::Dot>(dots[i])
+                         : tracking::FindDotNear(grey, predicted, search, s.marker_dot_radius_px);
+      if (d) {
+        if (f > 0) v[i] = d->p_I - p[i];
+        p[i] = d->p_I;
+        seen.push_back(d->p_I);
+        sum += d->p_I;
+      } else {
+        p[i] = predicted;
+      }
+    }
+    if (seen.size() == p.size()) {
+      const Eigen::Vector2d c = sum / static_cast<double>(seen.size());
+      c_px.emplace_back(c);
+      travel = std::max(travel, (c - start).norm());
+      s.marker_frames_px.push_back(seen);
+    } else {
+      c_px.emplace_back(std::nullopt);
+      s.marker_frames_px.emplace_back();
+      s.warnings.push_back(source.Describe(f) + ": " + std::to_string(p.size() - seen.size()) +
+                           " of the " + std::to_string(p.size()) + " markers not found");
+    }
+  }
+  (void)named;
+  return true;
+}
+
+/// The body found, in words: "markers (2 white dots)" or "ball (dark_on_bright)".
+std::string BodyText(const TrialSetup& s) {
+  if (s.shape == "markers")
+    return "markers (" + std::to_string(s.marker_dots_px.size()) + " white dots)";
+  return s.shape + " (" + tracking::PolarityName(s.track.polarity) + ")";
+}
+
+/// A body without markers, by its silhouette: a ball or an outline by its shape in the first
+/// frame that shows it (or as --body says), tracked through the clip. Fills the track, the
+/// shape and a ball's diameter; `c_px` gets its centre per frame. Returns how far it moves (px).
+double SetUpSilhouette(tracking::FrameSource& source, const TrialSetupOptions& options,
+                       const std::string& named, TrialSetup& s,
+                       std::vector<std::optional<Eigen::Vector2d>>& c_px) {
+  // The body: a silhouette, ball or outline by its shape in the first frame that shows it.
+  tracking::SilhouetteOptions so;
+  if (options.body == "ball" || options.body == "outline") {
+    s.shape = options.body;
+  } else {
+    so.shape = tracking::SilhouetteShape::kOutline;
+    for (int f = 0; f < source.count() && s.shape.empty(); ++f) {
+      tracking::Polarity p;
+      const auto o =
+          tracking::FindSilhouette(tracking::ToGrey(source.Read(f), source.Describe(f)), so, &p);
+      if (!o.found) continue;
+      // A disc's extents agree; the specimen is about three times as long as wide.
+      s.shape = o.length_px < 1.3 * o.width_px ? "ball" : "outline";
+    }
+    if (s.shape.empty()) throw std::runtime_error(named + ": no body found in any frame");
+  }
+  so.shape =
+      s.shape == "ball" ? tracking::SilhouetteShape::kBall : tracking::SilhouetteShape::kOutline;
+  s.track = tracking::TrackSilhouette(source, so);
+  for (const auto& w : s.track.warnings) s.warnings.push_back(w);
+  std::vector<double> diameters;
+  Eigen::Vector2d first_seen{0, 0};
+  bool any = false;
+  double travel = 0;
+  for (const auto& o : s.track.frames) {
+    c_px.push_back(o.found ? std::optional<Eigen::Vector2d>(o.p_I) : std::nullopt);
+    if (!o.found) continue;
+    if (!any) first_seen = o.p_I;
+    any = true;
+    travel = std::max(travel, (o.p_I - first_seen).norm());
+    if (o.diameter_px > 0) diameters.push_back(o.diameter_px);
+  }
+  s.body_diameter_px = Median(diameters);
+  return travel;
+}
+
 }  // namespace
 
 TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
@@ -140,46 +373,18 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
                              ": the clip does not record its frame rate: give it with --fps");
   const std::string named = source->Describe(0) + " .. " + source->Describe(source->count() - 1);
 
-  // The body: a silhouette, ball or outline by its shape in the first frame that shows it.
-  tracking::SilhouetteOptions so;
-  if (options.body == "ball" || options.body == "outline") {
-    s.shape = options.body;
-  } else {
-    so.shape = tracking::SilhouetteShape::kOutline;
-    for (int f = 0; f < source->count() && s.shape.empty(); ++f) {
-      tracking::Polarity p;
-      const auto o =
-          tracking::FindSilhouette(tracking::ToGrey(source->Read(f), source->Describe(f)), so, &p);
-      if (!o.found) continue;
-      // A disc's extents agree; the specimen is about three times as long as wide.
-      s.shape = o.length_px < 1.3 * o.width_px ? "ball" : "outline";
-    }
-    if (s.shape.empty()) throw std::runtime_error(named + ": no body found in any frame");
-  }
-  so.shape =
-      s.shape == "ball" ? tracking::SilhouetteShape::kBall : tracking::SilhouetteShape::kOutline;
-  s.track = tracking::TrackSilhouette(*source, so);
-  for (const auto& w : s.track.warnings) s.warnings.push_back(w);
+  // The body: white dots on black patches (a marked specimen), else a silhouette.
   std::vector<std::optional<Eigen::Vector2d>> c_px;
-  std::vector<double> diameters;
-  Eigen::Vector2d first_seen{0, 0};
-  bool any = false;
   double travel = 0;
-  for (const auto& o : s.track.frames) {
-    c_px.push_back(o.found ? std::optional<Eigen::Vector2d>(o.p_I) : std::nullopt);
-    if (!o.found) continue;
-    if (!any) first_seen = o.p_I;
-    any = true;
-    travel = std::max(travel, (o.p_I - first_seen).norm());
-    if (o.diameter_px > 0) diameters.push_back(o.diameter_px);
-  }
+  if (!SetUpMarkers(*source, options, named, s, c_px, travel))
+    travel = SetUpSilhouette(*source, options, named, s, c_px);
   if (travel < 0.5) {
     std::ostringstream os;
-    os << named << ": no moving body: the " << s.shape << " never moves more than " << travel
-       << " px from where it is first seen";
+    os << named << ": no moving body: the "
+       << (s.shape == "markers" ? std::string("marked body") : s.shape) << " never moves more than "
+       << travel << " px from where it is first seen";
     throw std::runtime_error(os.str());
   }
-  s.body_diameter_px = Median(diameters);
 
   // The surface: the straight edge in the first frame.
   s.surface_line =
@@ -190,6 +395,11 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
     s.warnings.push_back(
         "no surface line found in the first frame: surface_angle_deg 0 is assumed; "
         "check it");
+
+  // A marked body's specimen and layout (study.json), and the scale its spacing gives.
+  json marked_specimen;
+  double layout_m_per_px = core::kNaN;
+  if (s.shape == "markers") MarkedSpecimen(options, trial_abs, s, marked_specimen, layout_m_per_px);
 
   // Impacts and the scale from gravity: one fit.
   kinematics::GravityScaleOptions go;
@@ -207,14 +417,19 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
       throw std::runtime_error("--diameter-m: the body found in " + named + " is not a ball");
     s.scale_from = "body_diameter";
     s.m_per_px = options.diameter_m / s.body_diameter_px;
+  } else if (s.shape == "markers" && layout_m_per_px > 0) {
+    s.scale_from = "markers";
+    s.m_per_px = layout_m_per_px;
+    CheckLayoutAgainstGravity(s);
   } else {
     s.scale_from = "gravity";
     if (s.gravity.measured) {
       s.m_per_px = s.gravity.m_per_px;
       s.m_per_px_se = s.gravity.m_per_px_se;
     } else {
-      s.warnings.push_back(s.gravity.message +
-                           "; give the scale with --m-per-px or a ball's --diameter-m");
+      s.warnings.push_back(s.gravity.message + "; give the scale with --m-per-px" +
+                           (s.shape == "markers" ? std::string(" or the specimen's layout")
+                                                 : std::string(" or a ball's --diameter-m")));
     }
   }
 
@@ -235,30 +450,28 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
     t["frames"] = {{"pattern", s.frames_reference}, {"first", s.first}, {"count", s.count}};
   json camera = {{"gravity_image", {0.0, 1.0}}, {"scale_from", s.scale_from}};
   if (s.scale_from == "m_per_px") camera["m_per_px"] = s.m_per_px;
+  // The marker tracker matches the dots to the layout at an approximate scale, also when the
+  // scale used comes from the markers' spacing or gravity.
+  if (s.shape == "markers" && s.scale_from != "m_per_px" && std::isfinite(s.m_per_px))
+    camera["m_per_px"] = s.m_per_px;
   t["camera"] = camera;
-  json body = {{"model", "silhouette"},
-               {"shape", s.shape},
-               {"polarity", tracking::PolarityName(s.track.polarity)}};
-  if (s.shape == "ball" && options.diameter_m > 0) body["diameter_m"] = options.diameter_m;
-  t["body"] = body;
+  if (s.shape == "markers") {
+    t["body"] = {{"model", "markers"}};
+    if (!marked_specimen.is_null()) {
+      t["specimen"] = options.specimen;
+      t["specimen_parameters"] = marked_specimen;
+    }
+  } else {
+    json body = {{"model", "silhouette"},
+                 {"shape", s.shape},
+                 {"polarity", tracking::PolarityName(s.track.polarity)}};
+    if (s.shape == "ball" && options.diameter_m > 0) body["diameter_m"] = options.diameter_m;
+    t["body"] = body;
+  }
   if (s.shape == "outline") {
     if (!options.specimen.empty()) {
-      const fs::path study_file = options.study_json.empty()
-                                      ? trial_abs.parent_path() / "study.json"
-                                      : fs::path(options.study_json);
-      std::ifstream in(study_file);
-      if (!in) throw std::runtime_error(study_file.string() + ": cannot be read");
-      json study;
-      try {
-        study = json::parse(in);
-      } catch (const std::exception& e) {
-        throw std::runtime_error(study_file.string() + ": not JSON: " + e.what());
-      }
-      if (!study.contains("specimens") || !study["specimens"].contains(options.specimen))
-        throw std::runtime_error(study_file.string() + ": defines no specimen \"" +
-                                 options.specimen + "\" (--specimen)");
       t["specimen"] = options.specimen;
-      t["specimen_parameters"] = study["specimens"][options.specimen];
+      t["specimen_parameters"] = SpecimenOfStudy(options, trial_abs);
     } else {
       s.warnings.push_back(
           "an outline needs its specimen (mass, inertia, end radius, |EC|): give --specimen "
@@ -266,8 +479,7 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
     }
   }
   std::ostringstream notes;
-  notes << "written by hoofimpact init from " << clip.string() << ": " << s.shape << " ("
-        << tracking::PolarityName(s.track.polarity) << "), "
+  notes << "written by hoofimpact init from " << clip.string() << ": " << BodyText(s) << ", "
         << (s.surface_line ? "surface at " + json(s.surface_angle_deg).dump() + " deg"
                            : std::string("no surface line found"))
         << ", " << s.impact_frames.size() << " impact(s)";
@@ -316,7 +528,7 @@ cv::Mat ContactSheet(const TrialSetup& s) {
   std::vector<std::string> caption;
   {
     std::ostringstream a, b, c;
-    a << "body: " << s.shape << ", " << tracking::PolarityName(s.track.polarity);
+    a << "body: " << BodyText(s);
     if (s.shape == "ball") a << ", diameter " << std::lround(s.body_diameter_px) << " px";
     a << "; " << s.count << " frames at " << s.fps << " fps";
     b << "surface: "
@@ -355,7 +567,13 @@ cv::Mat ContactSheet(const TrialSetup& s) {
       cv::line(tile, P(l.point_I - reach * l.direction_I), P(l.point_I + reach * l.direction_I),
                cv::Scalar(0, 0, 255), 1, cv::LINE_AA);
     }
-    const auto& o = s.track.frames[static_cast<std::size_t>(f)];
+    const auto fi = static_cast<std::size_t>(f);
+    const tracking::SilhouetteObservation o =
+        fi < s.track.frames.size() ? s.track.frames[fi] : tracking::SilhouetteObservation{};
+    if (fi < s.marker_frames_px.size())
+      for (const auto& d : s.marker_frames_px[fi])
+        cv::circle(tile, P(d), std::max(2, static_cast<int>(1.5 * s.marker_dot_radius_px * zoom)),
+                   cv::Scalar(0, 255, 0), 1, cv::LINE_AA);
     if (o.found) {
       if (s.shape == "ball") {
         cv::circle(tile, P(o.p_I), std::max(1, static_cast<int>(0.5 * o.diameter_px * zoom)),
@@ -379,11 +597,13 @@ cv::Mat ContactSheet(const TrialSetup& s) {
     const int x0 = static_cast<int>(i % cols) * tw,
               y0 = static_cast<int>(i / cols) * (th + label_h);
     tile.copyTo(sheet(cv::Rect(x0, y0, tw, th)));
-    cv::putText(
-        sheet,
-        "frame " + std::to_string(f) + (impact ? "  IMPACT" : "") + (o.found ? "" : "  (no body)"),
-        cv::Point(x0 + 3, y0 + th + 13), cv::FONT_HERSHEY_SIMPLEX, 0.4,
-        impact ? cv::Scalar(80, 80, 255) : cv::Scalar(220, 220, 220), 1, cv::LINE_AA);
+    cv::putText(sheet,
+                "frame " + std::to_string(f) + (impact ? "  IMPACT" : "") +
+                    (o.found || (fi < s.marker_frames_px.size() && !s.marker_frames_px[fi].empty())
+                         ? ""
+                         : "  (no body)"),
+                cv::Point(x0 + 3, y0 + th + 13), cv::FONT_HERSHEY_SIMPLEX, 0.4,
+                impact ? cv::Scalar(80, 80, 255) : cv::Scalar(220, 220, 220), 1, cv::LINE_AA);
   }
   for (std::size_t k = 0; k < caption.size(); ++k)
     cv::putText(sheet, caption[k],

@@ -21,13 +21,13 @@ namespace hoof::pipeline {
 
 /// Settings of `init`.
 struct TrialSetupOptions {
-  std::string body = "auto";        ///< "auto", "ball" or "outline"
+  std::string body = "auto";        ///< "auto", "markers", "ball" or "outline"
   double diameter_m = 0.0;          ///< a ball's known diameter (> 0: the scale from it)
   double m_per_px = 0.0;            ///< a known scale (> 0: stated in trial.json)
   double fps = 0.0;                 ///< frame rate, for clips that do not record one (> 0)
   std::string surface = "unknown";  ///< trial.json's surface (free text)
-  /// A specimen for an outline: its study.json and id; copied into the trial as
-  /// specimen_parameters. Without it an outline's end radius and |EC| are estimated from it.
+  /// A specimen for an outline or a marked body: its study.json and id; copied into the trial
+  /// as specimen_parameters (a marked body's layout, markers_B_m, comes from it).
   std::filesystem::path study_json;
   std::string specimen;
   double gravity_m_s2 = core::kStandardGravity_m_s2;
@@ -41,7 +41,7 @@ struct TrialSetup {
   int first = 0, count = 0;      ///< frames of a folder
   double fps = 0.0;
   bool fps_recorded = false;  ///< the camera file records it (trial.json leaves it out)
-  std::string shape;          ///< "ball" or "outline"
+  std::string shape;          ///< "markers", "ball" or "outline"
   tracking::SilhouetteTrack track;
   std::optional<tracking::ImageLine> surface_line;
   double surface_angle_deg = 0.0;
@@ -50,6 +50,12 @@ struct TrialSetup {
   std::string scale_from;  ///< "m_per_px", "body_diameter" or "gravity"
   double m_per_px = core::kNaN, m_per_px_se = core::kNaN;  ///< the scale it implies (NaN: none)
   double body_diameter_px = core::kNaN;                    ///< ball: median fitted diameter
+  /// A marked body: the white dots seen in the first frame, and per frame the dots followed
+  /// (empty where one was not found).
+  std::vector<Eigen::Vector2d> marker_dots_px;
+  std::vector<std::vector<Eigen::Vector2d>> marker_frames_px;
+  double marker_dot_radius_px = core::kNaN;
+  bool marker_layout_known = false;  ///< the specimen's markers_B_m was given
   std::vector<std::string> warnings;
   std::string trial_json;  ///< the trial.json text
 };

@@ -4,6 +4,7 @@
 // a bouncing body's track sampled at whole slots.
 #include "tracking/frame_timing.h"
 
+#include <atomic>
 #include <cmath>
 #include <random>
 #include <set>
@@ -11,6 +12,9 @@
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
+
+#include "tracking/frame_differences.h"
+#include "tracking/silhouette_tracker.h"
 
 namespace hoof::tracking {
 namespace {
@@ -20,8 +24,12 @@ class MemorySource : public FrameSource {
  public:
   explicit MemorySource(std::vector<cv::Mat> frames) : frames_(std::move(frames)) {}
   int count() const override { return static_cast<int>(frames_.size()); }
-  cv::Mat Read(int index) override { return frames_[static_cast<std::size_t>(index)]; }
+  cv::Mat Read(int index) override {
+    ++reads;
+    return frames_[static_cast<std::size_t>(index)];
+  }
   std::string Describe(int index) const override { return "frame " + std::to_string(index); }
+  std::atomic<int> reads{0};
 
  private:
   std::vector<cv::Mat> frames_;
@@ -160,6 +168,64 @@ TEST(FrameTimingTest, DroppedCapturesAreFoundFromABouncingTrack) {
   const auto none =
       SlotsFromMotion(clean, std::vector<bool>(25, false), Eigen::Vector2d(0, -1), options);
   for (int s = 0; s <= 24; ++s) EXPECT_EQ(none[static_cast<std::size_t>(s)], s);
+}
+
+// `track` compares the images while the tracker reads them (tracking/frame_differences.h):
+// the clip is read once, and the comparison is the one a second pass over it makes.
+TEST(FrameTimingTest, TheComparisonMadeWhileTheTrackerReadsEqualsASecondPass) {
+  std::mt19937_64 rng(11);
+  std::vector<cv::Mat> frames;
+  for (int i = 0; i < 24; ++i) frames.push_back(Frame(i, 150.0, 1 + 0.08 * std::sin(0.9 * i), rng));
+  frames[7] = frames[6].clone();
+  frames[19] = frames[18].clone();
+
+  for (int read_ahead : {0, 2}) {
+    MemorySource clip(frames);
+    DifferencingSource source(clip, FrameTimingOptions{}.max_grid_pixels);
+    SilhouetteOptions options;
+    options.read_ahead_frames = read_ahead;
+    const SilhouetteTrack track = TrackSilhouette(source, options);
+    ASSERT_EQ(track.frame_count(), 24);
+    EXPECT_EQ(clip.reads.load(), 24) << "read_ahead " << read_ahead;  // every frame once
+    const std::optional<ImageDifferences> during = source.Differences();
+    ASSERT_TRUE(during.has_value());
+
+    MemorySource again(frames);
+    const ImageDifferences second = DifferenceFrames(again);
+    ASSERT_EQ(during->mean_abs_difference.size(), second.mean_abs_difference.size());
+    EXPECT_TRUE(std::isnan(during->mean_abs_difference[0]));
+    for (std::size_t i = 1; i < second.mean_abs_difference.size(); ++i) {
+      EXPECT_EQ(during->mean_abs_difference[i], second.mean_abs_difference[i]) << i;
+      EXPECT_EQ(during->noise_sd[i], second.noise_sd[i]) << i;
+    }
+    EXPECT_EQ(during->noise_mean_abs_difference, second.noise_mean_abs_difference);
+
+    const FrameTimingOptions o;
+    const FrameTiming from_pass = AnalyzeFrameTiming(*during, 1000.0, std::nullopt, {}, {0, 1}, o);
+    EXPECT_EQ(from_pass.repeated_frames, (std::vector<int>{7, 19}));
+    EXPECT_EQ(from_pass.frame_count(), 24);
+    EXPECT_DOUBLE_EQ(from_pass.t_s[23], 23 / 1000.0);
+  }
+}
+
+// Frames read out of order (a re-read, a jump) are not compared: the comparison is then
+// incomplete and the caller reads the clip again.
+TEST(FrameTimingTest, AnIncompleteInOrderPassGivesNoComparison) {
+  std::mt19937_64 rng(12);
+  std::vector<cv::Mat> frames;
+  for (int i = 0; i < 6; ++i) frames.push_back(Frame(i, 100.0, 1.0, rng));
+  MemorySource clip(frames);
+  DifferencingSource source(clip, FrameTimingOptions{}.max_grid_pixels);
+  source.Read(0);
+  source.Read(1);
+  source.Read(3);  // frame 2 skipped: 3 is not compared with 1
+  source.Read(0);  // a re-read
+  EXPECT_FALSE(source.Differences().has_value());
+  source.Read(2);
+  for (int i = 3; i < 6; ++i) source.Read(i);
+  EXPECT_TRUE(source.Differences().has_value());
+  EXPECT_EQ(source.count(), 6);
+  EXPECT_EQ(source.Describe(4), "frame 4");
 }
 
 TEST(FrameTimingTest, OptionsOutOfRangeAreRefusedByName) {
