@@ -261,21 +261,21 @@ nlohmann::json TruthJson(const TrialTruth& t, const SpecimenGeometry& g, const R
   if (o.calibration != CalibrationTarget::kNone) {
     // The calibration image's truth (docs/synthetic-trials.md, "Calibration images").
     const CalibrationPlan p = PlanCalibration(o, t.spec.seed);
-    nlohmann::json c = {{"target", ToString(p.target)},
-                        {"file", p.file},
-                        {"m_per_px", p.m_per_px},
-                        {"centre_px_undistorted", Vec(p.centre_px)},
-                        {"angle_deg", p.angle_deg}};
+    nlohmann::json cal = {{"target", ToString(p.target)},
+                          {"file", p.file},
+                          {"m_per_px", p.m_per_px},
+                          {"centre_px_undistorted", Vec(p.centre_px)},
+                          {"angle_deg", p.angle_deg}};
     if (p.target == CalibrationTarget::kCheckerboard) {
-      c["inner_corners"] = {p.cols, p.rows};
-      c["square_m"] = p.square_m;
+      cal["inner_corners"] = {p.cols, p.rows};
+      cal["square_m"] = p.square_m;
     } else {
-      c["tick_m"] = p.tick_m;
-      c["ticks"] = p.ticks;
-      c["from_px"] = Vec(p.from_px);
-      c["to_px"] = Vec(p.to_px);
+      cal["tick_m"] = p.tick_m;
+      cal["ticks"] = p.ticks;
+      cal["from_px"] = Vec(p.from_px);
+      cal["to_px"] = Vec(p.to_px);
     }
-    truth["calibration"] = c;
+    truth["calibration"] = cal;
   }
   return truth;
 }
