@@ -226,8 +226,8 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
   if (!spec.body.is_ball()) {
     // The scale known before the track: the stated one, else the calibration image's.
     const double known_scale = spec.camera.m_per_px > 0 ? spec.camera.m_per_px
-                               : out.calibration_scale ? out.calibration_scale->m_per_px
-                                                       : 0.0;
+                               : out.calibration_scale  ? out.calibration_scale->m_per_px
+                                                        : 0.0;
     const double r_guess = known_scale > 0 ? body.end_radius_m / known_scale : 0.0;
     std::vector<int> found;
     for (int f = 0; f < out.silhouette.frame_count(); ++f)
