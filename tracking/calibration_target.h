@@ -2,10 +2,12 @@
 /// @file
 /// The scale from a calibration image (docs/tracking.md, "4b. The scale"): a checkerboard or a
 /// ruler lying in the plane of motion. A checkerboard's inner corners are found with OpenCV
-/// (cv::findChessboardCornersSB), undistorted with the trial's lens model, and fitted with a
-/// similarity (scale, rotation, shift; a mirror image allowed) to the board's grid; a ruler's
-/// ticks are found along a segment the user gives, and their positions fitted with a straight
-/// line of tick index. Either fit's residuals give the standard error of the scale.
+/// (cv::findChessboardCornersSB, again on the image flattened by the board's own white and black
+/// levels), undistorted with the trial's lens model, and fitted with a similarity (scale,
+/// rotation, shift; a mirror image allowed) to the board's grid; a ruler's ticks are found by
+/// the phase of the profile along a segment the user gives (straightened by the lens model), and
+/// their positions fitted with a straight line of tick index. Either fit's residuals give the
+/// standard error of the scale; the ruler's is too small (docs/tracking.md, "4b. The scale").
 
 #include <string>
 #include <vector>
