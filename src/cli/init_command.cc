@@ -1,10 +1,12 @@
 // hoofimpact init: a clip (camera file, video or folder of frames) -> a trial folder with a
 // trial.json to review and a contact sheet of what was found (docs/init.md).
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -13,9 +15,90 @@
 #include "cli/json_output.h"
 #include "format/number_format.h"
 #include "io/atomic_file.h"
+#include "pipeline/calibration_scale.h"
 #include "pipeline/trial_setup.h"
 
 namespace hoof::cli {
+namespace {
+
+/// init's calibration image options (docs/init.md, "A calibration image").
+struct CalibrationArgs {
+  std::string checkerboard, corners, ruler;
+  double square_m = 0.0, tick_m = 0.0;
+  std::vector<double> ruler_from, ruler_to;
+};
+
+void AddCalibrationOptions(CLI::App* cmd, CalibrationArgs& c) {
+  cmd->add_option("--checkerboard", c.checkerboard,
+                  "Calibration image (PNG/TIFF) of a checkerboard in the plane of motion: the "
+                  "scale from it (with --corners and --square-m)");
+  cmd->add_option("--corners", c.corners, "The checkerboard's inner corners, COLSxROWS (e.g. 9x6)");
+  cmd->add_option("--square-m", c.square_m, "The checkerboard's square side (m)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--ruler", c.ruler,
+                  "Calibration image (PNG/TIFF) of a ruler in the plane of motion: the scale from "
+                  "its ticks (with --ruler-from, --ruler-to and --tick-m)");
+  cmd->add_option("--ruler-from", c.ruler_from, "X,Y (px): one end of a segment across the ticks")
+      ->delimiter(',')
+      ->expected(2);
+  cmd->add_option("--ruler-to", c.ruler_to, "X,Y (px): the segment's other end")
+      ->delimiter(',')
+      ->expected(2);
+  cmd->add_option("--tick-m", c.tick_m, "The ruler's tick spacing (m)")->check(CLI::PositiveNumber);
+}
+
+/// The calibration options checked and turned into pipeline::InitCalibration (kind empty
+/// without one); CLI::ValidationError names the option.
+pipeline::InitCalibration ParseCalibration(const CalibrationArgs& c,
+                                           const pipeline::TrialSetupOptions& o) {
+  pipeline::InitCalibration out;
+  if (!c.checkerboard.empty() && !c.ruler.empty())
+    throw CLI::ValidationError("--ruler", "give --checkerboard or --ruler, not both");
+  const bool other = o.m_per_px > 0 || o.diameter_m > 0;
+  if (!c.checkerboard.empty()) {
+    if (other)
+      throw CLI::ValidationError("--checkerboard",
+                                 "give one scale: not with --m-per-px or --diameter-m");
+    int cols = 0, rows = 0;
+    char x = 0, extra = 0;
+    if (c.corners.empty() ||
+        std::sscanf(c.corners.c_str(), "%d%c%d%c", &cols, &x, &rows, &extra) != 3 ||
+        (x != 'x' && x != 'X') || cols < 3 || rows < 3 || cols > 1000 || rows > 1000)
+      throw CLI::ValidationError("--corners",
+                                 "must be COLSxROWS inner corners, each 3 to 1000 (e.g. 9x6), "
+                                 "with --checkerboard; got '" +
+                                     c.corners + "'");
+    if (!(c.square_m > 0))
+      throw CLI::ValidationError("--square-m", "is needed with --checkerboard");
+    out.kind = "checkerboard";
+    out.image = c.checkerboard;
+    out.cols = cols;
+    out.rows = rows;
+    out.square_m = c.square_m;
+  } else if (!c.ruler.empty()) {
+    if (other)
+      throw CLI::ValidationError("--ruler", "give one scale: not with --m-per-px or --diameter-m");
+    if (c.ruler_from.size() != 2 || c.ruler_to.size() != 2)
+      throw CLI::ValidationError("--ruler-from", "and --ruler-to (X,Y px) are needed with --ruler");
+    if (!(c.tick_m > 0)) throw CLI::ValidationError("--tick-m", "is needed with --ruler");
+    out.kind = "ruler";
+    out.image = c.ruler;
+    out.from_px = {c.ruler_from[0], c.ruler_from[1]};
+    out.to_px = {c.ruler_to[0], c.ruler_to[1]};
+    out.tick_m = c.tick_m;
+  } else if (!c.corners.empty() || c.square_m > 0 || !c.ruler_from.empty() || !c.ruler_to.empty() ||
+             c.tick_m > 0) {
+    throw CLI::ValidationError("--checkerboard",
+                               "or --ruler names the calibration image that --corners, --square-m, "
+                               "--ruler-from, --ruler-to and --tick-m describe");
+  }
+  if (!out.kind.empty() && !std::filesystem::is_regular_file(out.image))
+    throw std::runtime_error(out.image.string() + ": the calibration image (--" + out.kind +
+                             ") does not exist");
+  return out;
+}
+
+}  // namespace
 
 namespace {
 
@@ -37,6 +120,7 @@ void RegisterInit(CLI::App& app, RunState& state) {
     bool json = false;
     bool overwrite = false;
     pipeline::TrialSetupOptions options;
+    CalibrationArgs calibration;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -67,6 +151,7 @@ void RegisterInit(CLI::App& app, RunState& state) {
                   "from study.json into the trial");
   cmd->add_option("--study", args->options.study_json,
                   "study.json that defines --specimen (default: the one beside the trial folder)");
+  AddCalibrationOptions(cmd, args->calibration);
   cmd->add_flag("--overwrite", args->overwrite, "Replace an existing trial.json");
   AddJsonFlag(cmd, args->json);
 
@@ -79,7 +164,9 @@ void RegisterInit(CLI::App& app, RunState& state) {
     if (fs::exists(dir / "trial.json") && !a.overwrite)
       throw std::runtime_error((dir / "trial.json").string() +
                                ": exists already (--overwrite replaces it)");
-    const pipeline::TrialSetup s = pipeline::SetUpTrial(a.clip, dir, a.options);
+    const pipeline::InitCalibration calibration = ParseCalibration(a.calibration, a.options);
+    pipeline::TrialSetup s = pipeline::SetUpTrial(a.clip, dir, a.options);
+    pipeline::UseCalibrationScale(calibration, dir, s);
     io::CreateFolder(dir);
     const fs::path sheet = dir / "contact-sheet.png";
     io::WriteTextAtomically(sheet, pipeline::EncodePng(pipeline::ContactSheet(s)));

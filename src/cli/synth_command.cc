@@ -19,6 +19,7 @@
 #include "cli/common_options.h"
 #include "cli/json_output.h"
 #include "format/number_format.h"
+#include "synth/calibration_image.h"
 #include "synth/contact_sheet.h"
 #include "synth/renderer.h"
 #include "synth/study.h"
@@ -61,6 +62,7 @@ struct SynthArgs {
   bool json = false;
   std::string contact_sheet;
   std::string body = "markers", lighting = "front", frame_format = "png";
+  std::string calibration = "none";
   int bounces = 1;
 };
 
@@ -324,8 +326,20 @@ void ApplyOptions(SynthArgs& a, CLI::App* cmd) {
   } catch (const std::invalid_argument& e) {
     Bad("--frame-format", e.what());
   }
+  try {
+    a.render.calibration = synth::ParseCalibrationTarget(a.calibration);
+  } catch (const std::invalid_argument& e) {
+    Bad("--calibration", e.what());
+  }
   ApplyCameraSwitches(a);
   CheckArgs(a);
+  if (a.render.calibration != synth::CalibrationTarget::kNone) {
+    try {
+      synth::PlanCalibration(a.render, a.seed);
+    } catch (const std::invalid_argument& e) {
+      Bad("--calibration", e.what());
+    }
+  }
   a.render.Validate();
   a.geometry.Validate();
   a.hidden.out_of_plane.Validate();
@@ -446,6 +460,10 @@ void RegisterSynth(CLI::App& app, RunState& state) {
   cmd->add_option("--frame-format", a.frame_format,
                   "png (frames/%06d.png), mraw (one Photron clip.mraw + clip.cihx) or cine (one "
                   "Phantom clip.cine with time stamps)")
+      ->capture_default_str();
+  cmd->add_option("--calibration", a.calibration,
+                  "none, checkerboard or ruler: also write calibration.png showing it at the "
+                  "trial's scale, and take trial.json's scale from it (truth.json: calibration)")
       ->capture_default_str();
   cmd->add_option("--m-per-px", a.render.m_per_px, "Scale in the plane of motion (m/px)")
       ->capture_default_str();

@@ -165,6 +165,15 @@ nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
                           {"frames_used", g.frames_used},
                           {"rms_residual_px", JsonNumber(g.rms_residual_px)}};
   }
+  if (r.calibration_scale) {
+    const auto& c = *r.calibration_scale;
+    j["calibration_scale"] = {{"kind", r.spec.camera.scale_from},
+                              {"m_per_px", JsonNumber(c.m_per_px)},
+                              {"m_per_px_se", JsonNumber(c.m_per_px_se)},
+                              {"points", c.points},
+                              {"rms_residual_px", JsonNumber(c.rms_residual_px)},
+                              {"angle_deg", JsonNumber(c.angle_deg)}};
+  }
   j["frame_timing"] = FrameTimingJson(r.timing);
   if (r.spec.body.is_silhouette()) {
     j["body_shape"] = r.spec.body.shape;
@@ -282,6 +291,12 @@ std::string TrialText(const pipeline::TrialAnalysis& r) {
     os << "  projected marker distance changes by "
        << num(100 * r.out_of_plane_change, Kind::kError) << " % (noise "
        << num(100 * r.out_of_plane_noise, Kind::kError) << " %)\n";
+  }
+  if (r.calibration_scale) {
+    const auto& c = *r.calibration_scale;
+    os << "  " << r.scale_source << ": " << c.points
+       << (r.scale_source == "checkerboard" ? " corners" : " ticks") << ", rms residual "
+       << num(c.rms_residual_px, Kind::kError) << " px\n";
   }
   if (!r.timing.slot.empty()) {
     const auto list = [](const std::vector<int>& v) {

@@ -309,21 +309,83 @@ std::array<double, 9> ParseCameraMatrix(const json& m, const fs::path& file) {
   return k;
 }
 
+/// camera.checkerboard or camera.ruler (`kind`): the image (a file or a frame of the clip) and
+/// the target's geometry.
+CalibrationImageSpec ParseCalibrationImage(const json& c, const std::string& kind,
+                                           const fs::path& file,
+                                           std::vector<std::string>& warnings) {
+  const std::string prefix = "camera." + kind + ".";
+  const bool board = kind == "checkerboard";
+  WarnUnknown(c,
+              board ? std::set<std::string>{"image", "frame", "inner_corners", "square_m"}
+                    : std::set<std::string>{"image", "frame", "from_px", "to_px", "tick_m"},
+              file, prefix, warnings);
+  CalibrationImageSpec out;
+  if (c.contains("image") == c.contains("frame"))
+    Fail(file, "camera." + kind,
+         "must name its \"image\" (a file relative to the trial folder) or a \"frame\" of the "
+         "clip, one of the two");
+  if (c.contains("image")) {
+    out.image = Text(c, "image", file, prefix);
+    if (out.image.empty()) Fail(file, prefix + "image", "must not be empty");
+  } else {
+    const json& f = c.at("frame");
+    if (!f.is_number_integer() || f.get<std::int64_t>() < 0 ||
+        f.get<std::int64_t>() > std::numeric_limits<int>::max())
+      Fail(file, prefix + "frame", "must be a frame index >= 0, found " + f.dump());
+    out.frame = f.get<int>();
+  }
+  if (board) {
+    const json& n = Require(c, "inner_corners", file, prefix);
+    if (!n.is_array() || n.size() != 2 || !n[0].is_number_integer() || !n[1].is_number_integer() ||
+        n[0].get<std::int64_t>() < 3 || n[1].get<std::int64_t>() < 3 ||
+        n[0].get<std::int64_t>() > 1000 || n[1].get<std::int64_t>() > 1000)
+      Fail(file, prefix + "inner_corners",
+           "must be [columns, rows] of inner corners, each 3 to 1000, found " + n.dump());
+    out.cols = n[0].get<int>();
+    out.rows = n[1].get<int>();
+    out.square_m = Number(c, "square_m", file, prefix, true);
+  } else {
+    out.from_px = Pair(Require(c, "from_px", file, prefix), file, prefix + "from_px");
+    out.to_px = Pair(Require(c, "to_px", file, prefix), file, prefix + "to_px");
+    if (!((out.to_px - out.from_px).norm() > 0))
+      Fail(file, prefix + "to_px", "must differ from " + prefix + "from_px");
+    out.tick_m = Number(c, "tick_m", file, prefix, true);
+  }
+  return out;
+}
+
 /// trial.json's "camera": the scale, and gravity's direction and the lens where given.
 CameraSpec ParseCamera(const json& camera, const fs::path& file,
                        std::vector<std::string>& warnings) {
   CameraSpec out;
-  WarnUnknown(camera, {"m_per_px", "scale_from", "gravity_image", "distortion", "camera_matrix"},
+  WarnUnknown(camera,
+              {"m_per_px", "scale_from", "gravity_image", "distortion", "camera_matrix",
+               "checkerboard", "ruler"},
               file, "camera.", warnings);
   if (camera.contains("scale_from")) {
     out.scale_from = Text(camera, "scale_from", file, "camera.");
     if (out.scale_from != "m_per_px" && out.scale_from != "body_diameter" &&
         out.scale_from != "markers" && out.scale_from != "gravity" &&
-        out.scale_from != "end_radius")
+        out.scale_from != "end_radius" && out.scale_from != "checkerboard" &&
+        out.scale_from != "ruler")
       Fail(file, "camera.scale_from",
            "is \"" + out.scale_from +
-               "\": must be \"m_per_px\", \"body_diameter\", \"markers\", \"gravity\" or "
-               "\"end_radius\"");
+               "\": must be \"m_per_px\", \"body_diameter\", \"markers\", \"gravity\", "
+               "\"end_radius\", \"checkerboard\" or \"ruler\"");
+  }
+  for (const char* kind : {"checkerboard", "ruler"}) {
+    if (!camera.contains(kind)) {
+      if (out.scale_from == kind)
+        Fail(file, std::string("camera.") + kind,
+             std::string("is missing: camera.scale_from \"") + kind + "\" needs it");
+      continue;
+    }
+    (std::string(kind) == "ruler" ? out.ruler : out.checkerboard) =
+        ParseCalibrationImage(camera.at(kind), kind, file, warnings);
+    if (out.scale_from != kind)
+      warnings.push_back(file.string() + ": camera." + kind +
+                         " is not used: camera.scale_from is not \"" + kind + "\"");
   }
   // Required unless a ball's known diameter gives the scale (checked by ReadTrial).
   if (camera.contains("m_per_px")) out.m_per_px = Number(camera, "m_per_px", file, "camera.", true);
@@ -440,6 +502,12 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
          "is missing: the marker tracker needs an approximate scale to match the markers to the "
          "layout, even when camera.scale_from \"" +
              from + "\" gives the scale used");
+  for (const auto& [kind, c] : {std::pair<const char*, const std::optional<CalibrationImageSpec>*>{
+                                    "checkerboard", &t.camera.checkerboard},
+                                {"ruler", &t.camera.ruler}})
+    if (*c && !(*c)->image.empty() && from == kind && !fs::is_regular_file(trial_dir / (*c)->image))
+      Fail(file, std::string("camera.") + kind + ".image",
+           "names " + (trial_dir / (*c)->image).string() + ", which is not a file");
   if (from == "markers" && t.body.is_silhouette())
     Fail(file, "camera.scale_from", "is \"markers\" but the body is tracked by its silhouette");
   if (from == "end_radius" && !(t.body.is_silhouette() && !t.body.is_ball()))

@@ -27,16 +27,31 @@ struct SpecimenSpec : core::SpecimenParameters {
   std::vector<std::pair<std::string, Eigen::Vector2d>> markers_B_m;
 };
 
+/// A calibration image of trial.json's camera (docs/format.md, "The scale"): a checkerboard or a
+/// ruler lying in the plane of motion, in an image file or a frame of the clip.
+struct CalibrationImageSpec {
+  std::string image;  ///< PNG/TIFF file relative to the trial folder; empty when `frame` is used
+  int frame = -1;     ///< else a frame of the clip (0-based, among the frames trial.json selects)
+  /// Checkerboard: inner corners per row (cols) and per column (rows), and the square's side.
+  int cols = 0, rows = 0;
+  double square_m = 0.0;
+  /// Ruler: two points on it (recorded image px), the ticks crossing the segment between them,
+  /// and the tick spacing.
+  Eigen::Vector2d from_px{0.0, 0.0}, to_px{0.0, 0.0};
+  double tick_m = 0.0;
+};
+
 /// Camera of trial.json.
 struct CameraSpec {
   /// Scale in the plane of motion; 0 when trial.json gives none (a ball's `body.diameter_m`
   /// gives it then).
   double m_per_px = 0.0;
   /// Where the scale comes from (docs/format.md, "The scale"): "m_per_px" (stated),
-  /// "body_diameter" (a ball's diameter_m), "markers" (the marker spacing) or "gravity" (the
-  /// free-flight parabola at the frame rate); empty: m_per_px where given, else a ball's
-  /// diameter.
+  /// "body_diameter" (a ball's diameter_m), "markers" (the marker spacing), "gravity" (the
+  /// free-flight parabola at the frame rate), "checkerboard" or "ruler" (a calibration image);
+  /// empty: m_per_px where given, else a ball's diameter.
   std::string scale_from;
+  std::optional<CalibrationImageSpec> checkerboard, ruler;  ///< camera.checkerboard, camera.ruler
   Eigen::Vector2d gravity_image{0.0, 1.0};             ///< unit direction of gravity in the image
   std::optional<std::array<double, 5>> distortion;     ///< OpenCV k1 k2 p1 p2 k3
   std::optional<std::array<double, 9>> camera_matrix;  ///< row-major 3x3

@@ -8,6 +8,7 @@
 
 #include "core/frames.h"
 #include "kinematics/gravity_scale.h"
+#include "pipeline/calibration_scale.h"
 #include "pipeline/round_end.h"
 #include "pipeline/trial_impacts.h"
 #include "tracking/camera_file.h"
@@ -123,6 +124,13 @@ void ScaleFromGravity(const TrialSpec& spec, const TrialAnalysisOptions& options
   if (!out.gravity_scale->measured) out.warnings.push_back(out.gravity_scale->message);
 }
 
+/// The scale measured in the calibration image (camera.scale_from "checkerboard" or "ruler").
+void ApplyCalibrationScale(TrialAnalysis& out) {
+  out.m_per_px_used = out.calibration_scale->m_per_px;
+  out.m_per_px_se = out.calibration_scale->m_per_px_se;
+  out.scale_source = out.spec.camera.scale_from;
+}
+
 /// The frames' capture times (tracking/frame_timing.h), from the images and the body's path
 /// `p_px` (px, one per frame, gravity along `gravity_dir`): a frame that repeats the previous
 /// image is no sample of the motion, and a missing capture shifts the frames after it. Flags
@@ -216,8 +224,11 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
   // centroid in B measured over frames spread through the clip.
   const tracking::ImageToWorld unit = TrialCamera(spec, 1.0);
   if (!spec.body.is_ball()) {
-    const double r_guess =
-        spec.camera.m_per_px > 0 ? body.end_radius_m / spec.camera.m_per_px : 0.0;
+    // The scale known before the track: the stated one, else the calibration image's.
+    const double known_scale = spec.camera.m_per_px > 0 ? spec.camera.m_per_px
+                               : out.calibration_scale  ? out.calibration_scale->m_per_px
+                                                        : 0.0;
+    const double r_guess = known_scale > 0 ? body.end_radius_m / known_scale : 0.0;
     out.round_end =
         MeasureRoundEnd(source, out.silhouette, r_guess, options.round_end_frames, unit);
     if (!out.round_end->measured)
@@ -289,6 +300,8 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
     out.m_per_px_used = scale.m_per_px;
     out.m_per_px_se = scale.m_per_px_se;
     out.scale_source = "specimen.end_radius_m";
+  } else if (out.calibration_scale) {
+    ApplyCalibrationScale(out);
   } else if (!(spec.camera.m_per_px > 0) || spec.camera.scale_from == "body_diameter") {
     out.m_per_px_used = out.m_per_px_from_body;
     out.m_per_px_se = std::isnan(out.body_diameter_se_px)
@@ -445,6 +458,7 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
   out.warnings = spec.warnings;
   try {
     auto source = OpenFrames(spec);
+    if (UsesCalibrationImage(spec)) out.calibration_scale = MeasureCalibrationScale(spec);
     // The trackers read the clip through this, which compares each frame with the one before
     // for the frame timing as it passes (one read of the clip, not two).
     tracking::DifferencingSource tracked(*source, options.timing.max_grid_pixels,
@@ -483,7 +497,11 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
       out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return out;
     }
-    out.tracks = tracking::TrackMarkers(tracked, spec.specimen.markers_B_m, spec.camera.m_per_px,
+    // The marker tracker needs an approximate scale: the stated one, else the calibration's.
+    const double tracker_scale = out.calibration_scale && !(spec.camera.m_per_px > 0)
+                                     ? out.calibration_scale->m_per_px
+                                     : spec.camera.m_per_px;
+    out.tracks = tracking::TrackMarkers(tracked, spec.specimen.markers_B_m, tracker_scale,
                                         spec.camera.gravity_image, options.tracker, progress);
     for (const auto& w : out.tracks.warnings) out.warnings.push_back(w);
     for (const auto& row : out.tracks.frames)
@@ -524,6 +542,14 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
         out.m_per_px_se = out.m_per_px_from_markers_se;
         out.scale_source = "markers";
       }
+    }
+    if (out.calibration_scale) {
+      if (options.scale_from_markers)
+        out.warnings.push_back(
+            "--scale-from-markers is not used: trial.json's camera.scale_from "
+            "is \"" +
+            spec.camera.scale_from + "\"");
+      ApplyCalibrationScale(out);
     }
     // C's path at the provisional scale, in px of W (gravity along -y_W): the frames' capture
     // times come from it and the images, and the scale from gravity where asked.

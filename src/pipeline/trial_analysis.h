@@ -12,6 +12,7 @@
 #include "kinematics/impact_kinematics.h"
 #include "pipeline/round_end.h"
 #include "pipeline/study_format.h"
+#include "tracking/calibration_target.h"
 #include "tracking/frame_timing.h"
 #include "tracking/marker_tracker.h"
 #include "tracking/pose.h"
@@ -77,7 +78,8 @@ struct TrialAnalysis {
   double m_per_px_used = 0.0;
   /// Where m_per_px_used comes from: "camera.m_per_px", "markers" (--scale-from-markers or
   /// camera.scale_from), "body.diameter_m" (a ball's known diameter over its fitted diameter)
-  /// or "gravity" (the free-flight parabola; NaN when it could not be measured). Its s.e.
+  /// "gravity" (the free-flight parabola; NaN when it could not be measured), "checkerboard" or
+  /// "ruler" (a calibration image). Its s.e.
   /// is carried into every velocity and kinetic energy (kinematics::AddScaleUncertainty).
   std::string scale_source = "camera.m_per_px";
   double m_per_px_se = 0.0;               ///< its standard error; 0 for a stated scale
@@ -85,6 +87,9 @@ struct TrialAnalysis {
   double m_per_px_from_markers_se = 0.0;  ///< the median's standard error
   /// The gravity fit, when camera.scale_from is "gravity" (kinematics/gravity_scale.h).
   std::optional<kinematics::GravityScale> gravity_scale;
+  /// The calibration image's measurement, when camera.scale_from is "checkerboard" or "ruler"
+  /// (pipeline/calibration_scale.h).
+  std::optional<tracking::CalibrationScale> calibration_scale;
   /// An outline: where its round end's centre E lies from the area centroid (nullopt for markers
   /// and balls). When not measured, the area centroid is taken as C.
   std::optional<RoundEndOffset> round_end;

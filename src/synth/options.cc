@@ -72,6 +72,26 @@ FrameFormat ParseFrameFormat(const std::string& name) {
   throw std::invalid_argument("frame format '" + name + "' must be png, mraw or cine");
 }
 
+const char* ToString(CalibrationTarget target) {
+  switch (target) {
+    case CalibrationTarget::kCheckerboard:
+      return "checkerboard";
+    case CalibrationTarget::kRuler:
+      return "ruler";
+    case CalibrationTarget::kNone:
+      break;
+  }
+  return "none";
+}
+
+CalibrationTarget ParseCalibrationTarget(const std::string& name) {
+  for (CalibrationTarget t :
+       {CalibrationTarget::kNone, CalibrationTarget::kCheckerboard, CalibrationTarget::kRuler})
+    if (name == ToString(t)) return t;
+  throw std::invalid_argument("calibration target '" + name +
+                              "' must be none, checkerboard or ruler");
+}
+
 dynamics::SpecimenParameters SpecimenGeometry::Simulated() const {
   if (body != Body::kBall) return dynamics;
   dynamics::SpecimenParameters p;

@@ -45,6 +45,18 @@ const char* ToString(FrameFormat format);
 /// Parses ToString's names; std::invalid_argument naming the value otherwise.
 FrameFormat ParseFrameFormat(const std::string& name);
 
+/// A calibration image written beside the trial (docs/synthetic-trials.md, "Calibration
+/// images"), which trial.json then names as its scale (camera.scale_from).
+enum class CalibrationTarget {
+  kNone,          ///< No calibration image; trial.json states camera.m_per_px (the default).
+  kCheckerboard,  ///< A checkerboard card.
+  kRuler,         ///< A ruler with regular ticks.
+};
+/// "none", "checkerboard" or "ruler".
+const char* ToString(CalibrationTarget target);
+/// Parses ToString's names; std::invalid_argument naming the value otherwise.
+CalibrationTarget ParseCalibrationTarget(const std::string& name);
+
 /// One white dot on its black square patch, at p_BM in the body frame B (origin E, x_B toward
 /// C), on the face of the specimen that looks at the camera.
 struct Marker {
@@ -167,6 +179,8 @@ struct RenderOptions {
   int texture_oversampling = 5;
   Lighting lighting = Lighting::kFront;
   FrameFormat frame_format = FrameFormat::kPng;  ///< How the frames are stored.
+  /// A calibration image of the scale, written as calibration.png and named by trial.json.
+  CalibrationTarget calibration = CalibrationTarget::kNone;
   /// Choose frames_before from the fall since release at rest (speed / g) and frames_after to
   /// end at the apex of the rebound after the last impact, instead of the fixed counts.
   bool frames_from_flight = false;

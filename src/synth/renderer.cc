@@ -21,6 +21,7 @@
 #include "core/frames.h"
 #include "io/atomic_file.h"
 #include "io/interrupt.h"
+#include "synth/calibration_image.h"
 #include "synth/camera_model.h"
 #include "synth/frame_renderer.h"
 #include "synth/trial_files.h"
@@ -603,6 +604,12 @@ TrialResult RenderTrial(const TrialSpec& spec, const SpecimenGeometry& geometry,
     previous = image;
   }
   writer.Finish();
+  if (options.calibration != CalibrationTarget::kNone) {
+    const CalibrationPlan plan = PlanCalibration(options, spec.seed);
+    const fs::path file = folder.path() / plan.file;
+    if (!cv::imwrite(file.string(), RenderCalibrationImage(plan, options, spec.seed)))
+      throw std::runtime_error("cannot write the calibration image '" + file.string() + "'");
+  }
   io::WriteTextAtomically(folder.path() / "trial.json",
                           TrialJson(truth, options, geometry).dump(2) + "\n");
   io::WriteTextAtomically(folder.path() / "truth.json",

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "synth/calibration_image.h"
 #include "synth/camera_model.h"
 
 namespace hoof::synth {
@@ -130,6 +131,21 @@ nlohmann::json TrialJson(const TrialTruth& t, const RenderOptions& o, const Spec
     trial["body"] = {{"model", "silhouette"}, {"shape", "ball"}, {"diameter_m", g.ball_diameter_m}};
   } else if (g.body == Body::kUnmarked)
     trial["body"] = {{"model", "silhouette"}, {"shape", "outline"}};
+  // With a calibration image the scale comes from it, as a user's would: no stated m_per_px.
+  if (o.calibration != CalibrationTarget::kNone) {
+    const CalibrationPlan p = PlanCalibration(o, t.spec.seed);
+    nlohmann::json& cam = trial["camera"];
+    cam.erase("m_per_px");
+    cam["scale_from"] = ToString(o.calibration);
+    if (o.calibration == CalibrationTarget::kCheckerboard)
+      cam["checkerboard"] = {
+          {"image", p.file}, {"inner_corners", {p.cols, p.rows}}, {"square_m", p.square_m}};
+    else
+      cam["ruler"] = {{"image", p.file},
+                      {"from_px", Vec(p.from_px)},
+                      {"to_px", Vec(p.to_px)},
+                      {"tick_m", p.tick_m}};
+  }
   return trial;
 }
 
@@ -241,6 +257,25 @@ nlohmann::json TruthJson(const TrialTruth& t, const SpecimenGeometry& g, const R
       file["time_stamps_s"] = stamps;
     }
     truth["frame_file"] = file;
+  }
+  if (o.calibration != CalibrationTarget::kNone) {
+    // The calibration image's truth (docs/synthetic-trials.md, "Calibration images").
+    const CalibrationPlan p = PlanCalibration(o, t.spec.seed);
+    nlohmann::json cal = {{"target", ToString(p.target)},
+                          {"file", p.file},
+                          {"m_per_px", p.m_per_px},
+                          {"centre_px_undistorted", Vec(p.centre_px)},
+                          {"angle_deg", p.angle_deg}};
+    if (p.target == CalibrationTarget::kCheckerboard) {
+      cal["inner_corners"] = {p.cols, p.rows};
+      cal["square_m"] = p.square_m;
+    } else {
+      cal["tick_m"] = p.tick_m;
+      cal["ticks"] = p.ticks;
+      cal["from_px"] = Vec(p.from_px);
+      cal["to_px"] = Vec(p.to_px);
+    }
+    truth["calibration"] = cal;
   }
   return truth;
 }

@@ -69,9 +69,14 @@ TEST(StudyFormatTest, MissingOrWrongFieldsNameFileAndField) {
   // approximate m_per_px (the tracker matches the markers with it); a ball's diameter as the
   // source needs a ball.
   trial = kTrial;
-  trial.replace(trial.find("\"m_per_px\": 1.5e-4"), 18, "\"scale_from\": \"ruler\"");
+  trial.replace(trial.find("\"m_per_px\": 1.5e-4"), 18, "\"scale_from\": \"tape\"");
   ExpectError([&] { ReadTrial(Write("format_badsource", kStudy, trial) / "t1"); },
-              "field \"camera.scale_from\" is \"ruler\"");
+              "field \"camera.scale_from\" is \"tape\"");
+  // A calibration image as the source needs its description (camera.ruler here).
+  trial = kTrial;
+  trial.replace(trial.find("\"m_per_px\": 1.5e-4"), 18, "\"scale_from\": \"ruler\"");
+  ExpectError([&] { ReadTrial(Write("format_noruler", kStudy, trial) / "t1"); },
+              "field \"camera.ruler\" is missing: camera.scale_from \"ruler\" needs it");
   trial = kTrial;
   trial.replace(trial.find("\"m_per_px\": 1.5e-4"), 18, "\"scale_from\": \"gravity\"");
   ExpectError(
