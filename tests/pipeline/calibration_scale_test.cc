@@ -151,22 +151,3 @@ TEST(CalibrationScaleTest, ARulerSegmentOffTheImageOrWithoutTicksIsAnError) {
 }
 
 }  // namespace
-namespace {
-// Not a test: prints the scale error on boards of 10 px squares (160 x 288 px frames), where
-// the sector-based detector's corners give a scale low by ~0.2 % (10 of its s.e.; a known gap,
-// docs/tracking.md "4b. The scale"). Run with --gtest_also_run_disabled_tests.
-TEST(CalibrationScaleTest, DISABLED_SmallSquaresDiagnostic) {
-  for (int bits : {8, 12})
-    for (int seed = 1; seed <= 4; ++seed) {
-      RenderOptions o;
-      o.width_px = 160;
-      o.height_px = 288;
-      o.bit_depth = bits;
-      o.lighting = hoof::synth::Lighting::kBacklit;
-      const Measured m = MeasureRendered(CalibrationTarget::kCheckerboard, seed, o);
-      std::printf("bits %d seed %d: rel err %+.4f %%, se %.4f %%, rms %.3f\n", bits, seed,
-                  100 * (m.scale.m_per_px / m.plan.m_per_px - 1),
-                  100 * m.scale.m_per_px_se / m.plan.m_per_px, m.scale.rms_residual_px);
-    }
-}
-}  // namespace
