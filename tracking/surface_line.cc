@@ -12,6 +12,20 @@ namespace hoof::tracking {
 
 namespace {
 
+/// The rms distance of `pts` from `line` and their extent along it, into the line.
+void MeasureAlong(const std::vector<cv::Point2f>& pts, ImageLine& line) {
+  const Eigen::Vector2d nn(-line.direction_I.y(), line.direction_I.x());
+  double ss = 0, lo = 1e18, hi = -1e18;
+  for (const auto& p : pts) {
+    const Eigen::Vector2d d = Eigen::Vector2d(p.x, p.y) - line.point_I;
+    ss += std::pow(nn.dot(d), 2);
+    lo = std::min(lo, line.direction_I.dot(d));
+    hi = std::max(hi, line.direction_I.dot(d));
+  }
+  line.rms_residual_px = std::sqrt(ss / static_cast<double>(pts.size()));
+  line.length_px = hi - lo;
+}
+
 /// The surface as a region's edge: the top edge of the region, unlike the background above it,
 /// that fills the bottom of the frame (a textured strip seen against a bright back light, whose
 /// texture gives Canny stronger lines inside it than at its edge). The frame is stretched
@@ -88,16 +102,7 @@ std::optional<ImageLine> FindSurfaceRegionEdge(const cv::Mat& grey) {
       if (std::abs(res[i]) < keep) kept.push_back(pts[i]);
   }
   if (kept.size() < static_cast<std::size_t>(f.cols / 3)) return std::nullopt;
-  const Eigen::Vector2d nn(-line.direction_I.y(), line.direction_I.x());
-  double ss = 0, lo_t = 1e18, hi_t = -1e18;
-  for (const auto& p : kept) {
-    const Eigen::Vector2d d = Eigen::Vector2d(p.x, p.y) - line.point_I;
-    ss += std::pow(nn.dot(d), 2);
-    lo_t = std::min(lo_t, line.direction_I.dot(d));
-    hi_t = std::max(hi_t, line.direction_I.dot(d));
-  }
-  line.rms_residual_px = std::sqrt(ss / static_cast<double>(kept.size()));
-  line.length_px = hi_t - lo_t;
+  MeasureAlong(kept, line);
   const double angle =
       std::abs(std::atan2(line.direction_I.y(), line.direction_I.x())) * 180 / CV_PI;
   if (line.length_px < f.cols / 3.0 || std::min(angle, 180 - angle) > 60 ||
@@ -154,16 +159,7 @@ std::optional<ImageLine> FindSurfaceLine(const cv::Mat& grey) {
   line.direction_I = Eigen::Vector2d(fit[0], fit[1]).normalized();
   if (line.direction_I.x() < 0) line.direction_I = -line.direction_I;
   line.point_I = {fit[2], fit[3]};
-  const Eigen::Vector2d nn(-line.direction_I.y(), line.direction_I.x());
-  double ss = 0, lo = 1e18, hi = -1e18;
-  for (const auto& p : pts) {
-    const Eigen::Vector2d d = Eigen::Vector2d(p.x, p.y) - line.point_I;
-    ss += std::pow(nn.dot(d), 2);
-    lo = std::min(lo, line.direction_I.dot(d));
-    hi = std::max(hi, line.direction_I.dot(d));
-  }
-  line.rms_residual_px = std::sqrt(ss / static_cast<double>(pts.size()));
-  line.length_px = hi - lo;
+  MeasureAlong(pts, line);
   return line;
 }
 

@@ -325,8 +325,9 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
     tracking::BodyPose pose;
     if (o.found) {
       pose.valid = true;
-      // The centre is the ball's, or the outline's area centroid, taken as the centre of mass
-      // C; E lies d_EC behind it along x_B. A ball's rotation is not seen: its angle stays 0.
+      // A ball's centre is C and E. An outline's E is its area centroid plus the round end's
+      // offset p_BE where that was measured, else E lies d_EC behind the centroid (taken as C)
+      // along x_B. A ball's rotation is not seen: its angle stays 0.
       pose.theta_W_rad = o.has_orientation ? AngleInWorld(cam, o.p_I, o.angle_I_rad) : 0.0;
       const core::BodyRotation R_WB(pose.theta_W_rad);
       pose.p_WE = cam.ToWorld(o.p_I);

@@ -47,7 +47,9 @@ struct TrialSetup {
   double surface_angle_deg = 0.0;
   std::vector<int> impact_frames;  ///< first frame of each contact found
   kinematics::GravityScale gravity;
-  std::string scale_from;  ///< "m_per_px", "body_diameter" or "gravity"
+  /// "m_per_px", "body_diameter", "markers", "end_radius" or "gravity"; UseCalibrationScale
+  /// (pipeline/calibration_scale.h) may set "checkerboard" or "ruler" after
+  std::string scale_from;
   double m_per_px = core::kNaN, m_per_px_se = core::kNaN;  ///< the scale it implies (NaN: none)
   double body_diameter_px = core::kNaN;                    ///< ball: median fitted diameter
   /// A marked body: the white dots seen in the first frame, and per frame the dots followed
@@ -67,9 +69,12 @@ struct TrialSetup {
 TrialSetup SetUpTrial(const std::filesystem::path& clip, const std::filesystem::path& trial_dir,
                       const TrialSetupOptions& options);
 
-/// A contact sheet of the setup: up to 12 frames (the impacts and their neighbours first,
-/// then frames spread over the clip) with the body's outline, the surface line and the
-/// impact frames marked, and a caption of what was found. 8-bit BGR.
+/// The body found, in words: "markers (2 white dots)" or "ball (dark_on_bright)".
+std::string BodyText(const TrialSetup& setup);
+
+/// A contact sheet of the setup (src/pipeline/contact_sheet.cc): up to 12 frames (the impacts and
+/// their neighbours first, then frames spread over the clip) with the body's outline, the surface
+/// line and the impact frames marked, and a caption of what was found. 8-bit BGR.
 cv::Mat ContactSheet(const TrialSetup& setup);
 
 /// `image` as PNG bytes.
