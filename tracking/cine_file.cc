@@ -222,6 +222,8 @@ CineLayout ParseCineLayout(const ReadAt& read, std::uint64_t file_size, const st
   info.recording_fps = fps;
   info.decimation = static_cast<int>(std::lround(decimation));
   info.fps = fps / decimation;
+  if (const auto why = detail::FpsOutOfRange(info.fps))
+    fail("its setup block's frame rate: " + *why);
   info.shutter_s = shutter;
   info.first_frame_number = first_image;
   if (first_stamp && (trigger.seconds != 0 || trigger.fractions != 0))

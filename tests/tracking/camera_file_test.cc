@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -311,6 +312,11 @@ TEST(CameraFileTest, BadMrawFilesAreRefusedNamingTheFileAndTheFrame) {
   WriteBytes(dir / "norate.mraw", data);
   ExpectError([&] { OpenCameraFile(dir / "norate.mraw"); },
               "norate.cihx: recordInfo/recordRate is missing");
+  // A frame rate no camera has: one frame in 10^6 s makes every time the clip gives enormous.
+  { std::ofstream(dir / "slow.cihx") << replaced(cihx, "<recordRate>8000<", "<recordRate>1e-6<"); }
+  WriteBytes(dir / "slow.mraw", data);
+  ExpectError([&] { OpenCameraFile(dir / "slow.mraw"); },
+              "slow.cihx: frame rate 1e-06 fps is not within 0.001 to 1e+09");
   fs::copy_file(dir / "clip.cihx", dir / "lonely.cihx");
   ExpectError([&] { OpenCameraFile(dir / "lonely.cihx"); }, "no lonely.mraw beside it");
   // A hostile header asking for a huge frame is refused before any allocation.
@@ -514,6 +520,17 @@ TEST(CameraFileTest, BadCineFilesAreRefusedNamingTheFile) {
   auto src = OpenCameraFile(dir / "annotation.cine");
   ExpectError([&] { src->Read(0); }, "annotation.cine: frame 0 has an annotation of 65535 bytes");
   EXPECT_EQ(cv::norm(src->Read(1), frames[1], cv::NORM_INF), 0.0);
+  // A vanishing recorded rate (the smallest double) that the decimation divides to zero: found
+  // by libFuzzer; a zero rate would make every time the clip gives infinite.
+  bad = good;
+  const std::size_t setup = Le(good, 28, 4);
+  const double tiny = std::numeric_limits<double>::denorm_min();
+  const float two = 2.0f;
+  std::memcpy(bad.data() + setup + 10400, &tiny, sizeof tiny);  // FrameRate (double)
+  std::memcpy(bad.data() + setup + 10388, &two, sizeof two);    // decimation (float)
+  WriteBytes(dir / "rate.cine", bad);
+  ExpectError([&] { OpenCameraFile(dir / "rate.cine"); },
+              "rate.cine: its setup block's frame rate: 0 fps is not within 0.001");
   // Every one-byte truncation of the headers is an error, never a crash.
   for (std::size_t n = 0; n < 200; n += 7) {
     WriteBytes(dir / "short.cine", {good.begin(), good.begin() + static_cast<std::ptrdiff_t>(n)});
