@@ -444,11 +444,11 @@ cv::Mat BrightMask(const cv::Mat& f) {
 /// so a frame whose fitted diameter departs from its neighbours' was fitted to the ball joined
 /// by something else: a lit surface or its reflection at the contact, which pulls the circle
 /// (and its centre) toward it while every edge point still lies on one larger circle. Such a
-/// frame is left out as not found, with a warning naming it. The neighbours are the found
+/// frame is left out as not found (WarnOfLostFrames names it). The neighbours are the found
 /// frames within kNeighbourFrames on each side; a frame departs when its diameter differs from
 /// their median by more than kDepartureSd robust s.d.s of that difference over the clip and by
 /// more than kDepartureFraction of the diameter.
-void LeaveOutJoinedBalls(SilhouetteTrack& track, const FrameSource& source) {
+void LeaveOutJoinedBalls(SilhouetteTrack& track) {
   constexpr int kNeighbourFrames = 8;
   constexpr double kDepartureSd = 6.0, kDepartureFraction = 0.005;
   const int n = track.frame_count();
@@ -480,8 +480,30 @@ void LeaveOutJoinedBalls(SilhouetteTrack& track, const FrameSource& source) {
       };
       o.status = "its fitted diameter " + px(o.diameter_px) + " departs from its neighbours' " +
                  px(m) + " (the ball joined by a surface or a reflection)";
-      track.warnings.push_back(source.Describe(i) + ": the body was not found (" + o.status + ")");
     }
+  }
+}
+
+/// One warning per run of consecutive frames, from `first` on, where the body was not found for
+/// the same reason: "F to L (N frames): the body was not found (why)". A clip whose body leaves
+/// the view for thousands of frames gives one line, not thousands.
+void WarnOfLostFrames(SilhouetteTrack& track, const FrameSource& source, int first) {
+  const int n = track.frame_count();
+  const auto at = [&](int i) -> const SilhouetteObservation& {
+    return track.frames[static_cast<std::size_t>(i)];
+  };
+  for (int i = std::max(first, 0); i < n;) {
+    if (at(i).found) {
+      ++i;
+      continue;
+    }
+    int last = i;
+    while (last + 1 < n && !at(last + 1).found && at(last + 1).status == at(i).status) ++last;
+    const std::string where = last == i ? source.Describe(i)
+                                        : source.Describe(i) + " to " + source.Describe(last) +
+                                              " (" + std::to_string(last - i + 1) + " frames)";
+    track.warnings.push_back(where + ": the body was not found (" + at(i).status + ")");
+    i = last + 1;
   }
 }
 
@@ -613,7 +635,7 @@ SilhouetteTrack TrackSilhouette(FrameSource& source, const SilhouetteOptions& op
   options.Validate();
   SilhouetteTrack track;
   track.polarity = options.polarity;
-  int found_frames = 0;
+  int found_frames = 0, first_found = -1;
   std::optional<ReadAhead> reader;
   if (options.read_ahead_frames > 0 && source.count() > 1)
     reader.emplace(source, options.read_ahead_frames);
@@ -644,20 +666,20 @@ SilhouetteTrack TrackSilhouette(FrameSource& source, const SilhouetteOptions& op
       if (obs.found && obs.has_orientation && have_last)
         OrientAxis(obs, options, track.frames[static_cast<std::size_t>(n - 1)].angle_I_rad);
     }
-    if (obs.found)
+    if (obs.found) {
+      if (found_frames == 0) first_found = i;
       ++found_frames;
-    else if (found_frames > 0)
-      track.warnings.push_back(source.Describe(i) + ": the body was not found (" + obs.status +
-                               ")");
+    }
     track.frames.push_back(obs);
     if (progress) progress(i);
   }
-  if (options.shape == SilhouetteShape::kBall) LeaveOutJoinedBalls(track, source);
+  if (options.shape == SilhouetteShape::kBall) LeaveOutJoinedBalls(track);
   if (found_frames == 0)
     throw std::runtime_error(source.Describe(0) + " (and the other " +
                              std::to_string(source.count() - 1) +
                              " frames): no body found: no region of either polarity, clear of "
                              "the frame's border, stands out from its surround");
+  WarnOfLostFrames(track, source, first_found);
   return track;
 }
 

@@ -236,6 +236,36 @@ TEST(SilhouetteTrackerTest, ReadingAheadOnASecondThreadGivesTheSameTrack) {
   }
 }
 
+// A ball that leaves the view for 300 frames and one lone frame where it is lost give two
+// warnings, each naming its frames, not 301 lines; frames before the ball first appears are
+// not warned of.
+TEST(SilhouetteTrackerTest, ARunOfFramesWithoutTheBodyIsOneWarning) {
+  VectorSource src;
+  const auto empty = [](unsigned seed) {
+    return Quantize(Background(160, 160, 3800), CV_16U, 10.0, seed);
+  };
+  const auto ball = [](int i) {
+    return DiscFrame(Eigen::Vector2d(60.0 + 0.5 * i, 50.0 + 0.4 * i), 20.0, 300, 3800, CV_16U, 10.0,
+                     500u + static_cast<unsigned>(i));
+  };
+  for (int i = 0; i < 3; ++i) src.frames.push_back(empty(100u + static_cast<unsigned>(i)));
+  for (int i = 3; i < 10; ++i) src.frames.push_back(ball(i));
+  src.frames.push_back(empty(200));  // frame 10
+  for (int i = 11; i < 16; ++i) src.frames.push_back(ball(i));
+  for (int i = 16; i < 316; ++i) src.frames.push_back(empty(static_cast<unsigned>(1000 + i)));
+  const SilhouetteTrack t = TrackSilhouette(src, Ball());
+  ASSERT_EQ(t.frame_count(), 316);
+  int found = 0;
+  for (const auto& o : t.frames) found += o.found;
+  EXPECT_EQ(found, 12);
+  ASSERT_EQ(t.warnings.size(), 2u);
+  const std::string why = ": the body was not found (" + t.frames[10].status + ")";
+  EXPECT_EQ(t.warnings[0], "memory frame 10" + why);
+  EXPECT_EQ(t.warnings[1], "memory frame 16 to memory frame 315 (300 frames)" + why);
+  for (int i = 16; i < 316; ++i)
+    EXPECT_EQ(t.frames[static_cast<std::size_t>(i)].status, t.frames[10].status) << i;
+}
+
 // An error reading a frame on the read-ahead thread reaches the caller, with its message.
 TEST(SilhouetteTrackerTest, AnErrorReadingAheadIsRethrownToTheCaller) {
   class FailingSource : public VectorSource {
