@@ -327,7 +327,7 @@ ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,
   if (frames_before < options.min_fit_frames || frames_after < options.min_fit_frames ||
       !(v_down < -kMinImpactSpeed_m_s) || !(v_up > kMinImpactSpeed_m_s)) {
     std::ostringstream os;
-    os << "no impact found: the round end's lowest point is at frame " << i_min << " of "
+    os << "no impact found: the body comes nearest the surface at frame " << i_min << " of "
        << poses.size() << ", and it does not come down before it and rebound after it with "
        << options.min_fit_frames << " or more frames on each side";
     k.message = os.str();
