@@ -265,4 +265,11 @@ std::string FrameRangeSource::Describe(int index) const {
   return source_->Describe(first_ + index);
 }
 
+std::optional<double> FrameRangeSource::TimeOf(int index) const {
+  if (index < 0 || index >= count_) return std::nullopt;
+  const auto t = source_->TimeOf(first_ + index), t0 = source_->TimeOf(first_);
+  if (!t || !t0) return std::nullopt;
+  return *t - *t0;
+}
+
 }  // namespace hoof::tracking

@@ -49,12 +49,6 @@ struct CameraFileInfo {
 class CameraFileSource : public FrameSource {
  public:
   virtual const CameraFileInfo& info() const = 0;
-  /// Recorded time of frame `index` in seconds after frame 0, where the file has per-frame time
-  /// stamps (CINE); nullopt otherwise.
-  virtual std::optional<double> TimeOf(int index) const {
-    (void)index;
-    return std::nullopt;
-  }
 };
 
 /// True for the extensions of camera files: .mraw .cih .cihx .cine .tif .tiff (any case).
@@ -64,14 +58,16 @@ bool IsCameraFile(const std::filesystem::path& path);
 /// or .cih); a .cihx or .cih finds the .mraw. Throws std::runtime_error naming the file.
 std::unique_ptr<CameraFileSource> OpenCameraFile(const std::filesystem::path& path);
 
-/// Frames [first, first + count) of another source, renumbered from 0. Throws
-/// std::invalid_argument when the range does not lie within the source.
+/// Frames [first, first + count) of another source, renumbered from 0, with their time stamps
+/// (if the source has them) counted from the range's first frame. Throws std::invalid_argument
+/// when the range does not lie within the source.
 class FrameRangeSource : public FrameSource {
  public:
   FrameRangeSource(std::unique_ptr<FrameSource> source, int first, int count);
   int count() const override { return count_; }
   cv::Mat Read(int index) override;
   std::string Describe(int index) const override;
+  std::optional<double> TimeOf(int index) const override;
 
  private:
   std::unique_ptr<FrameSource> source_;

@@ -51,6 +51,7 @@ class DifferencingSource : public FrameSource {
   int count() const override { return inner_.count(); }
   cv::Mat Read(int index) override;
   std::string Describe(int index) const override { return inner_.Describe(index); }
+  std::optional<double> TimeOf(int index) const override { return inner_.TimeOf(index); }
   /// The comparison of every frame of the clip when each was read in order, else nullopt (then
   /// DifferenceFrames reads the clip again).
   std::optional<ImageDifferences> Differences() const;

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <opencv2/core.hpp>
@@ -31,6 +32,12 @@ class FrameSource {
   virtual cv::Mat Read(int index) = 0;
   /// Where frame `index` comes from, for messages ("frames/000012.png", "clip.avi frame 12").
   virtual std::string Describe(int index) const = 0;
+  /// Recorded time of frame `index` in seconds after frame 0, where the source has per-frame
+  /// time stamps (a CINE file, or a range of one); nullopt otherwise.
+  virtual std::optional<double> TimeOf(int index) const {
+    (void)index;
+    return std::nullopt;
+  }
 };
 
 /// Longest frame file pattern accepted (characters).

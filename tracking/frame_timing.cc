@@ -10,7 +10,6 @@
 
 #include <Eigen/Dense>
 
-#include "tracking/camera_file.h"
 #include "tracking/frame_differences.h"
 
 namespace hoof::tracking {
@@ -395,11 +394,9 @@ FrameTiming UniformTiming(int frame_count, double fps) {
 }
 
 std::optional<std::vector<double>> TimeStamps(const FrameSource& source) {
-  const auto* camera = dynamic_cast<const CameraFileSource*>(&source);
-  if (!camera) return std::nullopt;
   std::vector<double> t;
   for (int i = 0; i < source.count(); ++i) {
-    const auto ti = camera->TimeOf(i);
+    const auto ti = source.TimeOf(i);
     if (!ti) return std::nullopt;
     t.push_back(*ti);
   }

@@ -126,8 +126,8 @@ FrameTiming AnalyzeFrameTiming(FrameSource& source, double fps,
 /// Every frame a new capture at index / fps (the analysis switched off).
 FrameTiming UniformTiming(int frame_count, double fps);
 
-/// The per-frame time stamps of `source` (a camera file that records them, CINE), nullopt
-/// otherwise.
+/// The per-frame time stamps of `source` (a camera file that records them, CINE, or a range of
+/// one), nullopt otherwise.
 std::optional<std::vector<double>> TimeStamps(const FrameSource& source);
 
 }  // namespace hoof::tracking

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -101,6 +102,27 @@ TEST(TrackFrameTimingTest, ACineClipsTimeStampsShowADroppedCapture) {
   const auto& j = t.results;
   EXPECT_EQ(j["frame_timing"]["source"], "time_stamps");
   EXPECT_EQ(Ints(j["frame_timing"]["dropped_captures"]), Ints(t.truth["dropped_captures"]));
+}
+
+// The same when trial.json takes a range of the CINE (frames.first 1): the range keeps the
+// file's time stamps, counted from its own first frame, so every capture slot moves by one.
+TEST(TrackFrameTimingTest, ARangeOfACineClipKeepsItsTimeStamps) {
+  const fs::path dir = RenderBall("cine-range-", "--fps 60 --frame-format cine --drop-frames 2", 1);
+  nlohmann::json trial = nlohmann::json::parse(std::ifstream(dir / "trial.json"));
+  ASSERT_TRUE(trial["frames"].contains("camera_file")) << trial["frames"].dump();
+  trial["frames"]["first"] = 1;
+  trial["frames"].erase("count");  // the rest of the clip
+  std::ofstream(dir / "trial.json") << trial.dump(2);
+  const auto t = Track(dir);
+  const auto& j = t.results;
+  EXPECT_EQ(j["frame_timing"]["source"], "time_stamps");
+  std::vector<int> expected = Ints(t.truth["dropped_captures"]);
+  ASSERT_EQ(expected.size(), 2u);
+  for (int& slot : expected) {
+    ASSERT_GE(slot, 2);  // a drop after frame 1: the range's slots are the file's less one
+    --slot;
+  }
+  EXPECT_EQ(Ints(j["frame_timing"]["dropped_captures"]), expected);
 }
 
 // A clip without faults reports none (measured: no false report in 20 seeds at 60 fps).

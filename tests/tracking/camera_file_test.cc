@@ -637,6 +637,18 @@ TEST(CameraFileTest, ARangeOfAClipIsRenumberedFromZero) {
   EXPECT_NE(range.Describe(2).find("ball_12bit.mraw frame 7"), std::string::npos);
   ExpectError([&] { FrameRangeSource(OpenCameraFile(kPhotron / "ball_12bit.mraw"), 10, 6); },
               "frames 10 to 15 are not within the 15 frames of the clip");
+  EXPECT_FALSE(range.TimeOf(0).has_value());  // an MRAW has no per-frame time stamps
+  // A range of a CINE keeps its time stamps, counted from the range's first frame (the real
+  // 2019 file, whose camera clock gives 9003 fps).
+  auto cine = OpenCameraFile(kPhantom / "cine_781.cine");
+  FrameRangeSource cine_range(OpenCameraFile(kPhantom / "cine_781.cine"), 5, 4);
+  for (int i = 0; i < 4; ++i) {
+    ASSERT_TRUE(cine_range.TimeOf(i).has_value()) << i;
+    EXPECT_EQ(*cine_range.TimeOf(i), *cine->TimeOf(5 + i) - *cine->TimeOf(5)) << i;
+  }
+  EXPECT_EQ(*cine_range.TimeOf(0), 0.0);
+  EXPECT_NEAR(*cine_range.TimeOf(3) * 9003.0 / 3.0, 1.0, 1e-3);
+  EXPECT_FALSE(cine_range.TimeOf(4).has_value());
 }
 
 TEST(CameraFileTest, RecognisesCameraFilesByExtension) {
