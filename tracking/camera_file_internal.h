@@ -6,8 +6,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -21,21 +19,6 @@ namespace hoof::tracking::detail {
 inline constexpr std::int64_t kMaxFramePixels = std::int64_t{1} << 30;
 /// Largest width or height accepted.
 inline constexpr int kMaxSide = 1 << 16;
-/// Frame rates accepted from a camera file's header (frames per second): from one frame in
-/// 1000 s (time-lapse) to 10^9 (beyond the fastest camera). A rate outside, such as a
-/// vanishing one that a header's decimation divides to nothing, would make every time the
-/// clip gives infinite.
-inline constexpr double kMinFps = 1e-3, kMaxFps = 1e9;
-
-/// Why a header's frame rate is refused ("1e-320 fps is not within 0.001 to 1e9"), or nothing
-/// when it lies within kMinFps to kMaxFps.
-inline std::optional<std::string> FpsOutOfRange(double fps) {
-  if (fps >= kMinFps && fps <= kMaxFps) return std::nullopt;
-  std::ostringstream s;
-  s << fps << " fps is not within " << kMinFps << " to " << kMaxFps;
-  return s.str();
-}
-
 /// How pixels are stored.
 enum class Packing {
   k8,          ///< one byte per pixel

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -222,8 +223,12 @@ CineLayout ParseCineLayout(const ReadAt& read, std::uint64_t file_size, const st
   info.recording_fps = fps;
   info.decimation = static_cast<int>(std::lround(decimation));
   info.fps = fps / decimation;
-  if (const auto why = detail::FpsOutOfRange(info.fps))
-    fail("its setup block's frame rate: " + *why);
+  if (const auto why = FpsOutOfRange(info.fps)) {
+    std::ostringstream recorded;  // what the rate of the saved images came from
+    if (info.decimation != 1)
+      recorded << " (recorded at " << fps << " fps, one image in " << decimation << " kept)";
+    fail("its setup block's frame rate: " + *why + recorded.str());
+  }
   info.shutter_s = shutter;
   info.first_frame_number = first_image;
   if (first_stamp && (trigger.seconds != 0 || trigger.fractions != 0))

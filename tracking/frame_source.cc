@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -16,6 +17,13 @@
 #include <opencv2/videoio.hpp>
 
 namespace hoof::tracking {
+
+std::optional<std::string> FpsOutOfRange(double fps) {
+  if (fps >= kMinFps && fps <= kMaxFps) return std::nullopt;
+  std::ostringstream s;
+  s << fps << " fps is not within " << kMinFps << " to " << kMaxFps;
+  return s.str();
+}
 
 cv::Mat ToGrey(const cv::Mat& image, const std::string& what) {
   if (image.empty()) throw std::runtime_error(what + ": empty or unreadable image");

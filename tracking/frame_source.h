@@ -40,6 +40,16 @@ class FrameSource {
   }
 };
 
+/// Frame rates accepted (frames per second), from a camera file's header or a trial.json: from
+/// one frame in 1000 s (time-lapse) to 10^9 (beyond the fastest camera). A rate outside, such
+/// as a vanishing one that a CINE header's decimation divides to nothing, would make the times
+/// of the frames infinite.
+inline constexpr double kMinFps = 1e-3, kMaxFps = 1e9;
+
+/// Why a frame rate is refused ("1e-06 fps is not within 0.001 to 1e+09"), or nothing when it
+/// lies within kMinFps to kMaxFps.
+std::optional<std::string> FpsOutOfRange(double fps);
+
 /// Longest frame file pattern accepted (characters).
 inline constexpr std::size_t kMaxFramePatternLength = 4096;
 

@@ -113,7 +113,7 @@ void Validate(PhotronHeader& h, const std::string& name) {
         std::to_string(h.effective_bit) + " is not within 1 to the bit depth " +
             std::to_string(h.color_bit));
   if (h.frame_count < 1) Bad(name, "frame count", "must be at least 1");
-  if (const auto why = detail::FpsOutOfRange(h.fps)) Bad(name, "frame rate", *why);
+  if (const auto why = FpsOutOfRange(h.fps)) Bad(name, "frame rate", *why);
   if (h.shutter_s && !(*h.shutter_s > 0)) h.shutter_s.reset();
 }
 

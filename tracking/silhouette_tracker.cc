@@ -484,7 +484,8 @@ void LeaveOutJoinedBalls(SilhouetteTrack& track) {
   }
 }
 
-/// One warning per run of consecutive frames, from `first` on, where the body was not found for
+/// One warning per run of consecutive frames, from `first` (the first frame where the body was
+/// found) on, where the body was not found for
 /// the same reason: "F to L (N frames): the body was not found (why)". A clip whose body leaves
 /// the view for thousands of frames gives one line, not thousands.
 void WarnOfLostFrames(SilhouetteTrack& track, const FrameSource& source, int first) {
@@ -492,7 +493,7 @@ void WarnOfLostFrames(SilhouetteTrack& track, const FrameSource& source, int fir
   const auto at = [&](int i) -> const SilhouetteObservation& {
     return track.frames[static_cast<std::size_t>(i)];
   };
-  for (int i = std::max(first, 0); i < n;) {
+  for (int i = first; i < n;) {
     if (at(i).found) {
       ++i;
       continue;

@@ -486,6 +486,7 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
   } else {
     t.fps = Number(j, "fps", file, "", true);
   }
+  if (const auto why = tracking::FpsOutOfRange(t.fps)) Fail(file, "fps", *why);
   t.camera = ParseCamera(Require(j, "camera", file, ""), file, t.warnings);
   const std::string& from = t.camera.scale_from;
   if ((from.empty() || from == "m_per_px") && !(t.camera.m_per_px > 0) &&

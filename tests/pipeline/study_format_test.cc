@@ -107,6 +107,11 @@ TEST(StudyFormatTest, MissingOrWrongFieldsNameFileAndField) {
   trial.replace(trial.find("8000.0"), 6, "1e999");
   ExpectError([&] { ReadTrial(Write("format_hugefps", kStudy, trial) / "t1"); },
               "trial.json: a number is out of range");
+  // A rate no camera has (one frame in 10^6 s), by the camera readers' rule.
+  trial = kTrial;
+  trial.replace(trial.find("8000.0"), 6, "1e-6");
+  ExpectError([&] { ReadTrial(Write("format_tinyfps", kStudy, trial) / "t1"); },
+              "trial.json: field \"fps\" 1e-06 fps is not within 0.001 to 1e+09");
   // A pattern of 200 000 characters (which crashed the tracker) and one with two conversions.
   trial = kTrial;
   trial.replace(trial.find("frames/%06d.png"), 15,

@@ -530,7 +530,8 @@ TEST(CameraFileTest, BadCineFilesAreRefusedNamingTheFile) {
   std::memcpy(bad.data() + setup + 10388, &two, sizeof two);    // decimation (float)
   WriteBytes(dir / "rate.cine", bad);
   ExpectError([&] { OpenCameraFile(dir / "rate.cine"); },
-              "rate.cine: its setup block's frame rate: 0 fps is not within 0.001");
+              "rate.cine: its setup block's frame rate: 0 fps is not within 0.001 to 1e+09 "
+              "(recorded at 4.94066e-324 fps, one image in 2 kept)");
   // Every one-byte truncation of the headers is an error, never a crash.
   for (std::size_t n = 0; n < 200; n += 7) {
     WriteBytes(dir / "short.cine", {good.begin(), good.begin() + static_cast<std::ptrdiff_t>(n)});
