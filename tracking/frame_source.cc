@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include <zlib.h>
+#include <opencv2/core/version.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
@@ -191,12 +193,56 @@ cv::Mat ImageSequenceSource::Read(int index) {
   return ToGrey(image, path.string());
 }
 
+namespace {
+
+/// The clockwise turn (deg, in [0, 360)) that shows a video's stored frames upright, from
+/// OpenCV's CAP_PROP_ORIENTATION_META. The container's display matrix says how a player turns
+/// the frames; OpenCV 4.6's FFmpeg backend reports that matrix's counter-clockwise angle
+/// (opencv/opencv#22088: a phone's portrait clip, which players turn 90 deg clockwise, reads
+/// 270) and, with CAP_PROP_ORIENTATION_AUTO, turns the frames the wrong way; 4.5.5 reported
+/// the clockwise turn. The project builds against Debian's 4.6, and
+/// tests/tracking/frame_source_test.cc holds the frames turned here against ffmpeg's own
+/// display rotation, so a version that reports the tag otherwise fails that test.
+double DisplayRotationDeg(double orientation_meta) {
+#if CV_VERSION_MAJOR == 4 && CV_VERSION_MINOR == 6
+  orientation_meta = -orientation_meta;
+#endif
+  return std::fmod(std::fmod(orientation_meta, 360.0) + 360.0, 360.0);
+}
+
+}  // namespace
+
 VideoSource::VideoSource(std::filesystem::path path) : path_(std::move(path)) {
   if (!std::filesystem::exists(path_))
     throw std::runtime_error(path_.string() + ": video file is missing");
   Open();
   count_ = static_cast<int>(capture_->get(cv::CAP_PROP_FRAME_COUNT));
   if (count_ <= 0) throw std::runtime_error(path_.string() + ": video has no frames");
+  const double fps = capture_->get(cv::CAP_PROP_FPS);
+  if (std::isfinite(fps) && fps > 0 && !FpsOutOfRange(fps)) info_.fps = fps;
+  const double tag = capture_->get(cv::CAP_PROP_ORIENTATION_META);
+  if (std::isfinite(tag) && tag != 0) {
+    const double turned = DisplayRotationDeg(tag);
+    if (std::abs(turned - 90 * std::round(turned / 90)) > 1e-6) {
+      std::ostringstream os;
+      os << path_.string() << ": its rotation tag turns the frames by " << turned
+         << " deg, which is not a multiple of 90: no frame can be shown upright (rotate or "
+            "re-encode the video upright, or remove the tag)";
+      throw std::runtime_error(os.str());
+    }
+    info_.rotation_deg = static_cast<int>(std::lround(turned)) % 360;
+  }
+  info_.rotation_applied = info_.rotation_deg != 0;
+  const int stored_w = static_cast<int>(capture_->get(cv::CAP_PROP_FRAME_WIDTH));
+  const int stored_h = static_cast<int>(capture_->get(cv::CAP_PROP_FRAME_HEIGHT));
+  const bool sideways = info_.rotation_deg == 90 || info_.rotation_deg == 270;
+  info_.width = sideways ? stored_h : stored_w;
+  info_.height = sideways ? stored_w : stored_h;
+  const auto fourcc = static_cast<std::uint32_t>(capture_->get(cv::CAP_PROP_FOURCC));
+  for (int i = 0; i < 4 && fourcc != 0; ++i) {
+    const char c = static_cast<char>((fourcc >> (8 * i)) & 0xff);
+    if (std::isprint(static_cast<unsigned char>(c))) info_.codec += c;
+  }
 }
 
 VideoSource::~VideoSource() = default;
@@ -205,6 +251,8 @@ void VideoSource::Open() {
   // FFmpeg first; the other backends only if it cannot (hoofimpact silences OpenCV's log, so a
   // file that no backend reads gets only our message naming it).
   capture_ = std::make_unique<cv::VideoCapture>(path_.string(), cv::CAP_FFMPEG);
+  // The frames are turned upright here, not by the backend (see DisplayRotationDeg).
+  if (capture_->isOpened()) capture_->set(cv::CAP_PROP_ORIENTATION_AUTO, 0);
   if (!capture_->isOpened())
     capture_ = std::make_unique<cv::VideoCapture>(path_.string(), cv::CAP_ANY);
   if (!capture_->isOpened())
@@ -225,7 +273,14 @@ cv::Mat VideoSource::Read(int index) {
     if (!capture_->read(frame)) throw std::runtime_error(Describe(next_) + ": cannot be decoded");
     ++next_;
   }
-  return ToGrey(frame, Describe(index));
+  cv::Mat grey = ToGrey(frame, Describe(index));
+  if (info_.rotation_deg == 0) return grey;
+  cv::Mat upright;
+  cv::rotate(grey, upright,
+             info_.rotation_deg == 90    ? cv::ROTATE_90_CLOCKWISE
+             : info_.rotation_deg == 180 ? cv::ROTATE_180
+                                         : cv::ROTATE_90_COUNTERCLOCKWISE);
+  return upright;
 }
 
 }  // namespace hoof::tracking

@@ -6,6 +6,7 @@
 /// tracking/camera_file.h.
 
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -76,20 +77,39 @@ class ImageSequenceSource : public FrameSource {
   int count_;
 };
 
-/// A video file read through cv::VideoCapture.
+/// What a video container records of its frames, as OpenCV's FFmpeg backend reads it.
+struct VideoInfo {
+  /// The container's frame rate (CAP_PROP_FPS): the rate it plays at, which a slow-motion file
+  /// records instead of its capture rate (a phone stores 240 captures a second at 30 fps); NaN
+  /// where the container records none.
+  double fps = std::numeric_limits<double>::quiet_NaN();
+  /// The display rotation tag (CAP_PROP_ORIENTATION_META), clockwise degrees in [0, 360): a
+  /// phone held sideways stores its frames sideways and tags them. 0 without a tag.
+  int rotation_deg = 0;
+  /// The frames are delivered turned by the tag (CAP_PROP_ORIENTATION_AUTO), so that they look
+  /// as a player shows them; width and height are the delivered frames'.
+  bool rotation_applied = false;
+  int width = 0, height = 0;
+  std::string codec;  ///< the stream's FOURCC ("avc1", "MJPG", ...), "" where unknown
+};
+
+/// A video file read through cv::VideoCapture, its frames turned upright by its rotation tag.
 class VideoSource : public FrameSource {
  public:
-  /// Throws std::runtime_error naming the file when it cannot be opened.
+  /// Throws std::runtime_error naming the file when it cannot be opened, holds no frames, or
+  /// carries a rotation tag that is not a multiple of 90 degrees (no upright frame exists).
   explicit VideoSource(std::filesystem::path path);
   ~VideoSource() override;
   int count() const override { return count_; }
   cv::Mat Read(int index) override;
   std::string Describe(int index) const override;
+  const VideoInfo& info() const { return info_; }
 
  private:
   void Open();
   std::filesystem::path path_;
   std::unique_ptr<cv::VideoCapture> capture_;
+  VideoInfo info_;
   int next_ = 0;
   int count_ = 0;
 };

@@ -142,7 +142,8 @@ void RegisterInit(CLI::App& app, RunState& state) {
   cmd->add_option("--m-per-px", args->options.m_per_px, "A known scale (m/px)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--fps", args->options.fps,
-                  "Frame rate, for a clip that does not record it (1/s)")
+                  "Capture rate (1/s): for a clip that does not record it, or a slow-motion "
+                  "video, whose container records the rate it plays at")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--surface", args->options.surface, "The surface's name in trial.json")
       ->capture_default_str();
@@ -180,6 +181,8 @@ void RegisterInit(CLI::App& app, RunState& state) {
           {"frames", s.frames_reference},
           {"frame_count", s.count},
           {"fps", s.fps},
+          {"container_fps", JsonNumber(s.container_fps)},
+          {"rotation_deg", s.rotation_deg},
           {"body_shape", s.shape},
           {"polarity", s.shape == "markers"
                            ? nlohmann::json(nullptr)

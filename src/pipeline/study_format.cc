@@ -277,6 +277,21 @@ void CheckCameraFile(TrialSpec& t, const fs::path& file, const std::optional<dou
   t.fps = fps ? *fps : info.fps;
 }
 
+/// A video's frame rate where trial.json gives none: the container's (the rate it plays at; a
+/// slow-motion file's capture rate differs and must be stated as fps).
+double ContainerRate(const TrialSpec& t, const fs::path& file) {
+  const fs::path clip = t.dir / t.frames.video;
+  double fps = std::numeric_limits<double>::quiet_NaN();
+  try {
+    fps = tracking::VideoSource(clip).info().fps;
+  } catch (const std::exception& e) {
+    Fail(file, "frames.video", "names a clip that cannot be read: " + std::string(e.what()));
+  }
+  if (!(fps > 0))
+    Fail(file, "fps", "is missing, and " + clip.string() + " does not record its frame rate");
+  return fps;
+}
+
 /// camera.distortion: OpenCV's [k1, k2, p1, p2, k3].
 std::array<double, 5> ParseDistortion(const json& d, const fs::path& file) {
   if (!d.is_array() || d.size() != 5)
@@ -483,6 +498,8 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
     std::optional<double> fps;
     if (j.contains("fps")) fps = Number(j, "fps", file, "", true);
     CheckCameraFile(t, file, fps);
+  } else if (t.frames.is_video() && !j.contains("fps") && !tracking::IsCameraFile(t.frames.video)) {
+    t.fps = ContainerRate(t, file);
   } else {
     t.fps = Number(j, "fps", file, "", true);
   }

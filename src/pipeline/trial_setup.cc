@@ -378,18 +378,35 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
   } else {
     s.clip_kind = "video";
     s.frames_reference = fs::relative(clip_abs, trial_abs).generic_string();
-    source = std::make_unique<tracking::VideoSource>(clip_abs);
-    s.count = source->count();
+    auto video = std::make_unique<tracking::VideoSource>(clip_abs);
+    s.container_fps = video->info().fps;
+    s.rotation_deg = video->info().rotation_deg;
+    s.fps = s.container_fps;
+    s.count = video->count();
+    source = std::move(video);
   }
   if (options.fps > 0) {
     if (s.fps_recorded && std::abs(options.fps - s.fps) > 1e-6 * s.fps)
       throw std::runtime_error(clip.string() + ": --fps " + json(options.fps).dump() +
                                " disagrees with the clip's recorded " + json(s.fps).dump());
+    // A video's container records the rate it plays at: a slow-motion file's capture rate is
+    // another, which --fps states.
+    if (s.container_fps > 0 && std::abs(options.fps - s.container_fps) > 1e-6 * s.container_fps) {
+      std::ostringstream os;
+      os << "--fps " << options.fps << " is used: the container plays at " << s.container_fps
+         << " fps (" << options.fps / s.container_fps << " x slower than captured)";
+      s.warnings.push_back(os.str());
+    }
     s.fps = options.fps;
   }
   if (!(s.fps > 0))
     throw std::runtime_error(clip.string() +
                              ": the clip does not record its frame rate: give it with --fps");
+  if (s.rotation_deg != 0)
+    s.warnings.push_back("the container's rotation tag turns the stored frames by " +
+                         std::to_string(s.rotation_deg) +
+                         " deg clockwise: they are measured turned upright, as a player shows "
+                         "them");
   const std::string named = source->Describe(0) + " .. " + source->Describe(source->count() - 1);
 
   // The body: white dots on black patches (a marked specimen), else a silhouette.

@@ -41,7 +41,11 @@ struct TrialSetup {
   int first = 0, count = 0;      ///< frames of a folder
   double fps = 0.0;
   bool fps_recorded = false;  ///< the camera file records it (trial.json leaves it out)
-  std::string shape;          ///< "markers", "ball" or "outline"
+  /// A video: the rate its container plays at (NaN where it records none), and its rotation
+  /// tag (clockwise degrees; the frames are read turned upright by it).
+  double container_fps = core::kNaN;
+  int rotation_deg = 0;
+  std::string shape;  ///< "markers", "ball" or "outline"
   tracking::SilhouetteTrack track;
   std::optional<tracking::ImageLine> surface_line;
   double surface_angle_deg = 0.0;

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
 
 #include "support/test_util.h"
 #include "tracking/camera_file.h"
@@ -234,6 +235,27 @@ TEST(StudyFormatTest, ACameraFileGivesTheFramesAndTheirRate) {
 
 // An id names the trial's files (figures, overlay frames), and a trials entry a folder: neither
 // may lead outside the study or the output folder.
+// A video's container records the rate it plays at: trial.json may leave fps out and take it,
+// or state the capture rate (a slow-motion file's differs from the container's).
+TEST(StudyFormatTest, AVideoGivesItsContainerRateWhereTrialJsonGivesNone) {
+  const std::string no_fps = R"({"format": "hoofimpact-trial/1", "id": "t1", "specimen": "A",
+    "surface": "steel", "surface_angle_deg": 0, "frames": {"video": "clip.mp4"},
+    "camera": {"m_per_px": 1e-3}})";
+  const fs::path dir = Write("format_video_rate", kStudy, no_fps);
+  ExpectError([&] { ReadTrial(dir / "t1"); }, "field \"frames.video\" names a clip");
+  {
+    cv::VideoWriter writer((dir / "t1" / "clip.mp4").string(), cv::CAP_FFMPEG,
+                           cv::VideoWriter::fourcc('a', 'v', 'c', '1'), 25.0, cv::Size(64, 48));
+    ASSERT_TRUE(writer.isOpened());
+    for (int i = 0; i < 3; ++i) writer.write(cv::Mat(48, 64, CV_8UC3, cv::Scalar(90, 90, 90)));
+  }
+  EXPECT_NEAR(ReadTrial(dir / "t1").fps, 25.0, 1e-9);
+  std::string stated = no_fps;
+  stated.replace(stated.find("\"frames\""), 0, "\"fps\": 240, ");
+  std::ofstream(dir / "t1" / "trial.json") << stated;
+  EXPECT_DOUBLE_EQ(ReadTrial(dir / "t1").fps, 240.0);
+}
+
 TEST(StudyFormatTest, IdsAndTrialFoldersStayInside) {
   for (const std::string& id :
        {std::string("../../x"), std::string("a/b"), std::string(".."), std::string("x\\u0001y")}) {

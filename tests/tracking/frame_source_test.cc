@@ -1,6 +1,8 @@
 #include "tracking/frame_source.h"
 
+#include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -9,6 +11,7 @@
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
 #include "support/test_util.h"
@@ -159,6 +162,84 @@ TEST(FrameSourceTest, ReadsAVideoFile) {
     EXPECT_NEAR(f.at<float>(24, 32), (40 * i + 20) / 255.0, 3.0 / 255) << "frame " << i;
   }
   ExpectError([&] { VideoSource(dir / "missing.avi"); }, "missing.avi");
+}
+
+/// An H.264 clip of 64 x 48 frames, grey 200 with a black block in the top-left corner (the
+/// stored orientation), at `fps`.
+void WriteCornerClip(const fs::path& path, double fps, int frames = 4) {
+  cv::VideoWriter writer(path.string(), cv::CAP_FFMPEG, cv::VideoWriter::fourcc('a', 'v', 'c', '1'),
+                         fps, cv::Size(64, 48));
+  ASSERT_TRUE(writer.isOpened()) << "no H.264 encoder in this OpenCV build";
+  cv::Mat f(48, 64, CV_8UC3, cv::Scalar(200, 200, 200));
+  f(cv::Rect(0, 0, 16, 12)).setTo(cv::Scalar(0, 0, 0));
+  for (int i = 0; i < frames; ++i) writer.write(f);
+}
+
+/// Runs a shell command; false when it fails.
+bool Shell(const std::string& command) {
+  return std::system((command + " 2>/dev/null").c_str()) == 0;
+}
+
+/// Centre of the dark pixels (< 100) of a grey image.
+cv::Point2d DarkCentre(const cv::Mat& grey) {
+  cv::Mat dark;
+  cv::threshold(grey, dark, 100, 255, cv::THRESH_BINARY_INV);
+  const cv::Moments m = cv::moments(dark, true);
+  return {m.m10 / m.m00, m.m01 / m.m00};
+}
+
+TEST(FrameSourceTest, AVideoGivesItsContainerRateAndCodec) {
+  const fs::path dir = FreshDir("frames_video_rate");
+  WriteCornerClip(dir / "clip.mp4", 30000.0 / 1001);
+  VideoSource src(dir / "clip.mp4");
+  EXPECT_NEAR(src.info().fps, 30000.0 / 1001, 1e-3);
+  EXPECT_EQ(src.info().codec, "avc1");
+  EXPECT_EQ(src.info().rotation_deg, 0);
+  EXPECT_EQ(src.info().width, 64);
+  EXPECT_EQ(src.info().height, 48);
+}
+
+// A phone held sideways stores its frames sideways and tags them; a player (here ffmpeg, which
+// turns the frames by the container's display matrix when it decodes them) shows them turned.
+// The frames read must be the ones the player shows, for every tag.
+TEST(FrameSourceTest, ARotationTagTurnsTheFramesAsAPlayerShowsThem) {
+  ASSERT_TRUE(Shell("ffmpeg -version >/dev/null")) << "ffmpeg is missing (tools/install-deps)";
+  const fs::path dir = FreshDir("frames_video_rotation");
+  WriteCornerClip(dir / "stored.mp4", 30.0);
+  for (int tag : {90, 180, 270}) {
+    const fs::path tagged = dir / ("tagged" + std::to_string(tag) + ".mp4");
+    const fs::path shown = dir / ("shown" + std::to_string(tag) + ".png");
+    ASSERT_TRUE(Shell("ffmpeg -y -v error -i '" + (dir / "stored.mp4").string() +
+                      "' -c copy -metadata:s:v:0 rotate=" + std::to_string(tag) + " '" +
+                      tagged.string() + "'"));
+    ASSERT_TRUE(Shell("ffmpeg -y -v error -i '" + tagged.string() +
+                      "' -frames:v 1 -pix_fmt gray '" + shown.string() + "'"));
+    const cv::Mat player = cv::imread(shown.string(), cv::IMREAD_GRAYSCALE);
+    ASSERT_FALSE(player.empty());
+    VideoSource src(tagged);
+    const cv::Mat ours = src.Read(0);
+    ASSERT_EQ(ours.size(), player.size()) << "tag " << tag;
+    EXPECT_EQ(src.info().width, player.cols) << "tag " << tag;
+    EXPECT_EQ(src.info().height, player.rows) << "tag " << tag;
+    EXPECT_TRUE(src.info().rotation_applied);
+    const cv::Point2d a = DarkCentre(ours), b = DarkCentre(player);
+    EXPECT_LT(std::hypot(a.x - b.x, a.y - b.y), 1.0)
+        << "tag " << tag << ": the corner block at (" << a.x << ", " << a.y
+        << "), the player shows it at (" << b.x << ", " << b.y << ")";
+    // The tag in the clockwise sense a player turns by: where the stored top-left corner goes.
+    const int expected_rotation = b.x > 32 && b.y < 24 ? 90 : b.x > 32 && b.y > 24 ? 180 : 270;
+    EXPECT_EQ(src.info().rotation_deg, expected_rotation) << "tag " << tag;
+  }
+}
+
+TEST(FrameSourceTest, ARotationTagThatIsNotAQuarterTurnIsRefusedNamingTheClip) {
+  ASSERT_TRUE(Shell("ffmpeg -version >/dev/null")) << "ffmpeg is missing (tools/install-deps)";
+  const fs::path dir = FreshDir("frames_video_rotation45");
+  WriteCornerClip(dir / "stored.mp4", 30.0);
+  ASSERT_TRUE(Shell("ffmpeg -y -v error -i '" + (dir / "stored.mp4").string() +
+                    "' -c copy -metadata:s:v:0 rotate=45 '" + (dir / "tilted.mp4").string() + "'"));
+  ExpectError([&] { VideoSource src(dir / "tilted.mp4"); }, "tilted.mp4: its rotation tag");
+  ExpectError([&] { VideoSource src(dir / "tilted.mp4"); }, "not a multiple of 90");
 }
 
 }  // namespace
