@@ -214,10 +214,11 @@ void AddPhysicsOptions(CLI::App* c, FootageArgs& a) {
   c->add_option("--release-z-m", s.launch.z_m, "Depth of the release, + toward the camera (m)")
       ->capture_default_str();
   c->add_option("--velocity-m-s", a.velocity,
-                "Velocity at release x,y,z (m/s; a throw; never-lands: 3,1.5,0)")
+                "Velocity at release x,y,z (m/s; a throw; default 0,0,0; never-lands: 3,1.5,0)")
       ->delimiter(',')
       ->expected(3);
-  c->add_option("--spin-rad-s", a.spin, "Spin at release x,y,z (rad/s; never-lands: 0,0,-20)")
+  c->add_option("--spin-rad-s", a.spin,
+                "Spin at release x,y,z (rad/s; default 0,0,0; never-lands: 0,0,-20)")
       ->delimiter(',')
       ->expected(3);
   c->add_option("--release-time-s", s.launch.release_time_s,
@@ -248,7 +249,8 @@ void AddSceneOptions(CLI::App* c, FootageArgs& a) {
   c->add_option("--fov-deg", s.camera.horizontal_fov_deg, "Horizontal field of view (deg)")
       ->capture_default_str();
   c->add_option("--camera-m", a.camera_m,
-                "Camera position x,y,z in W (m; y up from the surface, z toward the camera)")
+                "Camera position x,y,z in W (m; y up from the surface, z toward the camera; "
+                "default 0.05,0.3,1.3)")
       ->delimiter(',')
       ->expected(3);
   c->add_option("--pan-deg", s.camera.pan_deg, "Camera pan, > 0 toward +x (deg)")
@@ -267,7 +269,7 @@ void AddSceneOptions(CLI::App* c, FootageArgs& a) {
               "A plain wall over a plain floor (no shelves, objects, ruler)");
   c->add_option("--wall-z-m", s.room.wall_z_m, "The back wall's plane (m, behind the ball)")
       ->capture_default_str();
-  c->add_option("--light-m", a.light_m, "Ceiling light position x,y,z (m)")
+  c->add_option("--light-m", a.light_m, "Ceiling light position x,y,z (m; default 0.3,2.2,0.5)")
       ->delimiter(',')
       ->expected(3);
   c->add_option("--light-radius-m", s.room.light_radius_m,

@@ -186,12 +186,12 @@ void FootageTimingOptions::Validate() const {
   Range("timing.capture_jitter_fraction", capture_jitter_fraction, 0, 0.3);
   const double frames = duration_s * std::max(capture_fps, ContainerFps(*this));
   if (frames > 100000)
-    Throw("timing.duration_s", Text(duration_s), "makes more than 100000 frames");
+    Throw("timing.duration_s", Text(duration_s), "must make at most 100000 frames");
   Range("timing.repeat_frames", repeat_frames, 0, std::max(0.0, frames / 4));
   Range("timing.drop_frames", drop_frames, 0, std::max(0.0, frames / 4));
   if (drop_frames > 0 && delivery != FrameDelivery::kEachCapture)
     Throw("timing.drop_frames", std::to_string(drop_frames),
-          "applies to each-capture delivery only");
+          "must be 0 with latest-capture delivery");
 }
 
 void SensorOptions::Validate() const {
@@ -213,15 +213,15 @@ void FootageSpec::Validate() const {
   Range("png_compression", png_compression, 0, 9);
   if (camera.rotation_tag_deg != 0 && codec != FootageCodec::kH264)
     Throw("camera.rotation_tag_deg", std::to_string(camera.rotation_tag_deg),
-          "needs the h264 codec (PNG frames are stored upright)");
+          "must be 0 with the png codec (PNG frames are stored upright)");
   if (launch.release_time_s >= timing.duration_s && scenario != FootageScenario::kStill &&
       scenario != FootageScenario::kHandOnly)
     Throw("launch.release_time_s", Text(launch.release_time_s),
-          "must be before the clip ends (timing.duration_s = " + Text(timing.duration_s) + ")");
+          "must be before the clip ends at " + Text(timing.duration_s) + " s");
   if (room.surface == ContactSurface::kTable && launch.z_m >= room.table_front_z_m)
     Throw("launch.z_m", Text(launch.z_m), "must be behind the table's front edge");
   if (launch.z_m - ball.radius_m <= room.wall_z_m)
-    Throw("launch.z_m", Text(launch.z_m), "puts the ball into the back wall");
+    Throw("launch.z_m", Text(launch.z_m), "must keep the ball in front of the back wall");
   if (camera.p_W_m.z() <= launch.z_m + ball.radius_m)
     Throw("camera.p_W_m", Text(camera.p_W_m.z()), "must be in front of the ball (larger z)");
 }

@@ -81,6 +81,7 @@ FrameSchedule PlanFrameSchedule(const FootageTimingOptions& timing, std::uint64_
   else
     LatestCapture(timing, s, rng);
   const int n = static_cast<int>(s.frames.size());
+  const int last_capture = s.frames.back().capture_index;  // before repeats replace any
   for (int j : Pick(timing.repeat_frames, 1, n - 1, rng)) {
     DeliveredFrame& f = s.frames[static_cast<std::size_t>(j)];
     f.capture_index = s.frames[static_cast<std::size_t>(j - 1)].capture_index;
@@ -96,7 +97,7 @@ FrameSchedule PlanFrameSchedule(const FootageTimingOptions& timing, std::uint64_
         j > 0 && f.capture_index == s.frames[static_cast<std::size_t>(j - 1)].capture_index;
     shown.insert(f.capture_index);
   }
-  for (int k = 0; k <= s.frames.back().capture_index; ++k)
+  for (int k = 0; k <= last_capture; ++k)
     if (!shown.count(k)) s.dropped_captures.push_back(k);
   return s;
 }
