@@ -427,7 +427,9 @@ void RegisterSynth(CLI::App& app, RunState& state) {
   auto args = std::make_shared<SynthArgs>();
   SynthArgs& a = *args;
   CLI::App* cmd = app.add_subcommand(
-      "synth", "Render synthetic 8000 fps trials with ground truth (trial or study folders)");
+      "synth",
+      "Render synthetic 8000 fps trials with ground truth (trial or study folders); `synth "
+      "footage`: everyday footage of a ball in a room, as a phone films it");
   // Required, but checked in the callback (CheckArgs): `synth footage` has its own -o.
   cmd->add_option("-o,--output", a.output,
                   "Output folder (required): the trial folder to write (the study folder with "

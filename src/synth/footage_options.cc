@@ -211,6 +211,12 @@ void FootageSpec::Validate() const {
   timing.Validate();
   sensor.Validate();
   Range("png_compression", png_compression, 0, 9);
+  if (codec == FootageCodec::kH264 && camera.width_px % 2 != 0)
+    Throw("camera.width_px", std::to_string(camera.width_px),
+          "must be even for the h264 codec (yuv420p halves the colour resolution)");
+  if (codec == FootageCodec::kH264 && camera.height_px % 2 != 0)
+    Throw("camera.height_px", std::to_string(camera.height_px),
+          "must be even for the h264 codec (yuv420p halves the colour resolution)");
   if (camera.rotation_tag_deg != 0 && codec != FootageCodec::kH264)
     Throw("camera.rotation_tag_deg", std::to_string(camera.rotation_tag_deg),
           "must be 0 with the png codec (PNG frames are stored upright)");

@@ -124,8 +124,8 @@ struct BounceOptions {
 /// Camera axes: x right, y down, z forward. From looking along -z_W it is panned about y_W,
 /// tilted down about its x axis, then rolled about its optical axis.
 struct FootageCameraOptions {
-  int width_px = 1280;  ///< Delivered width (px), in [16, 4096].
-  int height_px = 720;  ///< Delivered height (px), in [16, 4096].
+  int width_px = 1280;  ///< Delivered width (px), in [16, 4096]; even for H.264.
+  int height_px = 720;  ///< Delivered height (px), in [16, 4096]; even for H.264.
   double focal_px = 0;  ///< Focal length (px); 0 = from horizontal_fov_deg. In [0, 1e5].
   double horizontal_fov_deg = 62.0;  ///< Used when focal_px is 0, in [5, 150].
   /// Principal point (px, delivered image); NaN = the image centre ((w - 1) / 2, (h - 1) / 2).

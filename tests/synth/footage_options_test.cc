@@ -39,6 +39,7 @@ TEST(FootageOptionsTest, TheDefaultsAreValidAndEveryBadValueNamesItsField) {
       {"bounce.e_sd", [](FootageSpec& s) { s.bounce.e_sd = -0.1; }},
       {"bounce.mu", [](FootageSpec& s) { s.bounce.mu = 3; }},
       {"camera.width_px", [](FootageSpec& s) { s.camera.width_px = 8; }},
+      {"camera.height_px", [](FootageSpec& s) { s.camera.height_px = 181; }},  // odd: H.264
       {"camera.horizontal_fov_deg", [](FootageSpec& s) { s.camera.horizontal_fov_deg = 170; }},
       {"camera.rotation_tag_deg", [](FootageSpec& s) { s.camera.rotation_tag_deg = 45; }},
       {"camera.rotation_tag_deg",
