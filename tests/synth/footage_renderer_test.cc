@@ -174,6 +174,62 @@ TEST(FootageRendererTest, TheBallFallsAlongTheTruthsGravityInARolledImage) {
   EXPECT_NEAR(g.x(), -std::sin(10 * std::acos(-1.0) / 180), 0.02);
 }
 
+TEST(FootageRendererTest, MotionBlurAveragesTheTrueMotionAcrossABounce) {
+  FootageSpec s = Clean();
+  s.sensor.motion_blur = true;
+  s.room.ambient = 1;  // no direct light: no shadow under the ball at the bounce
+  s.timing.exposure_s = 1.0 / 60;
+  s.launch.v_W_m_s = {0.5, 0.0, 0.0};  // sideways too
+  const FootagePlan plan = PlanFootage(s);
+  const cv::Mat room = EmptyRoom(s);
+  const double T = plan.truth.schedule.exposure_s;
+  int checked = 0;
+  for (const FootageBounceTruth& b : plan.truth.bounces) {
+    for (const FootageFrameTruth& t : plan.truth.frames) {
+      if (std::abs(t.frame.t_s - b.world.t_s) > T / 4) continue;  // the bounce inside the exposure
+      // The true image centre averaged over the exposure.
+      Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+      const int n = 2000;
+      for (int i = 0; i < n; ++i) {
+        const double ti = t.frame.t_s + T * ((i + 0.5) / n - 0.5);
+        mean += plan.camera.ImageOfSphere(plan.path.At(ti).p_WC_m, s.ball.radius_m).center_px;
+      }
+      mean /= n;
+      const cv::Mat frame = RenderFootageFrames(plan, t.frame.index, 1).front();
+      // Weighted by the difference from the room in linear light, which is linear in the time
+      // the ball covers each pixel.
+      const auto linear = [](int level) {
+        const double v = level / 255.0;
+        return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+      };
+      cv::Mat w(frame.size(), CV_32F, cv::Scalar(0));
+      double lowest = -1;
+      for (int y = 0; y < frame.rows; ++y)
+        for (int x = 0; x < frame.cols; ++x) {
+          if ((Eigen::Vector2d(x, y) - mean).norm() > 3 * t.radius_px + 4) continue;
+          const cv::Vec3b a = frame.at<cv::Vec3b>(y, x), c = room.at<cv::Vec3b>(y, x);
+          double d = 0;
+          for (int ch = 0; ch < 3; ++ch) d += std::abs(linear(a[ch]) - linear(c[ch]));
+          if (d < 0.02) continue;
+          w.at<float>(y, x) = static_cast<float>(d);
+          lowest = std::max(lowest, static_cast<double>(y));
+        }
+      // Across the streak the weight is even; along y the ball's shading (darker below, so more
+      // contrast with the room) pulls it down by about half a pixel. A path that ignored the
+      // bounce would run on into the floor: several pixels lower, and past the floor's line.
+      double area = 0;
+      const Eigen::Vector2d c = Centroid(w, area);
+      EXPECT_NEAR(c.x(), mean.x(), 0.15) << t.frame.index;
+      EXPECT_NEAR(c.y(), mean.y(), 0.7) << t.frame.index;
+      // The streak stops at the floor: nothing below the ball's lowest point at contact.
+      EXPECT_LE(lowest, b.center_px.y() + b.radius_px + 1.5) << t.frame.index;
+      EXPECT_GT(t.blur_samples, 8);
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 1);
+}
+
 TEST(FootageRendererTest, TheShadowLiesOnTheFloorAndTheHandCoversWhatTruthSays) {
   FootageSpec s = Clean();
   s.hand.enabled = true;
