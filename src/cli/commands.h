@@ -42,6 +42,8 @@ void RegisterSimulate(CLI::App& app, RunState& state);
 void RegisterFit(CLI::App& app, RunState& state);
 void RegisterStats(CLI::App& app, RunState& state);
 void RegisterSynth(CLI::App& app, RunState& state);
+/// Adds `synth footage` (everyday footage, synth_footage_command.cc) under `synth`; returns it.
+CLI::App* RegisterSynthFootage(CLI::App* synth, RunState& state);
 void RegisterTrack(CLI::App& app, RunState& state);
 void RegisterInit(CLI::App& app, RunState& state);
 void RegisterRun(CLI::App& app, RunState& state);

@@ -44,9 +44,11 @@ nlohmann::json ExtensionsJson(const dynamics::ContactExtensions& ext) {
 }
 
 void RequireFiniteNumbers(CLI::App& app) {
-  for (CLI::App* cmd : app.get_subcommands({}))
+  for (CLI::App* cmd : app.get_subcommands({})) {
     for (CLI::Option* option : cmd->get_options())
       if (option->get_type_name().rfind("FLOAT", 0) == 0) option->check(kFinite);
+    RequireFiniteNumbers(*cmd);  // and the subcommands' own (synth footage)
+  }
 }
 
 namespace {
@@ -83,11 +85,17 @@ const CLI::Option* NamedOption(const CLI::App* cmd, const std::string& what,
   return nullptr;
 }
 
-/// What the user typed for `option` (the last value), or its default.
+/// What the user typed for `option` (the last value; of an option of N values, its last N
+/// joined by ','), or its default.
 std::string TypedValue(const CLI::Option* option) {
   const auto& results = option->results();
-  if (!results.empty()) return results.back();
-  return option->get_default_str();
+  if (results.empty()) return option->get_default_str();
+  const auto n = static_cast<std::size_t>(std::max(1, option->get_items_expected_max()));
+  if (n == 1 || n > results.size()) return results.back();
+  std::string joined;
+  for (std::size_t i = results.size() - n; i < results.size(); ++i)
+    joined += (joined.empty() ? "" : ",") + results[i];
+  return joined;
 }
 
 }  // namespace

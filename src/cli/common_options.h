@@ -75,7 +75,7 @@ CLI::Validator InRange(T lower, T upper, const std::string& unit = "") {
       "in " + range);
 }
 
-/// Puts kFinite on every floating-point option of `app`'s subcommands.
+/// Puts kFinite on every floating-point option of `app`'s subcommands, and of theirs.
 void RequireFiniteNumbers(CLI::App& app);
 
 /// Runs `validate` (a library's options Validate()) and turns the std::invalid_argument it

@@ -427,10 +427,13 @@ void RegisterSynth(CLI::App& app, RunState& state) {
   auto args = std::make_shared<SynthArgs>();
   SynthArgs& a = *args;
   CLI::App* cmd = app.add_subcommand(
-      "synth", "Render synthetic 8000 fps trials with ground truth (trial or study folders)");
+      "synth",
+      "Render synthetic 8000 fps trials with ground truth (trial or study folders); `synth "
+      "footage`: everyday footage of a ball in a room, as a phone films it");
+  // Required, but checked in the callback (CheckArgs): `synth footage` has its own -o.
   cmd->add_option("-o,--output", a.output,
-                  "Output folder: the trial folder to write (the study folder with --study)")
-      ->required();
+                  "Output folder (required): the trial folder to write (the study folder with "
+                  "--study)");
   cmd->add_flag("--overwrite", a.overwrite,
                 "Replace existing trial folders; with --study, render into a folder that holds a "
                 "study already (its other trials stay listed in study.json)");
@@ -520,7 +523,9 @@ void RegisterSynth(CLI::App& app, RunState& state) {
   cmd->add_option("--threads", a.threads, "Deprecated: --jobs")->group("");
   AddJsonFlag(cmd, a.json);
   cmd->add_option("--contact-sheet", a.contact_sheet, "Write a contact sheet PNG")->group("");
-  cmd->callback([args, &state, cmd] {
+  const CLI::App* footage = RegisterSynthFootage(cmd, state);
+  cmd->callback([args, &state, cmd, footage] {
+    if (footage->parsed()) return;  // `synth footage` ran in its own callback
     if (args->threads < 0 || args->threads > 4096)
       throw CLI::ValidationError("--jobs",
                                  "must be in [0, 4096], got " + std::to_string(args->threads));

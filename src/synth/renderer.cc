@@ -1,7 +1,6 @@
 #include "synth/renderer.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -14,16 +13,14 @@
 #include <system_error>
 #include <utility>
 
-#include <unistd.h>
-
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/frames.h"
 #include "io/atomic_file.h"
-#include "io/interrupt.h"
 #include "synth/calibration_image.h"
 #include "synth/camera_model.h"
 #include "synth/frame_renderer.h"
+#include "synth/temporary_folder.h"
 #include "synth/trial_files.h"
 #include "tracking/camera_file.h"
 
@@ -256,53 +253,6 @@ std::array<Eigen::Vector2d, 2> SurfaceLine(const Eigen::Vector2d& c, double phi,
   }
   return {lens.Distort(c + t0 * d), lens.Distort(c + t1 * d)};
 }
-
-/// A folder written under a temporary name and renamed into place by Commit().
-class TemporaryFolder {
- public:
-  /// `frames`: with the frames/ folder of PNG frames.
-  TemporaryFolder(const fs::path& target, bool frames) : target_(target) {
-    static std::atomic<int> counter{0};
-    temp_ = target.parent_path() / ("." + target.filename().string() + ".tmp-" +
-                                    std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    const io::CreatingTemporary creating;
-    io::TrackTemporary(temp_);  // an interrupt removes it
-    std::error_code ec;
-    fs::create_directories(frames ? temp_ / "frames" : temp_, ec);
-    if (ec)
-      throw std::runtime_error("cannot create output folder '" + temp_.parent_path().string() +
-                               "': " + ec.message());
-  }
-  ~TemporaryFolder() {
-    std::error_code ec;
-    if (!committed_) fs::remove_all(temp_, ec);
-    io::UntrackTemporary(temp_);
-  }
-  TemporaryFolder(const TemporaryFolder&) = delete;
-  TemporaryFolder& operator=(const TemporaryFolder&) = delete;
-  const fs::path& path() const { return temp_; }
-  void Commit(bool overwrite) {
-    std::error_code ec;
-    fs::path trash;
-    if (fs::exists(target_)) {
-      if (!overwrite) throw std::runtime_error("output folder '" + target_.string() + "' exists");
-      trash = temp_.string() + ".old";
-      fs::rename(target_, trash, ec);
-      if (ec)
-        throw std::runtime_error("cannot replace '" + target_.string() + "': " + ec.message());
-    }
-    fs::rename(temp_, target_, ec);
-    if (ec)
-      throw std::runtime_error("cannot rename '" + temp_.string() + "' to '" + target_.string() +
-                               "': " + ec.message());
-    committed_ = true;
-    if (!trash.empty()) fs::remove_all(trash, ec);
-  }
-
- private:
-  fs::path target_, temp_;
-  bool committed_ = false;
-};
 
 void WritePng(const fs::path& path, const cv::Mat& image, const RenderOptions& options) {
   bool ok = false;

@@ -22,9 +22,9 @@ namespace {
 
 using hoof::testing::RunHoofimpact;
 
-const std::vector<std::string> kCommands = {"simulate", "fit",    "stats",   "synth",
-                                            "track",    "run",    "analyze", "score",
-                                            "figures",  "report", "overlay", "discover"};
+const std::vector<std::string> kCommands = {
+    "simulate", "fit",   "stats",   "synth",  "synth footage", "track",   "run",
+    "analyze",  "score", "figures", "report", "overlay",       "discover"};
 
 struct Flag {
   std::string name;           ///< "--output", or a positional's name

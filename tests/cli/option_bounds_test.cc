@@ -35,6 +35,7 @@ TEST(OptionBoundsTest, NoFloatingPointOptionTakesNanOrInfinity) {
       {"simulate", ""},
       {"fit", ""},
       {"synth", "-o /nonexistent-dir/x"},
+      {"synth footage", "-o /nonexistent-dir/x"},
       {"analyze", sample + " -o /nonexistent-dir/x.h5"},
       {"run", sample + " -o /nonexistent-dir/x"},
       {"track", sample + "/steel_0deg_v3.00_r1"},
@@ -69,6 +70,8 @@ TEST(OptionBoundsTest, LibraryBoundsAreCommandLineErrorsNamingTheOption) {
       {"synth -o /nonexistent-dir/x --black-level 0.9", "--black-level"},
       {"synth -o /nonexistent-dir/x --mu 1e300", "--mu"},
       {"synth -o /nonexistent-dir/x --tilt-rate-deg-s 1e6", "--tilt-rate-deg-s"},
+      {"synth footage -o /nonexistent-dir/x --mu 5", "--mu"},
+      {"synth footage -o /nonexistent-dir/x --duration-s 0", "--duration-s"},
       {"report /nonexistent-dir/x.h5 --replay-frames 1", "--replay-frames"},
       {"simulate --fps 0", "--fps"},
   };
