@@ -150,8 +150,8 @@ json FootageTruthJson(const FootageTruth& t) {
   json j;
   j["format"] = kFootageTruthFormat;
   j["note"] =
-      "Image quantities are for the frames as delivered upright: by OpenCV's VideoCapture once "
-      "the file carries rotation_tag_deg (CAP_PROP_ORIENTATION_AUTO), or as the PNG frames are "
+      "Image quantities are for the frames as delivered upright: as a player shows them once "
+      "the file carries rotation_tag_deg (tools/tag-rotation), or as the PNG frames are "
       "stored. Pixels: x right, y down, origin at the centre of the top-left pixel. World W: x "
       "right, y up, z toward the camera, m; the contact surface is y = 0. center_px is the "
       "centre of the ball's true (elliptical) image, not the projection of its centre.";
