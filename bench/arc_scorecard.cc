@@ -68,8 +68,10 @@ testing::BallClipOptions Draw(const Condition& c, std::uint64_t seed) {
   if (c.kind == "gaps") {
     for (int f = 1; f < o.frames; ++f) {
       const double x = U(rng);
-      if (x < 0.05) o.missing.push_back(f);
-      else if (x < 0.10) o.repeated.push_back(f);
+      if (x < 0.05)
+        o.missing.push_back(f);
+      else if (x < 0.10)
+        o.repeated.push_back(f);
     }
   }
   if (c.kind == "blur") o.exposure_s = 1 / c.fps;
@@ -136,10 +138,13 @@ void Score(const Condition& c, std::uint64_t seed, double e_tol, Tally& t) {
       t.covered += tb.e >= k.e_ci_low && tb.e <= k.e_ci_high;
       t.z2 += de * de / (k.e_se * k.e_se);
       if (g_verbose && std::abs(de) > 3 * k.e_se)
-        std::fprintf(stderr, "%s seed %llu bounce %zu: e %.4f +- %.4f vs %.4f (z %.1f), samples %d/%d, contact %zu, outliers %zu, t* %.4f vs %.4f\n",
+        std::fprintf(stderr,
+                     "%s seed %llu bounce %zu: e %.4f +- %.4f vs %.4f (z %.1f), samples %d/%d, "
+                     "contact %zu, outliers %zu, t* %.4f vs %.4f\n",
                      c.Name().c_str(), static_cast<unsigned long long>(seed), b, k.e, k.e_se, tb.e,
                      de / k.e_se, k.limits.samples_before, k.limits.samples_after,
-                     k.limits.contact_frames.size(), k.limits.outlier_frames.size(), k.impact_time_s, tb.t_touch);
+                     k.limits.contact_frames.size(), k.limits.outlier_frames.size(),
+                     k.impact_time_s, tb.t_touch);
       break;
     }
   }
@@ -167,7 +172,8 @@ void SlowMotion(int seeds) {
     testing::BallClipOptions o = Draw(c, static_cast<std::uint64_t>(s));
     o.frames = 480;
     testing::BallClip clip = testing::MakeBallClip(o);
-    for (std::size_t i = 0; i < clip.poses.size(); ++i) clip.poses[i].t_s = static_cast<double>(i) / 30;
+    for (std::size_t i = 0; i < clip.poses.size(); ++i)
+      clip.poses[i].t_s = static_cast<double>(i) / 30;
     const auto arcs = kinematics::FitFlightArcs(clip.poses, 0.0, 0.0);
     if (arcs.status != kinematics::ArcFitStatus::kFitted) continue;
     const auto rate = kinematics::CaptureRateFromGravity(arcs.a_norm, arcs.a_norm_se, 30, 0.0);
@@ -179,10 +185,11 @@ void SlowMotion(int seeds) {
     covered += std::abs(z) < 1.96;
     nearest8 += rate.nearest_ratio == 8;
   }
-  std::printf("\n240 fps stored at 30 fps (1 px noise, %d clips): measured %d, mean capture rate "
-              "%.3f /s, nearest whole ratio 8 in %d, |z| < 1.96 in %d, rms z %.2f\n",
-              seeds, measured, measured ? sum / measured : NAN, nearest8, covered,
-              measured ? std::sqrt(z2 / measured) : NAN);
+  std::printf(
+      "\n240 fps stored at 30 fps (1 px noise, %d clips): measured %d, mean capture rate "
+      "%.3f /s, nearest whole ratio 8 in %d, |z| < 1.96 in %d, rms z %.2f\n",
+      seeds, measured, measured ? sum / measured : NAN, nearest8, covered,
+      measured ? std::sqrt(z2 / measured) : NAN);
 }
 
 }  // namespace
@@ -190,16 +197,21 @@ void SlowMotion(int seeds) {
 int main(int argc, char** argv) {
   CLI::App app{"Joint-arc scorecard: e of every bounce of closed-form bouncing balls"};
   std::vector<double> rates = {25, 30, 60}, noises = {0.3, 1.0};
-  std::vector<std::string> kinds = {"plain", "rolled", "gaps", "blur", "hand", "contact", "incline"};
+  std::vector<std::string> kinds = {"plain", "rolled",  "gaps",   "blur",
+                                    "hand",  "contact", "incline"};
   int seeds = 200, first_seed = 1, jobs = 0;
   double e_tol = 0.02;
   app.add_option("--fps", rates, "Frame rates")->delimiter(',')->capture_default_str();
-  app.add_option("--noise-px", noises, "Position noise s.d. (px)")->delimiter(',')->capture_default_str();
+  app.add_option("--noise-px", noises, "Position noise s.d. (px)")
+      ->delimiter(',')
+      ->capture_default_str();
   app.add_option("--kinds", kinds, "plain, rolled, gaps, blur, hand, contact, incline")
       ->delimiter(',')
       ->check(CLI::IsMember({"plain", "rolled", "gaps", "blur", "hand", "contact", "incline"}))
       ->capture_default_str();
-  app.add_option("--seeds", seeds, "Clips per condition")->check(CLI::Range(1, 100000))->capture_default_str();
+  app.add_option("--seeds", seeds, "Clips per condition")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
   app.add_option("--first-seed", first_seed, "Seed of the first clip")->capture_default_str();
   app.add_option("--e-tol", e_tol, "Tolerance on e")->capture_default_str();
   app.add_option("--jobs", jobs, "Threads (0 = all cores)")->capture_default_str();

@@ -204,15 +204,18 @@ int LowestFrame(const std::vector<PoseSample>& poses, const FlightArcs& arcs, co
 /// The time between the two arcs' nearest fitted samples, the origin of t* (any time gives the
 /// same t*; this one keeps the arithmetic well conditioned).
 double MidTime(const std::vector<PoseSample>& poses, const FlightArcs& arcs, int k) {
-  return 0.5 * (poses[static_cast<std::size_t>(arcs.arcs[static_cast<std::size_t>(k)].last_frame)].t_s +
-                poses[static_cast<std::size_t>(arcs.arcs[static_cast<std::size_t>(k + 1)].first_frame)].t_s);
+  return 0.5 *
+         (poses[static_cast<std::size_t>(arcs.arcs[static_cast<std::size_t>(k)].last_frame)].t_s +
+          poses[static_cast<std::size_t>(arcs.arcs[static_cast<std::size_t>(k + 1)].first_frame)]
+              .t_s);
 }
 
 /// Why the impact after arc k cannot be measured from its values `v`; empty when it can.
 std::string Unmeasurable(const std::vector<PoseSample>& poses, const FlightArcs& arcs, int k,
                          const Eigen::VectorXd& v, double t_se) {
   std::ostringstream os;
-  const double t_lo = poses[static_cast<std::size_t>(arcs.arcs[static_cast<std::size_t>(k)].last_frame)].t_s;
+  const double t_lo =
+      poses[static_cast<std::size_t>(arcs.arcs[static_cast<std::size_t>(k)].last_frame)].t_s;
   const double t_hi =
       poses[static_cast<std::size_t>(arcs.arcs[static_cast<std::size_t>(k + 1)].first_frame)].t_s;
   if (!v.allFinite()) {
@@ -257,9 +260,9 @@ void Fill(const FlightArcs& arcs, int k, const Eigen::VectorXd& v, const Eigen::
   // mu_eff where the body moves along the surface: an inclined one, or a level one crossed
   // sideways (3 s.e. and min_sideways_ratio of the normal speed).
   const double vt = std::abs(im.v_SC_before.x());
-  const bool sideways = surface_angle_deg != 0.0 ||
-                        (vt > 3 * im.v_SC_before_se.x() &&
-                         vt > o.arcs.min_sideways_ratio * std::abs(im.v_SC_before.y()));
+  const bool sideways =
+      surface_angle_deg != 0.0 || (vt > 3 * im.v_SC_before_se.x() &&
+                                   vt > o.arcs.min_sideways_ratio * std::abs(im.v_SC_before.y()));
   im.mu_eff = sideways ? v(kMu) : core::kNaN;
   im.mu_eff_se = sideways ? se(kMu) : core::kNaN;
   im.mu_eff_ci_low = sideways ? std::max(0.0, im.mu_eff - t_q * im.mu_eff_se) : core::kNaN;
@@ -305,7 +308,8 @@ void Remarks(ImpactKinematics& im) {
   if (std::isfinite(L.e_depth_shift)) {
     os << "impact " << im.index << ": the apparent size changes (depth rate "
        << L.depth_rate_before_per_s << " and " << L.depth_rate_after_per_s << " per s); "
-       << (L.depth_corrected ? "corrected for it, e moved by " : "corrected for it, e would move by ")
+       << (L.depth_corrected ? "corrected for it, e moved by "
+                             : "corrected for it, e would move by ")
        << L.e_depth_shift;
     im.warnings.push_back(os.str());
     im.flags.push_back("depth_motion");
@@ -410,7 +414,8 @@ ArcImpacts MeasureArcImpacts(const std::vector<PoseSample>& poses, double surfac
     if (A.status != ArcFitStatus::kFitted) {
       why << A.message;
     } else if (im.limits.short_arc) {
-      why << "the flight " << (im.limits.samples_before < options.arcs.min_arc_frames ? "before" : "after")
+      why << "the flight "
+          << (im.limits.samples_before < options.arcs.min_arc_frames ? "before" : "after")
           << " it holds " << std::min(im.limits.samples_before, im.limits.samples_after)
           << " frames with a position on the arc (need " << options.arcs.min_arc_frames << ")";
     }

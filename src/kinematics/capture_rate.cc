@@ -34,8 +34,7 @@ CaptureRate CaptureRateFromGravity(double a_m_s2, double a_se_m_s2, double conta
   }
   // a = g (container / capture)^2, so capture / container = sqrt(g / a).
   r.ratio = std::sqrt(options.gravity_m_s2 / a_m_s2);
-  const double rel = 0.5 * std::sqrt(std::pow(a_se_m_s2 / a_m_s2, 2) +
-                                     scale_rel_se * scale_rel_se +
+  const double rel = 0.5 * std::sqrt(std::pow(a_se_m_s2 / a_m_s2, 2) + scale_rel_se * scale_rel_se +
                                      options.gravity_rel_se * options.gravity_rel_se);
   r.ratio_se = r.ratio * rel;
   r.capture_fps = container_fps * r.ratio;

@@ -185,8 +185,8 @@ double ThirdDifferenceNoise(const State& st, const std::vector<int>& skip) {
     d2.push_back(D.dot(V.inverse() * D));
   }
   if (d2.empty()) return VarianceFloor(st);
-  const double f2 = skip.empty() ? Quantile(d2, 0.25) / 0.5753641449035618
-                                 : Median(d2) / kChi2MedianOf2;
+  const double f2 =
+      skip.empty() ? Quantile(d2, 0.25) / 0.5753641449035618 : Median(d2) / kChi2MedianOf2;
   return std::max(f2, VarianceFloor(st));
 }
 
@@ -253,7 +253,8 @@ Eigen::Vector2d RunAcceleration(const State& st, const std::vector<int>& breaks,
   std::vector<std::pair<double, double>> ax, ay;
   std::size_t lo = 0;
   for (std::size_t b = 0; b <= breaks.size(); ++b) {
-    const std::size_t hi = b < breaks.size() ? static_cast<std::size_t>(breaks[b]) : st.s.size() - 1;
+    const std::size_t hi =
+        b < breaks.size() ? static_cast<std::size_t>(breaks[b]) : st.s.size() - 1;
     if (hi + 1 >= lo + 4) {
       const double t0 = st.s[lo].t;
       Eigen::Matrix<double, 6, 6> N = Eigen::Matrix<double, 6, 6>::Zero();
@@ -417,7 +418,8 @@ class Sweep {
     std::fill(st_.role.begin(), st_.role.end(), ArcFrameRole::kArc);
     std::fill(st_.chi2.begin(), st_.chi2.end(), core::kNaN);
     std::vector<std::size_t> fwd, bwd;
-    for (std::size_t j = static_cast<std::size_t>(anchor + 1); j < st_.s.size(); ++j) fwd.push_back(j);
+    for (std::size_t j = static_cast<std::size_t>(anchor + 1); j < st_.s.size(); ++j)
+      fwd.push_back(j);
     for (int j = anchor; j >= 0; --j) bwd.push_back(static_cast<std::size_t>(j));
     if (anchor >= 0) {
       st_.breaks.push_back(anchor);
@@ -426,7 +428,8 @@ class Sweep {
     Walk(fwd, +1);
     Walk(bwd, -1);
     std::vector<std::pair<int, double>> b;
-    for (std::size_t i = 0; i < st_.breaks.size(); ++i) b.emplace_back(st_.breaks[i], st_.impulse[i]);
+    for (std::size_t i = 0; i < st_.breaks.size(); ++i)
+      b.emplace_back(st_.breaks[i], st_.impulse[i]);
     std::sort(b.begin(), b.end());
     st_.breaks.clear();
     st_.impulse.clear();
@@ -437,6 +440,9 @@ class Sweep {
     st_.AssignArcs();
   }
   double anchor_impulse_ = core::kNaN;
+  /// The contacts found from the motion (FindContacts): where no arc follows a flight, one of
+  /// these still makes a contact (the flight after it too short to fit).
+  std::vector<std::pair<int, double>> detected_;
 
  private:
   bool Fits(const std::vector<std::size_t>& in, std::size_t j) {
@@ -448,7 +454,8 @@ class Sweep {
     Eigen::Vector4d q;
     Eigen::Matrix4d C;
     double ssr = 0.0;
-    return FitFixedA(st_, core, a_, st_.s[core.front()].t, q, C, ssr) && ssr / f2_ < o_.outlier_chi2;
+    return FitFixedA(st_, core, a_, st_.s[core.front()].t, q, C, ssr) &&
+           ssr / f2_ < o_.outlier_chi2;
   }
   std::vector<std::size_t> Slice(const std::vector<std::size_t>& order, std::size_t from,
                                  std::size_t n) {
@@ -511,48 +518,102 @@ class Sweep {
     return {};
   }
 
+  /// The first contact found from the motion (detected_) between samples `from` and `to`
+  /// (break indices, inclusive); -1 when none.
+  int Detected(int from, int to, double& z) const {
+    for (const auto& [d, dz] : detected_)
+      if (d >= from && d <= to) {
+        z = dz;
+        return d;
+      }
+    return -1;
+  }
+
+  /// Walks `order` (samples from a contact outward; dir +1 forward in time, -1 backward).
   void Walk(const std::vector<std::size_t>& order, int dir) {
     const auto core = static_cast<std::size_t>(o_.min_arc_frames);
+    const auto pos = [&](int sample) {  // its place in a forward order
+      return static_cast<std::size_t>(sample) - order.front();
+    };
     std::size_t m = 0;
-    std::vector<std::size_t> cur;
-    for (std::size_t off = 0; off <= 2 && off + core <= order.size(); ++off)
-      if (CoreFits(Slice(order, off, core))) {
-        cur = Slice(order, off, core);
-        for (std::size_t i = 0; i < off; ++i) st_.role[order[i]] = ArcFrameRole::kContact;
-        m = off + core;
-        break;
-      }
-    if (cur.empty()) return;  // too few, or none fits: left to the joint fit's tests
     while (m < order.size()) {
-      if (Fits(cur, order[m])) {
-        cur.push_back(order[m++]);
-        continue;
-      }
-      if (m + 1 < order.size() && Fits(cur, order[m + 1])) {
-        st_.role[order[m]] = ArcFrameRole::kOutlier;
-        ++m;
-        continue;
-      }
-      std::size_t at = 0;
+      // An arc starts from a core (up to two samples skipped beside the contact).
+      std::vector<std::size_t> cur;
+      for (std::size_t off = 0; off <= 2 && m + off + core <= order.size(); ++off)
+        if (CoreFits(Slice(order, m + off, core))) {
+          cur = Slice(order, m + off, core);
+          for (std::size_t i = m; i < m + off; ++i) st_.role[order[i]] = ArcFrameRole::kContact;
+          m += off + core;
+          break;
+        }
       double z = 0;
-      std::vector<std::size_t> next = NewArc(order, m, cur, dir, at, z);
-      if (next.empty()) {
+      if (cur.empty()) {
+        // A flight too short to fit, up to the next contact found from the motion: its
+        // samples are a short arc (its impacts found, not measured).
+        const int d =
+            dir > 0 ? Detected(static_cast<int>(order[m]), static_cast<int>(order.back()) - 1, z)
+                    : -1;
+        if (d >= 0) {
+          st_.breaks.push_back(d);
+          st_.impulse.push_back(z);
+          m = pos(d + 1);
+          continue;
+        }
+        // Nothing fits: the first flight beside the anchor is left to the joint fit's tests;
+        // after a contact, the samples too few for a core are its flight (a short arc), and
+        // those after them are not in flight.
+        if (m > 0)
+          for (std::size_t i = m + core - 1; i < order.size(); ++i)
+            st_.role[order[i]] = ArcFrameRole::kNotInFlight;
+        return;
+      }
+      // The arc grows while each sample fits it.
+      bool next_arc = false;
+      while (m < order.size() && !next_arc) {
+        if (Fits(cur, order[m])) {
+          cur.push_back(order[m++]);
+          continue;
+        }
+        if (m + 1 < order.size() && Fits(cur, order[m + 1])) {
+          st_.role[order[m]] = ArcFrameRole::kOutlier;
+          ++m;
+          continue;
+        }
+        std::size_t at = 0;
+        std::vector<std::size_t> next = NewArc(order, m, cur, dir, at, z);
+        if (!next.empty()) {
+          for (std::size_t i = m; i < at; ++i) st_.role[order[i]] = ArcFrameRole::kContact;
+          // The contact frames skipped belong to the arc they follow in the walk (beside the
+          // contact on its side).
+          const int b = dir > 0 ? static_cast<int>(order[at]) - 1 : static_cast<int>(order[at]);
+          st_.breaks.push_back(b);
+          st_.impulse.push_back(z);
+          cur = next;
+          m = at + next.size();
+          continue;
+        }
         if (m + 2 < order.size() && Fits(cur, order[m + 2])) {
           st_.role[order[m]] = st_.role[order[m + 1]] = ArcFrameRole::kOutlier;
           m += 2;
           continue;
         }
-        for (std::size_t i = m; i < order.size(); ++i) st_.role[order[i]] = ArcFrameRole::kNotInFlight;
+        // No arc follows here; a contact found from the motion may still (a short flight).
+        const int last = static_cast<int>(*std::max_element(cur.begin(), cur.end()));
+        const int d =
+            dir > 0 ? Detected(last, static_cast<int>(order[std::min(m + 1, order.size() - 1)]), z)
+                    : -1;
+        if (d >= 0) {
+          for (std::size_t i = m; i < pos(d + 1); ++i) st_.role[order[i]] = ArcFrameRole::kContact;
+          st_.breaks.push_back(d);
+          st_.impulse.push_back(z);
+          m = pos(d + 1);
+          next_arc = true;
+          continue;
+        }
+        for (std::size_t i = m; i < order.size(); ++i)
+          st_.role[order[i]] = ArcFrameRole::kNotInFlight;
         return;
       }
-      for (std::size_t i = m; i < at; ++i) st_.role[order[i]] = ArcFrameRole::kContact;
-      // The contact frames skipped belong to the arc they follow in the walk (beside the
-      // contact on its side).
-      const int b = dir > 0 ? static_cast<int>(order[at]) - 1 : static_cast<int>(order[at]);
-      st_.breaks.push_back(b);
-      st_.impulse.push_back(z);
-      cur = next;
-      m = at + next.size();
     }
   }
 
@@ -689,7 +750,8 @@ bool RefineBoundaries(State& st, Fit& f, const ArcOptions& o) {
   bool moved = false;
   for (std::size_t b = 0; b < st.breaks.size(); ++b) {
     const int lo = b > 0 ? st.breaks[b - 1] + 1 : 0;
-    const int hi = b + 1 < st.breaks.size() ? st.breaks[b + 1] - 1 : static_cast<int>(st.s.size()) - 2;
+    const int hi =
+        b + 1 < st.breaks.size() ? st.breaks[b + 1] - 1 : static_cast<int>(st.s.size()) - 2;
     const int b0 = st.breaks[b];
     int best = b0;
     double best_ssr = f.ssr;
@@ -774,7 +836,7 @@ bool TrimOpenEnds(State& st, Fit& f, const ArcOptions& o) {
 /// outliers, false contacts, open ends and boundaries, repeated with the fitted acceleration
 /// and noise until the samples' roles settle.
 Fit Settle(State& st, const ArcOptions& o, Eigen::Vector2d a, double f2, int anchor,
-           double anchor_z) {
+           double anchor_z, const std::vector<std::pair<int, double>>& detected) {
   Fit f;
   const auto exclude = [&] {
     MarkShortArcs(st, o.min_arc_frames);
@@ -789,6 +851,7 @@ Fit Settle(State& st, const ArcOptions& o, Eigen::Vector2d a, double f2, int anc
     const std::vector<int> breaks = st.breaks;
     Sweep sweep(st, a, f2, o);
     sweep.anchor_impulse_ = anchor_z;
+    sweep.detected_ = detected;
     sweep.Run(anchor);
     if (!exclude()) return f;
     while (MergeFalseContact(st, f))
@@ -819,6 +882,9 @@ Fit Segment(State& st, const ArcOptions& o) {
   FindContacts(st, o, a0, f2, runs);
   const int anchor = st.breaks.empty() ? -1 : st.breaks.front();
   const double anchor_z = st.impulse.empty() ? core::kNaN : st.impulse.front();
+  std::vector<std::pair<int, double>> detected;
+  for (std::size_t i = 0; i < st.breaks.size(); ++i)
+    detected.emplace_back(st.breaks[i], st.impulse[i]);
   std::vector<Eigen::Vector2d> tried;
   std::vector<Eigen::Vector2d> cands{a0};
   cands.insert(cands.end(), runs.begin(), runs.end());
@@ -832,7 +898,7 @@ Fit Segment(State& st, const ArcOptions& o) {
     if (near || !(a.norm() > 0)) continue;
     tried.push_back(a);
     State trial = st;
-    const Fit f = Settle(trial, o, a, f2, anchor, anchor_z);
+    const Fit f = Settle(trial, o, a, f2, anchor, anchor_z, detected);
     if (!f.ok) continue;
     const double cost = f.ssr / f2 + o.outlier_chi2 * (n - f.rows / 2.0) + std::log(n) * f.params;
     if (cost < best_cost) {
@@ -855,7 +921,8 @@ void FitAngles(const State& st, const Fit& f, std::vector<FlightArc>& arcs) {
       if (!st.Used(j)) continue;
       tau.push_back(st.s[j].t - f.t_ref[static_cast<std::size_t>(k)]);
       double x = st.s[j].theta;
-      if (!th.empty()) x -= 2 * std::numbers::pi * std::round((x - th.back()) / (2 * std::numbers::pi));
+      if (!th.empty())
+        x -= 2 * std::numbers::pi * std::round((x - th.back()) / (2 * std::numbers::pi));
       th.push_back(x);
     }
     const double n = static_cast<double>(tau.size());
@@ -979,6 +1046,46 @@ void DepthCorrection(State& st, const ArcOptions& o, Fit& f, FlightArcs& out) {
   f = g;
 }
 
+/// For finding the arcs of a body that moves in depth: every position moved to the reference
+/// depth, c + (p - c) z, with z = reference size / apparent size smoothed by a straight line
+/// through the seven samples about each (no arcs needed yet). True when done: when every
+/// sample has a size and z changes over the clip by 1 % or more and 10 times its scatter.
+bool PreCorrectDepth(State& st, const Eigen::Vector2d& c) {
+  const std::size_t n = st.s.size();
+  std::vector<double> sizes;
+  for (const auto& s : st.s) {
+    if (!(std::isfinite(s.size) && s.size > 0)) return false;
+    sizes.push_back(s.size);
+  }
+  if (n < 7) return false;
+  const double s_ref = Median(sizes);
+  std::vector<double> z(n), zs(n), dev;
+  for (std::size_t j = 0; j < n; ++j) z[j] = s_ref / st.s[j].size;
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::size_t lo = j >= 3 ? std::min(j - 3, n - 7) : 0, hi = lo + 7;
+    double mt = 0, mz = 0;
+    for (std::size_t i = lo; i < hi; ++i) {
+      mt += st.s[i].t / 7;
+      mz += z[i] / 7;
+    }
+    double stt = 0, stz = 0;
+    for (std::size_t i = lo; i < hi; ++i) {
+      stt += (st.s[i].t - mt) * (st.s[i].t - mt);
+      stz += (st.s[i].t - mt) * (z[i] - mz);
+    }
+    zs[j] = mz + (stt > 0 ? stz / stt : 0.0) * (st.s[j].t - mt);
+    dev.push_back(std::abs(z[j] - zs[j]));
+  }
+  const auto [lo, hi] = std::minmax_element(zs.begin(), zs.end());
+  if (!(*hi - *lo > std::max(0.01, 10 * 1.4826 * Median(dev)))) return false;
+  for (std::size_t j = 0; j < n; ++j) {
+    st.s[j].p = c + (st.s[j].p - c) * zs[j];
+    st.s[j].cov *= zs[j] * zs[j];
+    st.s[j].W /= zs[j];
+  }
+  return true;
+}
+
 /// The samples of `poses` (C of each valid pose), whitened by their covariances when every one
 /// has a positive-definite covariance.
 State Prepare(const std::vector<PoseSample>& poses, double d_EC_m, bool& weighted) {
@@ -1097,13 +1204,20 @@ void ArcOptions::Validate() const {
 
 const char* ArcFrameRoleName(ArcFrameRole role) {
   switch (role) {
-    case ArcFrameRole::kArc: return "arc";
-    case ArcFrameRole::kNoSample: return "no_sample";
-    case ArcFrameRole::kRepeated: return "repeated";
-    case ArcFrameRole::kContact: return "contact";
-    case ArcFrameRole::kOutlier: return "outlier";
-    case ArcFrameRole::kNotInFlight: return "not_in_flight";
-    case ArcFrameRole::kShortArc: return "short_arc";
+    case ArcFrameRole::kArc:
+      return "arc";
+    case ArcFrameRole::kNoSample:
+      return "no_sample";
+    case ArcFrameRole::kRepeated:
+      return "repeated";
+    case ArcFrameRole::kContact:
+      return "contact";
+    case ArcFrameRole::kOutlier:
+      return "outlier";
+    case ArcFrameRole::kNotInFlight:
+      return "not_in_flight";
+    case ArcFrameRole::kShortArc:
+      return "short_arc";
   }
   return "?";
 }
@@ -1138,7 +1252,19 @@ FlightArcs FitFlightArcs(const std::vector<PoseSample>& poses, double d_EC_m,
   if (static_cast<int>(st.s.size()) < options.min_arc_frames + 1)
     return too_few("the joint arc fit needs " + std::to_string(options.min_arc_frames + 1) +
                    " or more frames with a position (found " + std::to_string(st.s.size()) + ")");
-  Fit f = Segment(st, options);
+  // The segmentation of a body moving in depth on its positions at the reference depth; the
+  // fit is then made on the positions as given, and DepthCorrection below corrects them arc by
+  // arc where asked.
+  State seg = st;
+  Fit f;
+  if (options.principal_point_W && PreCorrectDepth(seg, *options.principal_point_W)) {
+    f = Segment(seg, options);
+    for (std::size_t j = 0; j < st.s.size(); ++j) seg.s[j] = st.s[j];
+    st = std::move(seg);
+    if (f.ok) f = JointFit(st, options.min_arc_frames);
+  } else {
+    f = Segment(st, options);
+  }
   if (!f.ok) {
     std::ostringstream os;
     os << "the joint arc fit found no flight arc of " << options.min_arc_frames

@@ -62,11 +62,11 @@ struct ArcOptions {
 
 /// What one frame is to the joint arc fit.
 enum class ArcFrameRole {
-  kArc,          ///< a sample of arc `arc`
-  kNoSample,     ///< no position (PoseSample::valid false): not found by the tracker
-  kRepeated,     ///< the image repeats the previous one (PoseSample::repeated): no sample
-  kContact,      ///< at an arc's end beside a contact and off the arc: touching, or blurred across it
-  kOutlier,      ///< off its arc by more than ArcOptions::outlier_chi2, away from any contact
+  kArc,       ///< a sample of arc `arc`
+  kNoSample,  ///< no position (PoseSample::valid false): not found by the tracker
+  kRepeated,  ///< the image repeats the previous one (PoseSample::repeated): no sample
+  kContact,   ///< at an arc's end beside a contact and off the arc: touching, or blurred across it
+  kOutlier,   ///< off its arc by more than ArcOptions::outlier_chi2, away from any contact
   kNotInFlight,  ///< before the first arc or after the last one, and not on it (held, rolling)
   kShortArc,     ///< in a flight with fewer than min_arc_frames samples: not fitted
 };
@@ -102,9 +102,9 @@ struct FlightArc {
 
 /// A contact between arc `before` and arc `before + 1`, found from the motion.
 struct ArcContact {
-  int before = -1;                     ///< the arc before it (the one after is before + 1)
-  int last_frame_before = -1;          ///< the last frame with a position before the velocity change
-  int first_frame_after = -1;          ///< the first frame with a position after it
+  int before = -1;             ///< the arc before it (the one after is before + 1)
+  int last_frame_before = -1;  ///< the last frame with a position before the velocity change
+  int first_frame_after = -1;  ///< the first frame with a position after it
   double impulse_sigmas = core::kNaN;  ///< the change against gravity, in robust s.d.
 };
 

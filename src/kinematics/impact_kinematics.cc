@@ -287,9 +287,12 @@ void Finish(double fps, double surface_angle_deg, const core::SurfaceRotation& S
 
 const char* KinematicsMethodName(KinematicsMethod m) {
   switch (m) {
-    case KinematicsMethod::kAuto: return "auto";
-    case KinematicsMethod::kWindows: return "windows";
-    case KinematicsMethod::kArcs: return "arcs";
+    case KinematicsMethod::kAuto:
+      return "auto";
+    case KinematicsMethod::kWindows:
+      return "windows";
+    case KinematicsMethod::kArcs:
+      return "arcs";
   }
   return "?";
 }
@@ -297,7 +300,8 @@ const char* KinematicsMethodName(KinematicsMethod m) {
 KinematicsMethod ParseKinematicsMethod(const std::string& name) {
   for (auto m : {KinematicsMethod::kAuto, KinematicsMethod::kWindows, KinematicsMethod::kArcs})
     if (name == KinematicsMethodName(m)) return m;
-  throw std::invalid_argument("kinematics method \"" + name + "\" is invalid: auto, windows or arcs");
+  throw std::invalid_argument("kinematics method \"" + name +
+                              "\" is invalid: auto, windows or arcs");
 }
 
 void KinematicsOptions::Validate() const {

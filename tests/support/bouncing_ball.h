@@ -38,7 +38,7 @@ struct BallClipOptions {
   std::vector<double> mu{0.0, 0.0, 0.0, 0.0};
   double contact_s = 0.0;
   double exposure_s = 0.0;
-  double depth_m = 0.0;              ///< camera distance to G's origin along z; 0: orthographic
+  double depth_m = 0.0;               ///< camera distance to G's origin along z; 0: orthographic
   Eigen::Vector2d principal_G{0, 0};  ///< where the optical axis meets the plane z = 0 (m)
   double roll_deg = 0.0;              ///< "up" in W leans toward +x_W by this
   Eigen::Vector2d origin_W{0.2, -0.1};
@@ -115,7 +115,8 @@ inline BallClip MakeBallClip(const BallClipOptions& o) {
     const Eigen::Vector3d vt = v - vn * n;
     const double dvn = -(1 + o.e[k]) * vn;
     const double dvt = std::min(vt.norm(), o.mu[k] * dvn);
-    const Eigen::Vector3d t_dir = vt.norm() > 0 ? Eigen::Vector3d(vt / vt.norm()) : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d t_dir =
+        vt.norm() > 0 ? Eigen::Vector3d(vt / vt.norm()) : Eigen::Vector3d::Zero();
     const Eigen::Vector3d v_after = v + dvn * n - dvt * t_dir;
     TrueBounce b;
     b.t_touch = t_touch;
@@ -163,7 +164,8 @@ inline BallClip MakeBallClip(const BallClipOptions& o) {
     clip.poses.push_back(ps);
   }
   for (int f : o.missing)
-    if (f >= 0 && f < static_cast<int>(clip.poses.size())) clip.poses[static_cast<std::size_t>(f)].valid = false;
+    if (f >= 0 && f < static_cast<int>(clip.poses.size()))
+      clip.poses[static_cast<std::size_t>(f)].valid = false;
   for (int f : o.repeated)
     if (f > 0 && f < static_cast<int>(clip.poses.size())) {
       auto& p = clip.poses[static_cast<std::size_t>(f)];
