@@ -38,11 +38,14 @@ struct Context {
   int P = 0;  ///< parameters in x
   double phi_rad = 0.0;
   double d = 0.0, R = 0.0;
+  bool fitted_up = true;  ///< gravity's direction from the fitted acceleration, else y_W
 };
 
-/// S at the stated angle from gravity's perpendicular, gravity the fitted acceleration.
+/// S at the stated angle from gravity's perpendicular, gravity the fitted acceleration (or W's
+/// -y where its direction is not measured).
 core::SurfaceRotation SurfaceOf(const Context& c, const Eigen::Vector2d& a) {
-  const Eigen::Vector2d up = a.norm() > 0 ? Eigen::Vector2d(-a / a.norm()) : Eigen::Vector2d(0, 1);
+  const Eigen::Vector2d up =
+      c.fitted_up && a.norm() > 0 ? Eigen::Vector2d(-a / a.norm()) : Eigen::Vector2d(0, 1);
   return core::SurfaceRotation(c.phi_rad + std::atan2(up.x(), up.y()));
 }
 
@@ -233,14 +236,14 @@ std::string Unmeasurable(const std::vector<PoseSample>& poses, const FlightArcs&
 
 /// The measured impact after arc k from its values and their covariance.
 void Fill(const FlightArcs& arcs, int k, const Eigen::VectorXd& v, const Eigen::MatrixXd& cv,
-          double surface_angle_deg, const core::SpecimenParameters& body,
+          double surface_angle_deg, bool fitted_up, const core::SpecimenParameters& body,
           const KinematicsOptions& o, ImpactKinematics& im) {
   const auto se = [&](int i) { return std::sqrt(std::max(cv(i, i), 0.0)); };
   const auto se2 = [&](int i) { return Eigen::Vector2d(se(i), se(i + 1)); };
   im.success = true;
   im.impact_time_s = v(kT);
   im.impact_time_se_s = se(kT);
-  im.surface_angle_W_deg = surface_angle_deg + arcs.roll_deg;
+  im.surface_angle_W_deg = surface_angle_deg + (fitted_up ? arcs.roll_deg : 0.0);
   im.v_SC_before = v.segment<2>(kVbS);
   im.v_SC_after = v.segment<2>(kVaS);
   im.v_SC_before_se = se2(kVbS);
@@ -393,8 +396,14 @@ ArcImpacts MeasureArcImpacts(const std::vector<PoseSample>& poses, double surfac
   ArcImpacts out;
   out.arcs = FitFlightArcs(poses, body.d_EC_m, surface_angle_deg, options.arcs);
   const FlightArcs& A = out.arcs;
-  const Context c{A, static_cast<int>(A.x.size()), core::DegToRad(surface_angle_deg), body.d_EC_m,
-                  body.end_radius_m};
+  const bool fitted_up =
+      A.status == ArcFitStatus::kFitted && A.roll_se_deg <= options.arcs.max_roll_se_deg;
+  const Context c{A,
+                  static_cast<int>(A.x.size()),
+                  core::DegToRad(surface_angle_deg),
+                  body.d_EC_m,
+                  body.end_radius_m,
+                  fitted_up};
   Eigen::VectorXd q;
   Eigen::MatrixXd cov;
   if (A.status == ArcFitStatus::kFitted) Parameters(A, q, cov);
@@ -430,7 +439,15 @@ ArcImpacts MeasureArcImpacts(const std::vector<PoseSample>& poses, double surfac
       }
       why << Unmeasurable(poses, A, k, v, std::sqrt(std::max(cv(kT, kT), 0.0)));
       if (why.str().empty()) {
-        Fill(A, k, v, cv, surface_angle_deg, body, options, im);
+        Fill(A, k, v, cv, surface_angle_deg, fitted_up, body, options, im);
+        if (!fitted_up) {
+          std::ostringstream os;
+          os << "impact " << i << ": gravity's direction is not measured from the arcs (its s.e. "
+             << A.roll_se_deg << " deg is over " << options.arcs.max_roll_se_deg
+             << "): S is built on trial.json's gravity";
+          im.warnings.push_back(os.str());
+          im.flags.push_back("gravity_direction_stated");
+        }
         if (A.depth_measured) {
           const double e_other = f(WithX(q, A.x_other))(kE);
           im.limits.depth_corrected = A.depth_applied;

@@ -1,8 +1,8 @@
 #pragma once
 /// @file
-/// The time base from gravity (docs/tracking.md, "The time base from gravity"). A clip's times
-/// are frame index over the container's frame rate; when the scale is known independently of
-/// gravity (a ball's known diameter, a checkerboard, a ruler), the flight arcs' fitted
+/// The time base from gravity (docs/tracking.md, "Joint arcs", "The time base from gravity").
+/// A clip's times are frame index over the container's frame rate; when the scale is known
+/// independently of gravity (a ball's known diameter, a checkerboard, a ruler), the arcs' fitted
 /// acceleration |a| in m/s^2 at those times tells the rate the frames were captured at: a
 /// slow-motion file that stores 240 captures a second at 30 fps plays the motion 8 times
 /// slower, so |a| comes out 8^2 = 64 times too small. Capture rate = container rate x

@@ -1196,6 +1196,7 @@ void ArcOptions::Validate() const {
   if (!(contact_chi2 > 0)) throw std::invalid_argument("arcs contact_chi2 must be > 0");
   if (!(max_excluded_fraction > 0 && max_excluded_fraction < 1))
     throw std::invalid_argument("arcs max_excluded_fraction must be in (0, 1)");
+  if (!(max_roll_se_deg > 0)) throw std::invalid_argument("arcs max_roll_se_deg must be > 0");
   if (!(min_sideways_ratio >= 0))
     throw std::invalid_argument("arcs min_sideways_ratio must be >= 0");
   if (principal_point_W && !principal_point_W->allFinite())

@@ -47,6 +47,11 @@ struct ArcOptions {
   /// On a level surface mu_eff is measured only where the body moves along it before the
   /// impact by more than this fraction of its normal speed (and 3 standard errors); >= 0.
   double min_sideways_ratio = 0.05;
+  /// Gravity's direction ("up", the camera's roll) is taken from the fitted acceleration when
+  /// its s.e. is at most this (deg); else S is built on W's y (the stated gravity), as the arcs
+  /// are too short in time for gravity to bend them measurably (high frame rates). MeasureTrial-
+  /// Impacts (pipeline/trial_impacts.h) also uses it to choose the method; > 0.
+  double max_roll_se_deg = 1.0;
   /// The image's principal point in W (the units of the positions): with the samples'
   /// apparent sizes it gives the depth correction (see `correct_depth`). nullopt: none.
   std::optional<Eigen::Vector2d> principal_point_W;

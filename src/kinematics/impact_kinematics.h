@@ -1,8 +1,10 @@
 #pragma once
 /// @file
-/// From body poses to impact physics (docs/tracking.md, "4. Kinematics"): gravity-aware fits of the
-/// free flight before and after the impact, a sub-frame impact time where the fits meet, and the
-/// velocities, spin, e and mu_eff with standard errors propagated from the fit residuals.
+/// From body poses to impact physics (docs/tracking.md, "4. Kinematics"), the windows method:
+/// gravity-aware fits of the free flight before and after the impact, a sub-frame impact time
+/// where the fits meet, and the velocities, spin, e and mu_eff with standard errors propagated
+/// from the fit residuals. (kinematics/arc_impacts.h measures every flight arc at once instead;
+/// both give ImpactKinematics.)
 ///
 /// Free flight is a parabola, not a line: the centre of mass C follows
 /// p(t) = p* + v (t - t*) + g (t - t*)^2 / 2 with g known (9.81 m/s^2 along -y_W), and the

@@ -71,7 +71,12 @@ void MeasureTrialImpacts(const std::vector<kinematics::PoseSample>& samples, dou
   }
   kinematics::ArcImpacts arcs =
       kinematics::MeasureArcImpacts(samples, surface_angle_deg, body, options);
-  if (options.method == KinematicsMethod::kAuto && arcs.impacts.empty()) return;
+  // The arcs take gravity's direction from the data: where it does not show (arcs too short
+  // in time for gravity to bend them, as at 8000 fps), the windows' known g is better.
+  if (options.method == KinematicsMethod::kAuto &&
+      (arcs.impacts.empty() || arcs.arcs.status != kinematics::ArcFitStatus::kFitted ||
+       !(arcs.arcs.roll_se_deg <= options.arcs.max_roll_se_deg)))
+    return;
   out.warnings.resize(warnings);
   out.flags.resize(flags);
   out.kinematics_method = KinematicsMethod::kArcs;
