@@ -244,6 +244,39 @@ double WeightedMedian(std::vector<std::pair<double, double>> v) {
   return v.empty() ? 0.0 : v.back().first;
 }
 
+/// A parabola with its own p, v and a fitted to the samples lo..hi: its acceleration, the
+/// variances of its two components (from its own residuals) and its residual variance; false
+/// when fewer than four samples or underdetermined.
+bool FreeParabola(const State& st, std::size_t lo, std::size_t hi, Eigen::Vector2d& a,
+                  Eigen::Vector2d& var_a, double& s2) {
+  if (hi + 1 < lo + 4) return false;
+  const double t0 = st.s[lo].t;
+  Eigen::Matrix<double, 6, 6> N = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> r = Eigen::Matrix<double, 6, 1>::Zero();
+  const auto design = [&](std::size_t j) {
+    const double tau = st.s[j].t - t0;
+    Eigen::Matrix<double, 2, 6> M;
+    M << 1, 0, tau, 0, 0.5 * tau * tau, 0, 0, 1, 0, tau, 0, 0.5 * tau * tau;
+    return M;
+  };
+  for (std::size_t j = lo; j <= hi; ++j) {
+    const Eigen::Matrix<double, 2, 6> Mw = st.s[j].W * design(j);
+    N += Mw.transpose() * Mw;
+    r += Mw.transpose() * (st.s[j].W * st.s[j].p);
+  }
+  const Eigen::FullPivLU<Eigen::Matrix<double, 6, 6>> lu(N);
+  if (!lu.isInvertible()) return false;
+  const Eigen::Matrix<double, 6, 6> C = lu.inverse();
+  const Eigen::Matrix<double, 6, 1> q = C * r;
+  double ssr = 0;
+  for (std::size_t j = lo; j <= hi; ++j)
+    ssr += (st.s[j].W * (st.s[j].p - design(j) * q)).squaredNorm();
+  s2 = std::max(ssr / (2.0 * static_cast<double>(hi + 1 - lo) - 6), VarianceFloor(st));
+  a = q.tail<2>();
+  var_a = {s2 * C(4, 4), s2 * C(5, 5)};
+  return true;
+}
+
 /// The acceleration of the flights between the candidate contacts: each run of four or more
 /// samples fitted with its own p, v and a, and the median of the a's weighted by their
 /// precision (from each run's own residuals), so that a run that is no free flight (a hand, a
@@ -255,40 +288,50 @@ Eigen::Vector2d RunAcceleration(const State& st, const std::vector<int>& breaks,
   for (std::size_t b = 0; b <= breaks.size(); ++b) {
     const std::size_t hi =
         b < breaks.size() ? static_cast<std::size_t>(breaks[b]) : st.s.size() - 1;
-    if (hi + 1 >= lo + 4) {
-      const double t0 = st.s[lo].t;
-      Eigen::Matrix<double, 6, 6> N = Eigen::Matrix<double, 6, 6>::Zero();
-      Eigen::Matrix<double, 6, 1> r = Eigen::Matrix<double, 6, 1>::Zero();
-      for (std::size_t j = lo; j <= hi; ++j) {
-        const double tau = st.s[j].t - t0;
-        Eigen::Matrix<double, 2, 6> M = Eigen::Matrix<double, 2, 6>::Zero();
-        M << 1, 0, tau, 0, 0.5 * tau * tau, 0, 0, 1, 0, tau, 0, 0.5 * tau * tau;
-        const Eigen::Matrix<double, 2, 6> Mw = st.s[j].W * M;
-        N += Mw.transpose() * Mw;
-        r += Mw.transpose() * (st.s[j].W * st.s[j].p);
-      }
-      const Eigen::FullPivLU<Eigen::Matrix<double, 6, 6>> lu(N);
-      if (lu.isInvertible()) {
-        const Eigen::Matrix<double, 6, 6> C = lu.inverse();
-        const Eigen::Matrix<double, 6, 1> q = C * r;
-        double ssr = 0;
-        for (std::size_t j = lo; j <= hi; ++j) {
-          const double tau = st.s[j].t - t0;
-          const Eigen::Vector2d pred(q(0) + q(2) * tau + 0.5 * q(4) * tau * tau,
-                                     q(1) + q(3) * tau + 0.5 * q(5) * tau * tau);
-          ssr += (st.s[j].W * (st.s[j].p - pred)).squaredNorm();
-        }
-        const double dof = 2.0 * static_cast<double>(hi + 1 - lo) - 6;
-        const double s2 = std::max(ssr / dof, VarianceFloor(st));
-        ax.emplace_back(q(4), 1 / std::max(s2 * C(4, 4), 1e-300));
-        ay.emplace_back(q(5), 1 / std::max(s2 * C(5, 5), 1e-300));
-        if (runs) runs->emplace_back(q(4), q(5));
-      }
+    Eigen::Vector2d a, var;
+    double s2 = 0;
+    if (FreeParabola(st, lo, hi, a, var, s2)) {
+      ax.emplace_back(a.x(), 1 / std::max(var.x(), 1e-300));
+      ay.emplace_back(a.y(), 1 / std::max(var.y(), 1e-300));
+      if (runs) runs->push_back(a);
     }
     lo = hi + 1;
   }
   if (ax.empty()) return Eigen::Vector2d::Zero();
   return {WeightedMedian(ax), WeightedMedian(ay)};
+}
+
+/// Accelerations of short windows (eight samples, half overlapping) that fit a parabola within
+/// their noise (`f2`, third differences), grouped where within 10 % of each other: the centre
+/// of each group, the largest groups first (at most `keep`). Windows within one flight agree
+/// on gravity, whatever the rest of the clip holds (a long hand-held stretch, many bounces).
+std::vector<Eigen::Vector2d> WindowAccelerations(const State& st, double f2, std::size_t keep) {
+  std::vector<Eigen::Vector2d> all;
+  const std::size_t w = 8;
+  for (std::size_t lo = 0; lo + w <= st.s.size(); lo += w / 2) {
+    Eigen::Vector2d a, var;
+    double s2 = 0;
+    if (FreeParabola(st, lo, lo + w - 1, a, var, s2) && s2 < 3 * f2 && a.norm() > 0)
+      all.push_back(a);
+  }
+  std::vector<std::pair<std::size_t, Eigen::Vector2d>> groups;
+  std::vector<bool> used(all.size(), false);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (used[i]) continue;
+    std::vector<double> gx, gy;
+    for (std::size_t j = i; j < all.size(); ++j)
+      if (!used[j] && (all[j] - all[i]).norm() < 0.1 * all[i].norm()) {
+        used[j] = true;
+        gx.push_back(all[j].x());
+        gy.push_back(all[j].y());
+      }
+    groups.emplace_back(gx.size(), Eigen::Vector2d(Median(gx), Median(gy)));
+  }
+  std::stable_sort(groups.begin(), groups.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<Eigen::Vector2d> out;
+  for (std::size_t i = 0; i < groups.size() && i < keep; ++i) out.push_back(groups[i].second);
+  return out;
 }
 
 /// The surface's outward normal for gravity along `a` (up = -a / |a|, or y_W when a is zero):
@@ -869,7 +912,8 @@ Fit Settle(State& st, const ArcOptions& o, Eigen::Vector2d a, double f2, int anc
 }
 
 /// The contacts found from the motion, then the segmentation settled from the first
-/// acceleration (the runs' weighted median) and from each run's own, keeping the one of least
+/// acceleration (the runs' weighted median), from each run's own and from the largest groups
+/// of short windows' (WindowAccelerations), keeping the one of least
 /// cost: the squared residuals of the samples fitted over the noise of the third differences
 /// (the same for every candidate), outlier_chi2 for each sample left out, and ln(samples) per
 /// parameter (the Bayesian information criterion's). A run that is no flight (a hand carrying
@@ -888,6 +932,7 @@ Fit Segment(State& st, const ArcOptions& o) {
   std::vector<Eigen::Vector2d> tried;
   std::vector<Eigen::Vector2d> cands{a0};
   cands.insert(cands.end(), runs.begin(), runs.end());
+  for (const auto& a : WindowAccelerations(st, f2, 4)) cands.push_back(a);
   State best = st;
   Fit best_fit;
   double best_cost = std::numeric_limits<double>::infinity();

@@ -211,6 +211,33 @@ TEST(ArcImpactsTest, AnArcTooShortLeavesItsImpactsFoundButNotMeasured) {
   EXPECT_NE(second->message.find("holds 2 frames"), std::string::npos) << second->message;
 }
 
+// A hand carries the ball down at 1.5 m/s and lets go 3.2 frame periods before the first touch:
+// the first impact is measured from the three or four frames of free fall, e within 4 s.e. and 0.03
+// of its truth, and the frames in the hand are listed as not in flight.
+TEST(ArcImpactsTest, AFirstArcCutShortByAHandStillGivesE) {
+  BallClipOptions o = Drawn(30, 12);
+  o.noise_px = 0.5;
+  o.release_s = 0.3;
+  const double tau = 3.2 / o.fps, v_hand = 1.5;
+  o.p0_G = {0, o.radius_m + v_hand * tau + 0.5 * 9.81 * tau * tau, 0};
+  o.v0_G = {0.2, -v_hand, 0};
+  const BallClip clip = MakeBallClip(o);
+  const ArcImpacts r = MeasureArcImpacts(clip.poses, 0.0, Ball(o.radius_m));
+  const ImpactKinematics* k = Near(r, clip.bounces[0].t_touch, o.fps);
+  ASSERT_NE(k, nullptr);
+  ASSERT_TRUE(k->success) << k->message;
+  // The frames of free fall, and at most the one in the hand just before the release (its path
+  // within noise of the flight's).
+  int falling = 0;
+  for (const auto& p : clip.poses)
+    falling += p.t_s > o.release_s && p.t_s < clip.bounces[0].t_touch;
+  EXPECT_GE(k->limits.samples_before, falling);
+  EXPECT_LE(k->limits.samples_before, falling + 1);
+  EXPECT_GE(k->limits.not_in_flight_frames.size(), 6u);
+  EXPECT_LT(std::abs(k->e - clip.bounces[0].e), 4 * k->e_se);
+  EXPECT_LT(std::abs(k->e - clip.bounces[0].e), 0.03);
+}
+
 // A ball moving toward the camera seen through a pinhole: its image velocities carry the depth
 // motion's term -x V_z / Z, and e measured in the image is biased. From its apparent size and
 // the principal point the bias is measured (e_depth_shift, which the uncorrected e misses by)
