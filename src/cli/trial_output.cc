@@ -27,6 +27,21 @@ void AddAnalysisOptions(CLI::App* cmd, pipeline::TrialAnalysisOptions& options,
   cmd->add_option("--exposure-s", options.kinematics.exposure_s,
                   "Exposure time (s); default one frame period")
       ->capture_default_str();
+  cmd->add_option_function<std::string>(
+         "--kinematics",
+         [&options](const std::string& m) {
+           options.kinematics.method = kinematics::ParseKinematicsMethod(m);
+         },
+         "How impacts are measured: auto (the windows of --fit-frames frames where every window "
+         "fills, else the joint fit of every flight arc with one fitted acceleration), windows "
+         "or arcs")
+      ->check(CLI::IsMember({"auto", "windows", "arcs"}))
+      ->default_str("auto");
+  cmd->add_flag_callback(
+      "--correct-depth", [&options] { options.kinematics.arcs.correct_depth = true; },
+      "Joint arcs: correct the positions for a ball's motion in depth (from its apparent size "
+      "and the principal point) where the size changes significantly; by default the shift of e "
+      "it would make is only reported");
   cmd->add_flag("--scale-from-markers", options.scale_from_markers,
                 "Take the scale from the marker spacing instead of camera.m_per_px");
   cmd->add_flag_callback(
@@ -61,35 +76,89 @@ namespace {
 /// The measured quantities of one impact, with the names of the columns of /results and
 /// results.csv (studyfile/schema.h).
 nlohmann::json ImpactJson(const kinematics::ImpactKinematics& k) {
-  return nlohmann::json(
-      {{"impact_time_s", k.impact_time_s},
-       {"impact_frame", k.impact_frame},
-       {"impact_index", k.index},
-       {"v_SC_before_m_s", JsonVector(k.v_SC_before)},
-       {"v_SC_after_m_s", JsonVector(k.v_SC_after)},
-       {"v_SC_before_se_m_s", JsonVector(k.v_SC_before_se)},
-       {"v_SC_after_se_m_s", JsonVector(k.v_SC_after_se)},
-       {"v_ST_before_m_s", JsonVector(k.v_ST_before)},
-       {"v_ST_after_m_s", JsonVector(k.v_ST_after)},
-       {"w_before_rad_s", JsonNumber(k.w_before_rad_s)},
-       {"w_after_rad_s", JsonNumber(k.w_after_rad_s)},
-       {"w_before_se_rad_s", JsonNumber(k.w_before_se_rad_s)},
-       {"w_after_se_rad_s", JsonNumber(k.w_after_se_rad_s)},
-       {"e", JsonNumber(k.e)},
-       {"e_se", JsonNumber(k.e_se)},
-       {"e_ci_low", JsonNumber(k.e_ci_low)},
-       {"e_ci_high", JsonNumber(k.e_ci_high)},
-       {"mu_eff", JsonNumber(k.mu_eff)},
-       {"mu_eff_se", JsonNumber(k.mu_eff_se)},
-       {"mu_eff_ci_low", JsonNumber(k.mu_eff_ci_low)},
-       {"mu_eff_ci_high", JsonNumber(k.mu_eff_ci_high)},
-       {"kinetic_energy_before_J", JsonNumber(k.kinetic_energy_before_J)},
-       {"kinetic_energy_after_J", JsonNumber(k.kinetic_energy_after_J)},
-       {"kinetic_energy_before_se_J", JsonNumber(k.kinetic_energy_before_se_J)},
-       {"kinetic_energy_after_se_J", JsonNumber(k.kinetic_energy_after_se_J)},
-       {"fit_frames_before", {k.before.first_frame, k.before.last_frame}},
-       {"fit_frames_after", {k.after.first_frame, k.after.last_frame}},
-       {"fit_rms_residual_m", {k.before.rms_residual_m, k.after.rms_residual_m}}});
+  return nlohmann::json({{"impact_time_s", k.impact_time_s},
+                         {"impact_frame", k.impact_frame},
+                         {"impact_index", k.index},
+                         {"v_SC_before_m_s", JsonVector(k.v_SC_before)},
+                         {"v_SC_after_m_s", JsonVector(k.v_SC_after)},
+                         {"v_SC_before_se_m_s", JsonVector(k.v_SC_before_se)},
+                         {"v_SC_after_se_m_s", JsonVector(k.v_SC_after_se)},
+                         {"v_ST_before_m_s", JsonVector(k.v_ST_before)},
+                         {"v_ST_after_m_s", JsonVector(k.v_ST_after)},
+                         {"w_before_rad_s", JsonNumber(k.w_before_rad_s)},
+                         {"w_after_rad_s", JsonNumber(k.w_after_rad_s)},
+                         {"w_before_se_rad_s", JsonNumber(k.w_before_se_rad_s)},
+                         {"w_after_se_rad_s", JsonNumber(k.w_after_se_rad_s)},
+                         {"e", JsonNumber(k.e)},
+                         {"e_se", JsonNumber(k.e_se)},
+                         {"e_ci_low", JsonNumber(k.e_ci_low)},
+                         {"e_ci_high", JsonNumber(k.e_ci_high)},
+                         {"mu_eff", JsonNumber(k.mu_eff)},
+                         {"mu_eff_se", JsonNumber(k.mu_eff_se)},
+                         {"mu_eff_ci_low", JsonNumber(k.mu_eff_ci_low)},
+                         {"mu_eff_ci_high", JsonNumber(k.mu_eff_ci_high)},
+                         {"kinetic_energy_before_J", JsonNumber(k.kinetic_energy_before_J)},
+                         {"kinetic_energy_after_J", JsonNumber(k.kinetic_energy_after_J)},
+                         {"kinetic_energy_before_se_J", JsonNumber(k.kinetic_energy_before_se_J)},
+                         {"kinetic_energy_after_se_J", JsonNumber(k.kinetic_energy_after_se_J)},
+                         {"fit_frames_before", {k.before.first_frame, k.before.last_frame}},
+                         {"fit_frames_after", {k.after.first_frame, k.after.last_frame}},
+                         {"fit_rms_residual_m", {k.before.rms_residual_m, k.after.rms_residual_m}},
+                         {"impact_time_se_s", JsonNumber(k.impact_time_se_s)},
+                         {"surface_angle_W_deg", JsonNumber(k.surface_angle_W_deg)},
+                         {"p_WT_m", JsonVector(k.p_WT)}});
+}
+
+/// What limited an impact (kinematics::ImpactLimits).
+nlohmann::json LimitsJson(const kinematics::ImpactLimits& L) {
+  return {{"samples_before", L.samples_before},
+          {"samples_after", L.samples_after},
+          {"contact_frames", L.contact_frames},
+          {"outlier_frames", L.outlier_frames},
+          {"not_in_flight_frames", L.not_in_flight_frames},
+          {"missing_frames", L.missing_frames},
+          {"repeated_frames", L.repeated_frames},
+          {"short_arc", L.short_arc},
+          {"depth_rate_before_per_s", JsonNumber(L.depth_rate_before_per_s)},
+          {"depth_rate_after_per_s", JsonNumber(L.depth_rate_after_per_s)},
+          {"depth_corrected", L.depth_corrected},
+          {"e_depth_shift", JsonNumber(L.e_depth_shift)},
+          {"meeting_gap_m", JsonNumber(L.meeting_gap_m)},
+          {"meeting_gap_se_m", JsonNumber(L.meeting_gap_se_m)}};
+}
+
+/// The joint arc fit (kinematics/flight_arcs.h): gravity's fitted acceleration and direction,
+/// the arcs, and every frame the fit left out with its reason.
+nlohmann::json ArcsJson(const kinematics::FlightArcs& A) {
+  nlohmann::json arcs = nlohmann::json::array(), left_out = nlohmann::json::array();
+  for (const auto& a : A.arcs)
+    arcs.push_back({{"first_frame", a.first_frame},
+                    {"last_frame", a.last_frame},
+                    {"samples", a.n},
+                    {"fitted", a.fitted},
+                    {"rms_residual", JsonNumber(a.rms_residual)},
+                    {"depth_rate_per_s", JsonNumber(a.depth_rate_per_s)},
+                    {"depth_rate_se_per_s", JsonNumber(a.depth_rate_se_per_s)}});
+  for (std::size_t f = 0; f < A.frames.size(); ++f) {
+    const auto role = A.frames[f].role;
+    if (role == kinematics::ArcFrameRole::kArc) continue;
+    left_out.push_back({{"frame", f}, {"reason", kinematics::ArcFrameRoleName(role)}});
+  }
+  return {{"fitted", A.status == kinematics::ArcFitStatus::kFitted},
+          {"message", A.message},
+          {"a_W", JsonVector(A.a_W)},
+          {"a_norm", JsonNumber(A.a_norm)},
+          {"a_norm_se", JsonNumber(A.a_norm_se)},
+          {"roll_deg", JsonNumber(A.roll_deg)},
+          {"roll_se_deg", JsonNumber(A.roll_se_deg)},
+          {"sigma", JsonNumber(A.sigma)},
+          {"weighted", A.weighted},
+          {"samples_used", A.samples_used},
+          {"dof", A.dof},
+          {"depth_measured", A.depth_measured},
+          {"depth_applied", A.depth_applied},
+          {"arcs", arcs},
+          {"frames_left_out", left_out}};
 }
 
 }  // namespace
@@ -98,7 +167,9 @@ nlohmann::json ImpactEntryJson(const kinematics::ImpactKinematics& k) {
   nlohmann::json j = {{"impact_index", k.index},
                       {"lowest_frame", k.lowest_frame},
                       {"success", k.success},
-                      {"error", k.success ? std::string() : k.message}};
+                      {"error", k.success ? std::string() : k.message},
+                      {"method", kinematics::KinematicsMethodName(k.method)},
+                      {"limits", LimitsJson(k.limits)}};
   if (k.success)
     j.update(ImpactJson(k));
   else
@@ -205,28 +276,82 @@ nlohmann::json TrialJson(const pipeline::TrialAnalysis& r) {
                    {"rms_residual_px", JsonNumber(m.rms_residual_px)}};
   }
   if (k.success) j.update(ImpactJson(k));
+  j["kinematics_method"] = kinematics::KinematicsMethodName(r.kinematics_method);
+  if (r.arcs) j["arcs"] = ArcsJson(*r.arcs);
+  if (r.contact_line) {
+    const auto& L = *r.contact_line;
+    j["contact_line"] = {{"measured", L.measured},
+                         {"message", L.message},
+                         {"impacts", L.impacts},
+                         {"p_W_m", JsonVector(L.p_W)},
+                         {"level_m", JsonNumber(L.level_m)},
+                         {"level_se_m", JsonNumber(L.level_se_m)},
+                         {"angle_measured", L.angle_measured},
+                         {"angle_deg", JsonNumber(L.angle_deg)},
+                         {"angle_se_deg", JsonNumber(L.angle_se_deg)},
+                         {"rms_residual_m", JsonNumber(L.rms_residual_m)}};
+  }
+  if (r.capture_rate) {
+    const auto& c = *r.capture_rate;
+    j["capture_rate"] = {{"measured", c.measured},
+                         {"message", c.message},
+                         {"container_fps", JsonNumber(c.container_fps)},
+                         {"capture_fps", JsonNumber(c.capture_fps)},
+                         {"capture_fps_se", JsonNumber(c.capture_fps_se)},
+                         {"ratio", JsonNumber(c.ratio)},
+                         {"ratio_se", JsonNumber(c.ratio_se)},
+                         {"nearest_ratio", c.nearest_ratio},
+                         {"nearest_ratio_z", JsonNumber(c.nearest_ratio_z)}};
+  }
   // Every impact of the clip, each measured on its own (pipeline/trial_impacts.h).
   j["impacts"] = nlohmann::json::array();
   for (const auto& i : r.impacts) j["impacts"].push_back(ImpactEntryJson(i));
   return j;
 }
 
+namespace {
+
+/// What limited an impact, in words: its samples, the frames left out and why, the depth.
+std::string LimitsText(const kinematics::ImpactLimits& L) {
+  std::ostringstream os;
+  os << L.samples_before << " + " << L.samples_after << " frames";
+  const auto frames = [&](const char* what, const std::vector<int>& v) {
+    if (v.empty()) return;
+    os << "; " << what << " ";
+    for (std::size_t i = 0; i < v.size(); ++i) os << (i ? "," : "") << v[i];
+  };
+  frames("contact frames left out", L.contact_frames);
+  frames("outliers", L.outlier_frames);
+  frames("not in flight", L.not_in_flight_frames);
+  frames("no position", L.missing_frames);
+  frames("repeated", L.repeated_frames);
+  if (std::isfinite(L.e_depth_shift))
+    os << "; depth motion: e " << (L.depth_corrected ? "corrected by " : "would move by ")
+       << format::Number(L.e_depth_shift, format::Kind::kCoefficient);
+  return os.str();
+}
+
+}  // namespace
+
 std::string ImpactsText(const pipeline::TrialAnalysis& r) {
   using format::Kind;
   std::ostringstream os;
-  os << "  impacts: " << r.impacts.size() << " in the clip; the trial's result above is impact "
-     << r.impact.index << "\n";
+  os << "  impacts: " << r.impacts.size() << " in the clip ("
+     << kinematics::KinematicsMethodName(r.kinematics_method)
+     << "); the trial's result above is impact " << r.impact.index << "\n";
   for (const auto& k : r.impacts) {
     os << "    " << k.index << ": ";
     if (!k.success) {
       os << "near frame " << k.lowest_frame << ", not measured: " << k.message << "\n";
       continue;
     }
-    os << format::Number(k.impact_time_s * 1e3, Kind::kMeasured) << " ms (after frame "
-       << k.impact_frame << "), v_SC_y " << format::Number(k.v_SC_before.y(), Kind::kMeasured)
-       << " -> " << format::Number(k.v_SC_after.y(), Kind::kMeasured) << " m/s, e "
+    os << "t* " << format::WithError(k.impact_time_s * 1e3, k.impact_time_se_s * 1e3)
+       << " ms (after frame " << k.impact_frame << "), v_SC_y "
+       << format::Number(k.v_SC_before.y(), Kind::kMeasured) << " -> "
+       << format::Number(k.v_SC_after.y(), Kind::kMeasured) << " m/s, e "
        << format::WithError(k.e, k.e_se, Kind::kCoefficient) << ", mu_eff "
-       << format::WithError(k.mu_eff, k.mu_eff_se, Kind::kCoefficient) << "\n";
+       << format::WithError(k.mu_eff, k.mu_eff_se, Kind::kCoefficient) << "; "
+       << LimitsText(k.limits) << "\n";
   }
   return os.str();
 }
@@ -263,7 +388,26 @@ std::string TrialText(const pipeline::TrialAnalysis& r) {
        << num(k.before.rms_residual_m * 1e6, Kind::kError) << " / "
        << num(k.after.rms_residual_m * 1e6, Kind::kError) << " µm\n";
   }
-  if (r.impacts.size() > 1) os << ImpactsText(r);
+  if (r.impacts.size() > 1 || r.kinematics_method == kinematics::KinematicsMethod::kArcs)
+    os << ImpactsText(r);
+  if (r.arcs && r.arcs->status == kinematics::ArcFitStatus::kFitted) {
+    const auto& A = *r.arcs;
+    os << "  arcs    " << A.arcs.size() << " flight arcs, " << A.samples_used
+       << " frames fitted; |a| " << format::WithError(A.a_norm, A.a_norm_se)
+       << (std::isfinite(r.m_per_px_used) ? " m/s^2" : " px/s^2") << ", up "
+       << format::WithError(A.roll_deg, A.roll_se_deg) << " deg from the image's up\n";
+  }
+  if (r.contact_line && r.contact_line->measured) {
+    const auto& L = *r.contact_line;
+    os << "  contact line  level " << format::WithError(L.level_m, L.level_se_m) << " along up";
+    if (L.angle_measured)
+      os << ", angle " << format::WithError(L.angle_deg, L.angle_se_deg) << " deg";
+    os << " (" << L.impacts << " impacts)\n";
+  }
+  if (r.capture_rate && r.capture_rate->measured)
+    os << "  time base  gravity implies "
+       << format::WithError(r.capture_rate->capture_fps, r.capture_rate->capture_fps_se)
+       << " captures a second (trial.json: " << num(r.spec.fps) << ")\n";
   if (r.no_impact) {
     const auto& m = r.motion;
     os << "  motion  " << m.frames_tracked << " frames tracked; speed "

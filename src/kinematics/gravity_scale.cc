@@ -191,7 +191,9 @@ GravityScale EstimateGravityScale(const std::vector<std::optional<Eigen::Vector2
 void AddScaleUncertainty(double rel_se, double surface_angle_deg,
                          const core::SpecimenParameters& body, ImpactKinematics& k) {
   if (!std::isfinite(rel_se) || rel_se < 0) rel_se = 0;
-  const auto S = core::SurfaceRotation::FromDegrees(surface_angle_deg);
+  // S as the measurement built it (the joint arcs turn it with gravity's fitted roll).
+  const auto S = core::SurfaceRotation::FromDegrees(
+      std::isfinite(k.surface_angle_W_deg) ? k.surface_angle_W_deg : surface_angle_deg);
   const Eigen::Matrix2d R_SW = S.R_SW();
   for (FlightFit* fit : {&k.before, &k.after})
     fit->cov_v_WC += rel_se * rel_se * fit->v_WC * fit->v_WC.transpose();

@@ -269,6 +269,9 @@ void Finish(double fps, double surface_angle_deg, const core::SurfaceRotation& S
             const core::SpecimenParameters& body, const KinematicsOptions& options,
             ImpactKinematics& k) {
   k.impact_frame = static_cast<int>(std::floor(k.impact_time_s * fps));
+  k.surface_angle_W_deg = surface_angle_deg;
+  k.limits.samples_before = k.before.n;
+  k.limits.samples_after = k.after.n;
   VelocitiesInS(S, body, k);
   RestitutionAndFriction(S, body, options.confidence, k);
   // On a level surface (a normal impact) nothing drives the body along it: the change of v_x
@@ -282,6 +285,25 @@ void Finish(double fps, double surface_angle_deg, const core::SurfaceRotation& S
 
 }  // namespace
 
+const char* KinematicsMethodName(KinematicsMethod m) {
+  switch (m) {
+    case KinematicsMethod::kAuto:
+      return "auto";
+    case KinematicsMethod::kWindows:
+      return "windows";
+    case KinematicsMethod::kArcs:
+      return "arcs";
+  }
+  return "?";
+}
+
+KinematicsMethod ParseKinematicsMethod(const std::string& name) {
+  for (auto m : {KinematicsMethod::kAuto, KinematicsMethod::kWindows, KinematicsMethod::kArcs})
+    if (name == KinematicsMethodName(m)) return m;
+  throw std::invalid_argument("kinematics method \"" + name +
+                              "\" is invalid: auto, windows or arcs");
+}
+
 void KinematicsOptions::Validate() const {
   if (fit_frames < 3) throw std::invalid_argument("kinematics fit_frames must be >= 3");
   if (min_fit_frames < 3) throw std::invalid_argument("kinematics min_fit_frames must be >= 3");
@@ -293,6 +315,7 @@ void KinematicsOptions::Validate() const {
   if (!(gravity_m_s2 >= 0)) throw std::invalid_argument("kinematics gravity_m_s2 must be >= 0");
   if (!(confidence > 0 && confidence < 1))
     throw std::invalid_argument("kinematics confidence must be in (0, 1)");
+  arcs.Validate();
 }
 
 ImpactKinematics MeasureImpact(const std::vector<PoseSample>& poses, double fps,

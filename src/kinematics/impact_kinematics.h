@@ -1,8 +1,10 @@
 #pragma once
 /// @file
-/// From body poses to impact physics (docs/tracking.md, "4. Kinematics"): gravity-aware fits of the
-/// free flight before and after the impact, a sub-frame impact time where the fits meet, and the
-/// velocities, spin, e and mu_eff with standard errors propagated from the fit residuals.
+/// From body poses to impact physics (docs/tracking.md, "4. Kinematics"), the windows method:
+/// gravity-aware fits of the free flight before and after the impact, a sub-frame impact time
+/// where the fits meet, and the velocities, spin, e and mu_eff with standard errors propagated
+/// from the fit residuals. (kinematics/arc_impacts.h measures every flight arc at once instead;
+/// both give ImpactKinematics.)
 ///
 /// Free flight is a parabola, not a line: the centre of mass C follows
 /// p(t) = p* + v (t - t*) + g (t - t*)^2 / 2 with g known (9.81 m/s^2 along -y_W), and the
@@ -16,16 +18,24 @@
 
 #include "core/frames.h"
 #include "core/specimen.h"
+#include "kinematics/flight_arcs.h"
+#include "kinematics/pose_sample.h"
 
 namespace hoof::kinematics {
 
-/// One frame's body pose in the world frame W (from tracking).
-struct PoseSample {
-  double t_s = 0.0;            ///< frame time since frame 0 (s)
-  bool valid = false;          ///< false when too few markers were found
-  Eigen::Vector2d p_WE{0, 0};  ///< centre of the round end (m)
-  double theta_W_rad = 0.0;    ///< angle of x_B from x_W (rad)
+/// How MeasureTrialImpacts (pipeline/trial_impacts.h) measures a clip's impacts.
+enum class KinematicsMethod {
+  /// The windows where every window holds fit_frames frames, the joint arcs otherwise.
+  kAuto,
+  kWindows,  ///< fit_frames frames before and after each impact, g known along -y_W
+  kArcs,     ///< every flight arc at once with one fitted acceleration (flight_arcs.h)
 };
+
+/// "auto", "windows", "arcs".
+const char* KinematicsMethodName(KinematicsMethod m);
+/// The method named `name` ("auto", "windows" or "arcs"); throws std::invalid_argument naming
+/// the value otherwise.
+KinematicsMethod ParseKinematicsMethod(const std::string& name);
 
 /// Settings of the impact measurement.
 struct KinematicsOptions {
@@ -35,6 +45,9 @@ struct KinematicsOptions {
   double exposure_s = -1.0;      ///< exposure time (s); < 0 means one frame period (worst case)
   double gravity_m_s2 = core::kStandardGravity_m_s2;  ///< g along -y_W
   double confidence = 0.95;  ///< level of the reported intervals; in (0, 1)
+  /// Which method MeasureTrialImpacts uses (pipeline/trial_impacts.h).
+  KinematicsMethod method = KinematicsMethod::kAuto;
+  ArcOptions arcs;  ///< the joint arc fit's settings
 
   void Validate() const;
 };
@@ -51,6 +64,32 @@ struct FlightFit {
   double theta_se_rad = 0.0;
   double rms_residual_m = 0.0;  ///< of the position fit
   double rms_theta_residual_rad = 0.0;
+};
+
+/// What limited one impact's measurement. The joint arc fit fills every field; the window fits
+/// fill the sample counts only.
+struct ImpactLimits {
+  int samples_before = 0, samples_after = 0;  ///< positions fitted before and after the impact
+  /// Frames beside the contact and off both arcs (the body touching, or blurred across the
+  /// contact), left out.
+  std::vector<int> contact_frames;
+  std::vector<int> outlier_frames;  ///< frames of the two arcs off them, left out
+  /// Frames before the first arc or after the last that are not on it (held by a hand, rolling).
+  std::vector<int> not_in_flight_frames;
+  std::vector<int> missing_frames;   ///< frames within the two arcs without a position
+  std::vector<int> repeated_frames;  ///< frames within them that repeat the previous image
+  /// An arc beside the impact holds fewer than ArcOptions::min_arc_frames samples: the impact
+  /// is found but not measured.
+  bool short_arc = false;
+  /// (dZ/dt) / Z (1/s) of the arcs before and after, from the apparent size; NaN without it.
+  double depth_rate_before_per_s = core::kNaN, depth_rate_after_per_s = core::kNaN;
+  bool depth_corrected = false;  ///< e and the velocities are corrected for the depth motion
+  /// e corrected for the depth motion minus e uncorrected (the bias of the uncorrected e); NaN
+  /// when the apparent size does not change significantly or no principal point is given.
+  double e_depth_shift = core::kNaN;
+  /// How far apart the two arcs are along the surface where they meet (0 for an instantaneous
+  /// impact), and its standard error (m).
+  double meeting_gap_m = core::kNaN, meeting_gap_se_m = core::kNaN;
 };
 
 /// Everything measured about one impact. Vectors in S are [along the surface, normal].
@@ -86,6 +125,17 @@ struct ImpactKinematics {
   /// Their standard errors, from the velocity fits and the scale's (kinematics/gravity_scale.h,
   /// AddScaleUncertainty); NaN until it is called.
   double kinetic_energy_before_se_J = core::kNaN, kinetic_energy_after_se_J = core::kNaN;
+
+  /// kWindows (MeasureImpact, MeasureImpacts) or kArcs (kinematics/arc_impacts.h).
+  KinematicsMethod method = KinematicsMethod::kWindows;
+  double impact_time_se_s = core::kNaN;  ///< s.e. of impact_time_s; NaN from the windows
+  /// The surface's angle in W that S is built from (deg): trial.json's angle, plus the fitted
+  /// roll of gravity for the joint arcs.
+  double surface_angle_W_deg = core::kNaN;
+  /// The contact point T where the arcs meet (m, W) and its covariance; NaN from the windows.
+  Eigen::Vector2d p_WT{core::kNaN, core::kNaN};
+  Eigen::Matrix2d cov_p_WT = Eigen::Matrix2d::Constant(core::kNaN);
+  ImpactLimits limits;
 };
 
 /// Measures the impact in `poses` (one per frame, in frame order) for a surface at

@@ -177,6 +177,7 @@ void TimeSamples(const tracking::FrameTiming& t, std::vector<kinematics::PoseSam
   for (std::size_t f = 0; f < samples.size() && f < t.t_s.size(); ++f) {
     samples[f].t_s = t.t_s[f];
     if (t.repeat[f]) samples[f].valid = false;
+    samples[f].repeated = t.repeat[f];
   }
 }
 
@@ -341,6 +342,17 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
     }
     out.poses.push_back(pose);
     samples.push_back({f / spec.fps, pose.valid, pose.p_WE, pose.theta_W_rad});
+    if (o.found) {
+      // The centre's covariance carried into W (the mapping's local Jacobian), and a ball's
+      // apparent size, for the joint arc fit.
+      Eigen::Matrix2d J;
+      J.col(0) = cam.ToWorld(o.p_I + Eigen::Vector2d(0.5, 0)) -
+                 cam.ToWorld(o.p_I - Eigen::Vector2d(0.5, 0));
+      J.col(1) = cam.ToWorld(o.p_I + Eigen::Vector2d(0, 0.5)) -
+                 cam.ToWorld(o.p_I - Eigen::Vector2d(0, 0.5));
+      samples.back().cov_p_WE = J * o.cov_p_I * J.transpose();
+      if (spec.body.is_ball()) samples.back().apparent_size = o.diameter_px;
+    }
   }
   TimeSamples(out.timing, samples);
   const double g_px = options.kinematics.gravity_m_s2 / out.m_per_px_used / (spec.fps * spec.fps);
@@ -369,6 +381,44 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
        << " found in " << out.motion.frames_tracked << " frames never moves more than " << travel
        << " px from where it is first seen (its centre's s.d. " << noise << " px)";
     throw std::runtime_error(os.str());
+  }
+}
+
+/// The image's principal point (trial.json's camera matrix, else the frame's centre) in W at
+/// the scale `m_per_px`: with a ball's apparent size it gives the joint arcs' depth correction.
+Eigen::Vector2d PrincipalPointW(const TrialSpec& spec, tracking::FrameSource& source,
+                                double m_per_px) {
+  Eigen::Vector2d c_I;
+  if (spec.camera.camera_matrix) {
+    c_I = {(*spec.camera.camera_matrix)[2], (*spec.camera.camera_matrix)[5]};
+  } else {
+    const cv::Mat first = source.Read(0);
+    c_I = {0.5 * (first.cols - 1), 0.5 * (first.rows - 1)};
+  }
+  return TrialCamera(spec, m_per_px).ToWorld(c_I);
+}
+
+/// The capture rate the joint arcs' acceleration implies (kinematics/capture_rate.h), when
+/// they ran and the scale is known apart from gravity; a warning when it is not trial.json's
+/// fps within 4 s.e. and 2 %.
+void CheckCaptureRate(const TrialSpec& spec, const TrialAnalysisOptions& options,
+                      TrialAnalysis& out) {
+  if (!out.arcs || out.arcs->status != kinematics::ArcFitStatus::kFitted ||
+      out.scale_source == "gravity" || !(out.m_per_px_used > 0))
+    return;
+  kinematics::CaptureRateOptions co;
+  co.gravity_m_s2 = options.kinematics.gravity_m_s2 > 0 ? options.kinematics.gravity_m_s2
+                                                        : core::kStandardGravity_m_s2;
+  out.capture_rate = kinematics::CaptureRateFromGravity(
+      out.arcs->a_norm, out.arcs->a_norm_se, spec.fps, out.m_per_px_se / out.m_per_px_used, co);
+  const auto& r = *out.capture_rate;
+  if (r.measured && std::abs(r.ratio - 1) > std::max(4 * r.ratio_se, 0.02)) {
+    std::ostringstream os;
+    os << "the flight arcs fall at " << out.arcs->a_norm << " m/s^2 at trial.json's fps "
+       << spec.fps << ": gravity implies " << r.capture_fps << " +- " << r.capture_fps_se
+       << " captures a second (" << r.ratio << " x fps; slow motion, or a wrong scale)";
+    out.warnings.push_back(os.str());
+    out.flags.push_back("capture_rate");
   }
 }
 
@@ -471,8 +521,12 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
       kinematics::KinematicsOptions kin = options.kinematics;
       const bool scaled = std::isfinite(out.m_per_px_used);
       if (!scaled) kin.gravity_m_s2 = 0;  // poses in px: see AnalyzeSilhouette
+      if (!kin.arcs.principal_point_W)
+        kin.arcs.principal_point_W =
+            PrincipalPointW(spec, *source, scaled ? out.m_per_px_used : 1.0);
       MeasureTrialImpacts(samples, spec.fps, spec.surface_angle_deg, body, kin,
                           !spec.body.is_ball(), out);
+      CheckCaptureRate(spec, options, out);
       if (!scaled) {
         ForEachImpact(out, [&](kinematics::ImpactKinematics& k) {
           if (!k.success) return;
@@ -588,6 +642,7 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
     TimeSamples(out.timing, samples);
     MeasureTrialImpacts(samples, spec.fps, spec.surface_angle_deg, spec.specimen,
                         options.kinematics, true, out);
+    CheckCaptureRate(spec, options, out);
     for (const auto& w : out.impact.warnings) out.warnings.push_back(w);
     for (const auto& f : out.impact.flags) out.flags.push_back(f);
     AddScaleUncertaintyToImpacts(spec, spec.specimen, out);

@@ -8,6 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "kinematics/arc_impacts.h"
+#include "kinematics/capture_rate.h"
+#include "kinematics/flight_arcs.h"
 #include "kinematics/gravity_scale.h"
 #include "kinematics/impact_kinematics.h"
 #include "pipeline/round_end.h"
@@ -74,6 +77,15 @@ struct TrialAnalysis {
   /// Every impact found in the clip, in time order, each measured on its own (or found but not
   /// measured: success false with the reason); empty when the clip holds none.
   std::vector<kinematics::ImpactKinematics> impacts;
+  /// The method that measured `impacts` (pipeline/trial_impacts.h): kWindows or kArcs.
+  kinematics::KinematicsMethod kinematics_method = kinematics::KinematicsMethod::kWindows;
+  /// The joint arc fit and the contact line through the impacts' meeting points, when the
+  /// joint arcs measured the impacts.
+  std::optional<kinematics::FlightArcs> arcs;
+  std::optional<kinematics::ContactLine> contact_line;
+  /// The capture rate the arcs' acceleration implies (kinematics/capture_rate.h), when the
+  /// joint arcs ran and the scale does not come from gravity.
+  std::optional<kinematics::CaptureRate> capture_rate;
   TrackSummary motion;  ///< silhouette model, and every trial with no impact
   double m_per_px_used = 0.0;
   /// Where m_per_px_used comes from: "camera.m_per_px", "markers" (--scale-from-markers or

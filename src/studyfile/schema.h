@@ -16,6 +16,7 @@
 #include "studyfile/archive.h"
 #include "studyfile/file_util.h"
 #include "studyfile/frame_archive.h"
+#include "studyfile/table_archive.h"
 #include "tracking/marker_tracker.h"
 #include "tracking/pose.h"
 
@@ -335,6 +336,48 @@ void SerializeImpact(Archive& a, R& r) {
             "first frame of the fit after the impact");
   a.Integer("fit_after_last_frame", r.fit_after_last_frame, "frame",
             "last frame of the fit after the impact");
+  // Columns added after files were written: older files read with their defaults.
+  constexpr auto kLater = Presence::kAddedLater;
+  a.Text("method", r.method,
+         "how it was measured: windows (about the impact) or arcs (the joint "
+         "fit of every flight arc)",
+         kLater);
+  a.Number("impact_time_se_s", r.impact_time_se_s, "s",
+           "standard error of impact_time_s (NaN from the windows)", kLater);
+  a.Number("surface_angle_W_deg", r.surface_angle_W_deg, "deg",
+           "the surface's angle in W that S was built from (the arcs add gravity's fitted roll)",
+           kLater);
+  a.Number("p_WT_x_m", r.p_WT_m[0], "m",
+           "contact point where the arcs meet, x in W (NaN from the "
+           "windows)",
+           kLater);
+  a.Number("p_WT_y_m", r.p_WT_m[1], "m", "contact point where the arcs meet, y in W", kLater);
+  a.Integer("samples_before", r.samples_before, "frame", "positions fitted before the impact",
+            kLater);
+  a.Integer("samples_after", r.samples_after, "frame", "positions fitted after the impact", kLater);
+  a.Integer("contact_frames", r.contact_frames, "frame",
+            "frames beside the contact left out (touching, or blurred across it)", kLater);
+  a.Integer("outlier_frames", r.outlier_frames, "frame",
+            "frames of the two arcs left out as outliers", kLater);
+  a.Integer("not_in_flight_frames", r.not_in_flight_frames, "frame",
+            "frames before the first arc or after the last not on it (held, rolling)", kLater);
+  a.Integer("missing_frames", r.missing_frames, "frame",
+            "frames within the two arcs without a position", kLater);
+  a.Integer("repeated_frames", r.repeated_frames, "frame",
+            "frames within the two arcs that repeat the previous image", kLater);
+  a.Flag("short_arc", r.short_arc, "1 when an arc beside it is too short to measure it", kLater);
+  a.Number("depth_rate_before_per_s", r.depth_rate_before_per_s, "1/s",
+           "relative rate of the depth's change before, from the apparent size (NaN without it)",
+           kLater);
+  a.Number("depth_rate_after_per_s", r.depth_rate_after_per_s, "1/s",
+           "relative rate of the depth's change after", kLater);
+  a.Flag("depth_corrected", r.depth_corrected, "1 when e is corrected for the depth motion",
+         kLater);
+  a.Number("e_depth_shift", r.e_depth_shift, "1",
+           "e corrected for the depth motion minus e uncorrected (NaN when not measured)", kLater);
+  a.Number("meeting_gap_m", r.meeting_gap_m, "m",
+           "the arcs' distance along the surface where they meet (NaN from the windows)", kLater);
+  a.Number("meeting_gap_se_m", r.meeting_gap_se_m, "m", "its standard error", kLater);
 }
 
 }  // namespace hoof::studyfile::internal

@@ -161,6 +161,25 @@ std::vector<ImpactResult> ImpactsOf(const pipeline::TrialAnalysis& trial,
       r.fit_after_first_frame = k.after.first_frame;
       r.fit_after_last_frame = k.after.last_frame;
     }
+    r.method = kinematics::KinematicsMethodName(k.method);
+    r.impact_time_se_s = k.success ? k.impact_time_se_s : kNaN;
+    r.surface_angle_W_deg = k.success ? k.surface_angle_W_deg : kNaN;
+    r.p_WT_m = k.success ? k.p_WT : Eigen::Vector2d(kNaN, kNaN);
+    const kinematics::ImpactLimits& L = k.limits;
+    r.samples_before = L.samples_before;
+    r.samples_after = L.samples_after;
+    r.contact_frames = static_cast<int>(L.contact_frames.size());
+    r.outlier_frames = static_cast<int>(L.outlier_frames.size());
+    r.not_in_flight_frames = static_cast<int>(L.not_in_flight_frames.size());
+    r.missing_frames = static_cast<int>(L.missing_frames.size());
+    r.repeated_frames = static_cast<int>(L.repeated_frames.size());
+    r.short_arc = L.short_arc;
+    r.depth_rate_before_per_s = L.depth_rate_before_per_s;
+    r.depth_rate_after_per_s = L.depth_rate_after_per_s;
+    r.depth_corrected = L.depth_corrected;
+    r.e_depth_shift = L.e_depth_shift;
+    r.meeting_gap_m = L.meeting_gap_m;
+    r.meeting_gap_se_m = L.meeting_gap_se_m;
     rows.push_back(std::move(r));
   }
   return rows;

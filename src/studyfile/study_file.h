@@ -182,6 +182,17 @@ struct ImpactResult {
   double kinetic_energy_before_J = 0.0, kinetic_energy_after_J = 0.0;
   int fit_before_first_frame = -1, fit_before_last_frame = -1;  ///< -1 when not measured
   int fit_after_first_frame = -1, fit_after_last_frame = -1;
+  /// How it was measured and what limited it (kinematics::ImpactKinematics's method,
+  /// impact_time_se_s, surface_angle_W_deg, p_WT and limits; the frame lists as counts).
+  std::string method;  ///< "windows" or "arcs"
+  double impact_time_se_s = 0.0, surface_angle_W_deg = 0.0;
+  Eigen::Vector2d p_WT_m{0, 0};
+  int samples_before = 0, samples_after = 0;
+  int contact_frames = 0, outlier_frames = 0, not_in_flight_frames = 0, missing_frames = 0,
+      repeated_frames = 0;
+  bool short_arc = false, depth_corrected = false;
+  double depth_rate_before_per_s = 0.0, depth_rate_after_per_s = 0.0, e_depth_shift = 0.0;
+  double meeting_gap_m = 0.0, meeting_gap_se_m = 0.0;
 };
 
 /// The `/impacts` table for `trials` (also what WriteImpactsCsv writes).

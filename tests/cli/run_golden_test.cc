@@ -1,9 +1,11 @@
 // `hoofimpact run` on sample_frames/ writes the same study file as the program did before the
 // study job moved into its library (hoof::study): every dataset and attribute is compared with
 // tests/data/run_sample_frames.digest, which that earlier program wrote. It was written anew
-// twice since, each for one deliberate change: mu_eff of the normal trial (and its s.e. and
-// interval) became NaN, as it is not defined there (docs/tracking.md); and the table /impacts
-// (one row per impact, docs/hdf5-schema.md) was added, with nothing outside it changed. Numbers
+// three times since, each for one deliberate change: mu_eff of the normal trial (and its s.e.
+// and interval) became NaN, as it is not defined there (docs/tracking.md); the table /impacts
+// (one row per impact, docs/hdf5-schema.md) was added, with nothing outside it changed; and
+// /impacts gained the columns of how each impact was measured and what limited it (method,
+// impact_time_se_s to meeting_gap_se_m), with nothing else changed. Numbers
 // agree to 1e-9 relative (the same computation; the last bits may differ between CPUs), texts
 // exactly. Only what names the moment and the place of the run is left out (see Varies).
 //

@@ -511,6 +511,17 @@ pipeline::TrialAnalysis BouncingTrial() {
   second.e_se = 3e-4;
   second.v_SC_before = {0.002, -0.834};
   second.mu_eff = std::numeric_limits<double>::quiet_NaN();
+  // Measured by the joint arcs, with what limited it.
+  second.method = kinematics::KinematicsMethod::kArcs;
+  second.impact_time_se_s = 2.5e-4;
+  second.surface_angle_W_deg = 1.5;
+  second.p_WT = {0.12, -0.04};
+  second.limits.samples_before = 9;
+  second.limits.samples_after = 7;
+  second.limits.contact_frames = {170};
+  second.limits.repeated_frames = {160, 181};
+  second.limits.meeting_gap_m = 1e-4;
+  second.limits.e_depth_shift = -0.003;
   kinematics::ImpactKinematics third;
   third.index = 2;
   third.lowest_frame = 300;
@@ -519,6 +530,7 @@ pipeline::TrialAnalysis BouncingTrial() {
   third.message =
       "too few free-flight frames around the impact near frame 300: 4 before and 3 "
       "after (need 6)";
+  third.limits.short_arc = true;
   r.impacts = {r.impact, second, third};
   return r;
 }
@@ -555,6 +567,22 @@ TEST(StudyFileTest, ThePerImpactTableReadsBackAsWritten) {
   EXPECT_EQ(rows[1].fit_before_first_frame, 150);
   EXPECT_EQ(rows[1].fit_after_first_frame, 172);
   EXPECT_TRUE(rows[1].error.empty());
+  EXPECT_EQ(rows[0].method, "windows");
+  EXPECT_EQ(rows[1].method, "arcs");
+  EXPECT_EQ(rows[1].impact_time_se_s, 2.5e-4);
+  EXPECT_EQ(rows[1].surface_angle_W_deg, 1.5);
+  EXPECT_EQ(rows[1].p_WT_m, Eigen::Vector2d(0.12, -0.04));
+  EXPECT_EQ(rows[1].samples_before, 9);
+  EXPECT_EQ(rows[1].samples_after, 7);
+  EXPECT_EQ(rows[1].contact_frames, 1);
+  EXPECT_EQ(rows[1].repeated_frames, 2);
+  EXPECT_EQ(rows[1].missing_frames, 0);
+  EXPECT_EQ(rows[1].meeting_gap_m, 1e-4);
+  EXPECT_EQ(rows[1].e_depth_shift, -0.003);
+  EXPECT_TRUE(std::isnan(rows[1].depth_rate_before_per_s));
+  EXPECT_FALSE(rows[1].short_arc);
+  EXPECT_TRUE(rows[2].short_arc);
+  EXPECT_TRUE(std::isnan(rows[2].impact_time_se_s));
   EXPECT_FALSE(rows[2].success);
   EXPECT_EQ(rows[2].error, trials[1].impacts[2].message);
   EXPECT_EQ(rows[2].impact_time_s, 0.3);
