@@ -132,7 +132,8 @@ StudyResult RenderStudy(const StudyDesign& design, const SpecimenGeometry& geome
     StudyTrial& st = result.trials[i];
     try {
       st.result =
-          RenderTrial(st.spec, geometry, options, assets, study_dir / st.spec.id, overwrite);
+          RenderTrial(st.spec, geometry, options, assets, study_dir / st.spec.id, overwrite,
+                      /*in_study=*/true);
       st.ok = true;
     } catch (const std::exception& e) {
       st.error = e.what();
