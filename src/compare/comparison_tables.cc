@@ -146,7 +146,7 @@ std::string Where(const std::filesystem::path& h5, const std::string& path) {
 
 std::vector<std::string> MarkerNames(const pipeline::TrialAnalysis& trial) {
   std::vector<std::string> names;
-  for (const auto& [name, p_B] : trial.spec.specimen.markers_B_m) names.push_back(name);
+  for (const auto& [name, p_B] : ComparedMarkers(trial)) names.push_back(name);
   return names;
 }
 

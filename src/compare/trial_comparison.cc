@@ -156,8 +156,9 @@ FrameComparison CompareFrame(const pipeline::TrialAnalysis& t, std::size_t f,
     fc.centre_px_meas = cam.ToImage(fc.p_WC_meas);
     fc.centre_residual_px = (fc.centre_px_meas - fc.centre_px_sim).norm();
   }
-  for (std::size_t m = 0; m < t.spec.specimen.markers_B_m.size(); ++m) {
-    const Eigen::Vector2d sim_W = p_WE_sim + R_WB_sim.ToW(t.spec.specimen.markers_B_m[m].second);
+  const auto markers = ComparedMarkers(t);
+  for (std::size_t m = 0; m < markers.size(); ++m) {
+    const Eigen::Vector2d sim_W = p_WE_sim + R_WB_sim.ToW(markers[m].second);
     fc.markers_W_sim.push_back(sim_W);
     const Eigen::Vector2d sim_px = cam.ToImage(sim_W);
     fc.markers_px_sim.push_back(sim_px);
@@ -422,6 +423,12 @@ SurfaceModel FitSurfaceModel(const std::string& surface,
   m = FitSurfaceModelOf(std::move(m), normal, oblique, jobs);
   if (!left_out.empty()) m.message += (m.message.empty() ? "" : "; ") + left_out;
   return m;
+}
+
+std::vector<std::pair<std::string, Eigen::Vector2d>> ComparedMarkers(
+    const pipeline::TrialAnalysis& trial) {
+  if (trial.spec.body.is_silhouette()) return {};
+  return trial.spec.specimen.markers_B_m;
 }
 
 dynamics::SpecimenParameters SpecimenOf(const pipeline::TrialAnalysis& trial) {

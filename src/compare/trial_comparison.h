@@ -139,6 +139,12 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& trial,
 /// The uncertainty of a fitted surface model (NaN errors count as 0).
 ModelUncertainty Uncertainty(const SurfaceModel& model);
 
+/// The markers a trial's comparison carries, in layout order: its specimen's, where it is
+/// tracked by its markers; none for a body tracked by its silhouette (a ball, or an outline
+/// whose study.json may still list the layout of a marked specimen it has not got).
+std::vector<std::pair<std::string, Eigen::Vector2d>> ComparedMarkers(
+    const pipeline::TrialAnalysis& trial);
+
 /// The trial's specimen as the simulator wants it (BodyToSimulate's).
 dynamics::SpecimenParameters SpecimenOf(const pipeline::TrialAnalysis& trial);
 

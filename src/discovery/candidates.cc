@@ -104,10 +104,11 @@ std::string OutOfPlaneGap(const Workspace& ws) {
     return std::string(kBallGap) +
            ": its rotation is not seen, and it carries no markers whose projected distance "
            "would show a tilt";
-  return std::string(kUnmarkedGap) + " (" + std::to_string(balls) + " ball(s), " +
-         std::to_string(outlines) +
-         " unmarked outline(s)): the out-of-plane check reads the projected distance of the "
-         "markers";
+  const std::string bodies =
+      (balls > 0 ? std::to_string(balls) + " ball(s) and " : std::string()) +
+      std::to_string(outlines) + " unmarked outline(s)";
+  return std::string(kUnmarkedGap) + " (" + bodies +
+         "): the out-of-plane check reads the projected distance of the markers";
 }
 
 bool IsOutOfPlaneGap(const std::string& message) {

@@ -100,7 +100,8 @@ TrialData LoadTrial(const fs::path& h5, const std::string& id, const fs::path& m
   d.spec = pipeline::ReadTrial(
       trial_dir, fs::exists(study_json) ? std::optional<fs::path>(study_json) : std::nullopt);
   std::vector<std::string> markers;
-  for (const auto& [name, p_B] : d.spec.specimen.markers_B_m) markers.push_back(name);
+  if (!d.spec.body.is_silhouette())  // the comparison carries markers only where they were tracked
+    for (const auto& [name, p_B] : d.spec.specimen.markers_B_m) markers.push_back(name);
   d.frames = compare::ReadComparedFrames(h5, id, markers);
   d.camera.m_per_px = d.result.m_per_px_used;  // the scale the comparison used
   d.camera.gravity_I = d.spec.camera.gravity_image;
