@@ -472,8 +472,8 @@ void LeaveOutJoinedBodies(SilhouetteTrack& track, SilhouetteShape shape) {
         d.push_back(size(track.frames[static_cast<std::size_t>(j)]));
     if (d.size() < 4) continue;
     local[static_cast<std::size_t>(i)] = MedianOf(d);
-    departure.push_back(
-        std::abs(size(track.frames[static_cast<std::size_t>(i)]) - local[static_cast<std::size_t>(i)]));
+    departure.push_back(std::abs(size(track.frames[static_cast<std::size_t>(i)]) -
+                                 local[static_cast<std::size_t>(i)]));
   }
   if (departure.size() < 5) return;
   const double sd = 1.4826 * MedianOf(departure);
@@ -489,8 +489,9 @@ void LeaveOutJoinedBodies(SilhouetteTrack& track, SilhouetteShape shape) {
         os << std::fixed << std::setprecision(2) << v << " px";
         return os.str();
       };
-      o.status = ball ? "its fitted diameter " + px(o.diameter_px) + " departs from its neighbours' " +
-                            px(m) + " (the ball joined by a surface or a reflection)"
+      o.status = ball ? "its fitted diameter " + px(o.diameter_px) +
+                            " departs from its neighbours' " + px(m) +
+                            " (the ball joined by a surface or a reflection)"
                       : "its length " + px(o.length_px) + " departs from its neighbours' " + px(m) +
                             " (the outline joined by the surface)";
     }

@@ -104,9 +104,8 @@ std::string OutOfPlaneGap(const Workspace& ws) {
     return std::string(kBallGap) +
            ": its rotation is not seen, and it carries no markers whose projected distance "
            "would show a tilt";
-  const std::string bodies =
-      (balls > 0 ? std::to_string(balls) + " ball(s) and " : std::string()) +
-      std::to_string(outlines) + " unmarked outline(s)";
+  const std::string bodies = (balls > 0 ? std::to_string(balls) + " ball(s) and " : std::string()) +
+                             std::to_string(outlines) + " unmarked outline(s)";
   return std::string(kUnmarkedGap) + " (" + bodies +
          "): the out-of-plane check reads the projected distance of the markers";
 }

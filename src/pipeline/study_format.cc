@@ -109,9 +109,8 @@ SpecimenSpec ParseBall(const json& s, const fs::path& file, const std::string& p
               {"shape", "diameter_m", "mass_kg", "inertia", "end_radius_m", "d_EC_m",
                "inertia_kg_m2", "markers_B_m", "length_m", "width_m", "thickness_m"},
               file, prefix, warnings);
-  for (const char* key :
-       {"end_radius_m", "d_EC_m", "inertia_kg_m2", "markers_B_m", "length_m", "width_m",
-        "thickness_m"})
+  for (const char* key : {"end_radius_m", "d_EC_m", "inertia_kg_m2", "markers_B_m", "length_m",
+                          "width_m", "thickness_m"})
     if (s.contains(key))
       Fail(file, prefix + key,
            "applies to the hoof-wall specimen; a ball (\"shape\": \"ball\") is given by "
@@ -172,7 +171,8 @@ SpecimenSpec ParseSpecimen(const json& s, const fs::path& file, const std::strin
   spec.inertia_kg_m2 = Number(s, "inertia_kg_m2", file, prefix, true);
   spec.end_radius_m = Number(s, "end_radius_m", file, prefix, true);
   spec.d_EC_m = Number(s, "d_EC_m", file, prefix, false);
-  if (spec.d_EC_m < 0) Fail(file, prefix + "d_EC_m", "must be >= 0, found " + s.at("d_EC_m").dump());
+  if (spec.d_EC_m < 0)
+    Fail(file, prefix + "d_EC_m", "must be >= 0, found " + s.at("d_EC_m").dump());
   if (s.contains("length_m")) spec.length_m = Number(s, "length_m", file, prefix, true);
   if (s.contains("width_m")) spec.width_m = Number(s, "width_m", file, prefix, true);
   if (s.contains("thickness_m")) spec.thickness_m = Number(s, "thickness_m", file, prefix, true);
@@ -525,8 +525,8 @@ BodySpec ParseBody(const json& body, const fs::path& file, std::vector<std::stri
 /// body.diameter_m, when given, must be the specimen's (else it is taken from it, so the
 /// diameter can give the scale).
 void TakeBallSpecimen(TrialSpec& t, const fs::path& file) {
-  const std::string where = "names the ball specimen \"" + t.specimen_id + "\" (" +
-                            t.specimen_origin + ")";
+  const std::string where =
+      "names the ball specimen \"" + t.specimen_id + "\" (" + t.specimen_origin + ")";
   if (!t.body.is_ball())
     Fail(file, "specimen",
          where + ", but the trial tracks " +

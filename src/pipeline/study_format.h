@@ -45,7 +45,7 @@ double BallInertiaFactor(BallInertia inertia);
 /// velocities, e and mu_eff do not need it; kinetic energies and the contact law's k and b do.
 struct SpecimenSpec : core::SpecimenParameters {
   SpecimenShape shape = SpecimenShape::kBar;
-  BallInertia inertia = BallInertia::kSolid;  ///< a ball's; unused for the bar
+  BallInertia inertia = BallInertia::kSolid;                ///< a ball's; unused for the bar
   double length_m = 0.0, width_m = 0.0, thickness_m = 0.0;  ///< 0 when not given
   /// Centres of the white dots in the body frame B (origin E, x toward C), in metres, in the
   /// order of the file.

@@ -51,16 +51,15 @@ std::vector<ImpactTruth> ReadImpacts(const nlohmann::json& impacts, const std::s
     const std::string at = "impacts[" + std::to_string(i) + "]";
     if (!k.is_object()) throw std::runtime_error(file + ": field \"" + at + "\" is not an object");
     ImpactTruth it;
-    for (auto [key, value] : {std::pair<const char*, double*>{"touch_time_s", &it.touch_time_s},
-                              {"e", &it.e}}) {
+    for (auto [key, value] :
+         {std::pair<const char*, double*>{"touch_time_s", &it.touch_time_s}, {"e", &it.e}}) {
       if (!k.contains(key) || !k.at(key).is_number())
         throw std::runtime_error(file + ": field \"" + at + "." + key +
                                  "\" is missing or not a number");
       *value = k.at(key).get<double>();
     }
-    it.mu_eff = k.contains("mu_eff") && k.at("mu_eff").is_number()
-                    ? k.at("mu_eff").get<double>()
-                    : core::kNaN;
+    it.mu_eff = k.contains("mu_eff") && k.at("mu_eff").is_number() ? k.at("mu_eff").get<double>()
+                                                                   : core::kNaN;
     out.push_back(it);
   }
   return out;

@@ -131,9 +131,9 @@ std::string ModelSection(const std::vector<compare::SurfaceModel>& surfaces,
     << "<p class=\"note\">Fitted from the measured trials (<code>/comparison/surfaces</code>): "
        "zeta from the normal impacts, mu from the oblique ones. The stiffness k is not "
        "identified by velocities alone.</p>";
-  if (gaps.without_mass > 0) h << "<p class=\"note mass-gaps\">" << HtmlEscape(gaps.Text()) << ".</p>";
-  h
-    << "<table class=\"data\"><thead><tr><th>surface</th><th>normal trials</th><th>oblique "
+  if (gaps.without_mass > 0)
+    h << "<p class=\"note mass-gaps\">" << HtmlEscape(gaps.Text()) << ".</p>";
+  h << "<table class=\"data\"><thead><tr><th>surface</th><th>normal trials</th><th>oblique "
        "trials</th><th>zeta</th><th>zeta 95 % interval</th><th>mu</th><th>k</th><th>note</th>"
        "</tr></thead><tbody>";
   for (const compare::SurfaceModel& m : surfaces) {

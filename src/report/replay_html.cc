@@ -136,8 +136,7 @@ std::string ReplayJson(const studyfile::TrialResult& t, const fs::path& trial_di
   std::ostringstream j;
   j << "{\"id\":" << JsonString(t.id) << ",\"surface\":" << JsonString(t.surface)
     << ",\"folder\":" << JsonString(trial_dir.string()) << ",\"scale\":" << JsonNumber(scale)
-    << ",\"impact\":" << impact << ",\"centre_of_mass\":"
-    << (centre_of_mass ? "true" : "false")
+    << ",\"impact\":" << impact << ",\"centre_of_mass\":" << (centre_of_mass ? "true" : "false")
     << ",\"ball_radius_px\":" << JsonNumber(ball_radius_px) << ",\"markers\":[";
   for (std::size_t m = 0; m < markers.size(); ++m) j << (m ? "," : "") << JsonString(markers[m]);
   j << "],\"frames\":[";

@@ -8,8 +8,8 @@
 #include <string>
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include "studyfile/study_file.h"
 #include "support/run_command.h"
@@ -203,9 +203,10 @@ TEST(RunCommandTest, ATrialThatContradictsItsSpecimenIsNamedAndTheStudyGoesOn) {
       fs::path(HOOF_BINARY_DIR) / "test-output" / ("run_bad_ball_" + std::to_string(::getpid()));
   fs::remove_all(base);
   const std::string bad = "steel_20deg_v2.50_r1";
-  const fs::path study = CopyStudy("ball_8", base, [&](const std::string& trial, nlohmann::json& j) {
-    if (trial == bad) j["body"]["diameter_m"] = 0.025;
-  });
+  const fs::path study =
+      CopyStudy("ball_8", base, [&](const std::string& trial, nlohmann::json& j) {
+        if (trial == bad) j["body"]["diameter_m"] = 0.025;
+      });
   const auto r = RunHoofimpact("run " + study.string() + " -o " + (base / "out").string());
   EXPECT_EQ(r.exit_code, 3) << r.err << r.out;
   EXPECT_NE(r.out.find("FAILED " + bad + ": " + (study / bad / "trial.json").string() +

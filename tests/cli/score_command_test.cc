@@ -40,8 +40,7 @@ TEST(ScoreCommandTest, BallsAndOutlinesAreScoredOnTheirCentreAndImpacts) {
     EXPECT_NE(text.out.find("summary: 8 of 8 trials scored; centre rms"), std::string::npos)
         << text.out;
     EXPECT_NE(text.out.find("impacts 8 of 8 found"), std::string::npos) << text.out;
-    EXPECT_EQ(text.out.find("w n/a (not seen)") != std::string::npos, name == "ball_8")
-        << text.out;
+    EXPECT_EQ(text.out.find("w n/a (not seen)") != std::string::npos, name == "ball_8") << text.out;
     const auto json = RunHoofimpact("score " + study + " --json");
     ASSERT_EQ(json.exit_code, 0) << json.err;
     const nlohmann::json parsed = nlohmann::json::parse(json.out);

@@ -255,8 +255,8 @@ TEST(TrialComparisonTest, BallsAndOutlinesAreComparedAgainstTheRenderedContactLa
         EXPECT_LE(m.mu, mu + 0.02) << study << " " << surface;
       }
       std::cout << study << " " << surface << ": zeta " << m.zeta_fit.zeta << " (truth " << zeta
-                << "), mu " << m.mu << (m.mu_only_lower_bound ? " (lower bound)" : "")
-                << " (truth " << mu << ")\n";
+                << "), mu " << m.mu << (m.mu_only_lower_bound ? " (lower bound)" : "") << " (truth "
+                << mu << ")\n";
     }
     for (std::size_t i = 0; i < trials.size(); ++i) {
       const TrialComparison& c = cmp.trials[i];
@@ -286,8 +286,8 @@ TEST(TrialComparisonTest, BallsAndOutlinesAreComparedAgainstTheRenderedContactLa
       // The study's ball has its mass: its energies are numbers, 1/2 m v^2 before the impact.
       const double m = trials[i].spec.specimen.mass_kg;
       if (study == "ball_8") {
-        EXPECT_NEAR(c.kinetic_energy_before_J,
-                    0.5 * m * trials[i].impact.before.v_WC.squaredNorm(), 1e-12);
+        EXPECT_NEAR(c.kinetic_energy_before_J, 0.5 * m * trials[i].impact.before.v_WC.squaredNorm(),
+                    1e-12);
       }
     }
   }
@@ -300,7 +300,8 @@ std::vector<pipeline::TrialAnalysis> WithBallMass(std::vector<pipeline::TrialAna
   for (auto& t : trials) {
     auto& s = t.spec.specimen;
     s.mass_kg = mass_kg;
-    s.inertia = std::isnan(mass_kg) ? pipeline::BallInertia::kUnknown : pipeline::BallInertia::kSolid;
+    s.inertia =
+        std::isnan(mass_kg) ? pipeline::BallInertia::kUnknown : pipeline::BallInertia::kSolid;
     s.inertia_kg_m2 = 0.4 * mass_kg * s.end_radius_m * s.end_radius_m;
   }
   return trials;
@@ -336,8 +337,7 @@ TEST(TrialComparisonTest, ABallOfUnknownMassIsComparedAsOneOfAnyMass) {
     EXPECT_TRUE(std::isnan(c[1].kinetic_energy_after_sim_J));
     EXPECT_TRUE(std::isnan(c[1].kinetic_energy_before_J));
   }
-  std::cout << "largest difference of the simulated velocity after impact: " << worst
-            << " m/s\n";
+  std::cout << "largest difference of the simulated velocity after impact: " << worst << " m/s\n";
   EXPECT_LT(worst, 6e-4);
   // The study: every trial compared, the surfaces' k and b not given as the ball's.
   const StudyComparison b = CompareStudy(unknown, 2);

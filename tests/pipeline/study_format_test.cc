@@ -290,7 +290,8 @@ TEST(StudyFormatTest, ATrialMayCarryItsSpecimen) {
 /// A study of one ball specimen `ball` (its JSON) and one trial of a ball naming it.
 fs::path WriteBallStudy(const std::string& name, const std::string& ball,
                         const std::string& body = R"({"model": "silhouette", "shape": "ball"})") {
-  const std::string study = R"({"format": "hoofimpact-study/1", "specimens": {"ball": )" + ball + "}}";
+  const std::string study =
+      R"({"format": "hoofimpact-study/1", "specimens": {"ball": )" + ball + "}}";
   std::string trial = kTrial;
   trial.insert(1, R"("body": )" + body + ",");
   trial.replace(trial.find(R"("specimen": "A")"), 15, R"("specimen": "ball")");
@@ -305,11 +306,11 @@ TEST(StudyFormatTest, ABallSpecimenGivesItsInertiaByItsRule) {
     BallInertia rule;
     double expected_kg_m2;
   };
-  for (const Case& c : {Case{"", BallInertia::kSolid, 0.4 * 0.008 * 1e-4},
-                        Case{R"(, "inertia": "solid")", BallInertia::kSolid, 0.4 * 0.008 * 1e-4},
-                        Case{R"(, "inertia": "hollow")", BallInertia::kHollow,
-                             2.0 / 3.0 * 0.008 * 1e-4},
-                        Case{R"(, "inertia": 4e-7)", BallInertia::kGiven, 4e-7}}) {
+  for (const Case& c :
+       {Case{"", BallInertia::kSolid, 0.4 * 0.008 * 1e-4},
+        Case{R"(, "inertia": "solid")", BallInertia::kSolid, 0.4 * 0.008 * 1e-4},
+        Case{R"(, "inertia": "hollow")", BallInertia::kHollow, 2.0 / 3.0 * 0.008 * 1e-4},
+        Case{R"(, "inertia": 4e-7)", BallInertia::kGiven, 4e-7}}) {
     const fs::path dir = WriteBallStudy("format_ball", ball + c.inertia + "}");
     const StudySpec study = ReadStudy(dir);
     const TrialSpec t = ReadTrial(study.trial_dirs.at(0), study);

@@ -528,8 +528,8 @@ TEST(ReadTrialAnalysesTest, AMissingDatasetIsNamed) {
 
   // A trial's own specimen is read where the file has it, else the study's (files written
   // before trials kept their own): without either, the study's is named.
-  const fs::path own = BrokenCopy(
-      "no-own-mass.h5", [&](H5::H5File& f) { f.unlink(trial + "/specimen/mass_kg"); });
+  const fs::path own =
+      BrokenCopy("no-own-mass.h5", [&](H5::H5File& f) { f.unlink(trial + "/specimen/mass_kg"); });
   ExpectFailureNaming(own, ":" + trial + "/specimen/mass_kg does not exist");
   const fs::path specimen = BrokenCopy("no-specimen.h5", [&](H5::H5File& f) {
     f.unlink("/study/specimens/A");
