@@ -440,17 +440,28 @@ cv::Mat BrightMask(const cv::Mat& f) {
   return bin;
 }
 
-/// A ball's size does not change through a clip beyond a slow drift (nearing the lens, focus),
-/// so a frame whose fitted diameter departs from its neighbours' was fitted to the ball joined
-/// by something else: a lit surface or its reflection at the contact, which pulls the circle
-/// (and its centre) toward it while every edge point still lies on one larger circle. Such a
-/// frame is left out as not found (WarnOfLostFrames names it). The neighbours are the found
-/// frames within kNeighbourFrames on each side; a frame departs when its diameter differs from
-/// their median by more than kDepartureSd robust s.d.s of that difference over the clip and by
-/// more than kDepartureFraction of the diameter.
-void LeaveOutJoinedBalls(SilhouetteTrack& track) {
+/// A rigid body's size in the image does not change through a clip beyond a slow drift (nearing
+/// the lens, focus, a slow out-of-plane turn), so a frame whose size departs from its
+/// neighbours' was measured on the body joined by something else at the contact: for a ball, a
+/// lit surface or its reflection, which pulls the circle (and its centre) toward it while every
+/// edge point still lies on one larger circle; for an outline, a lit grain of the surface
+/// beside its round end, which lengthens the region by a px or so and pulls its centroid and
+/// axis toward it (too little for the "outline grew" refusal). Such a frame is left out as not
+/// found (WarnOfLostFrames names it). The size is a ball's fitted diameter, an outline's
+/// length along its axis (the second moment along it weighs a grain at the end most). The
+/// neighbours are the found frames within kNeighbourFrames on each side; a frame departs when
+/// its size differs from their median by more than kDepartureSd robust s.d.s of that difference
+/// over the clip and by more than `departure_fraction` of the size.
+void LeaveOutJoinedBodies(SilhouetteTrack& track, SilhouetteShape shape) {
   constexpr int kNeighbourFrames = 8;
-  constexpr double kDepartureSd = 6.0, kDepartureFraction = 0.005;
+  constexpr double kDepartureSd = 6.0;
+  // A ball's diameter scatters more from frame to frame (its edge rays) than an outline's
+  // length (every pixel of its band); motion blur changes neither by 0.01 %.
+  const bool ball = shape == SilhouetteShape::kBall;
+  const double departure_fraction = ball ? 0.005 : 0.002;
+  const auto size = [&](const SilhouetteObservation& o) {
+    return ball ? o.diameter_px : o.length_px;
+  };
   const int n = track.frame_count();
   std::vector<double> local(static_cast<std::size_t>(n), std::nan("")), departure;
   for (int i = 0; i < n; ++i) {
@@ -458,10 +469,10 @@ void LeaveOutJoinedBalls(SilhouetteTrack& track) {
     std::vector<double> d;
     for (int j = std::max(0, i - kNeighbourFrames); j <= std::min(n - 1, i + kNeighbourFrames); ++j)
       if (j != i && track.frames[static_cast<std::size_t>(j)].found)
-        d.push_back(track.frames[static_cast<std::size_t>(j)].diameter_px);
+        d.push_back(size(track.frames[static_cast<std::size_t>(j)]));
     if (d.size() < 4) continue;
     local[static_cast<std::size_t>(i)] = MedianOf(d);
-    departure.push_back(std::abs(track.frames[static_cast<std::size_t>(i)].diameter_px -
+    departure.push_back(std::abs(size(track.frames[static_cast<std::size_t>(i)]) -
                                  local[static_cast<std::size_t>(i)]));
   }
   if (departure.size() < 5) return;
@@ -470,16 +481,19 @@ void LeaveOutJoinedBalls(SilhouetteTrack& track) {
     auto& o = track.frames[static_cast<std::size_t>(i)];
     const double m = local[static_cast<std::size_t>(i)];
     if (!o.found || !std::isfinite(m)) continue;
-    const double off = std::abs(o.diameter_px - m);
-    if (off > kDepartureSd * sd && off > kDepartureFraction * m) {
+    const double off = std::abs(size(o) - m);
+    if (off > kDepartureSd * sd && off > departure_fraction * m) {
       o.found = false;
       const auto px = [](double v) {
         std::ostringstream os;
         os << std::fixed << std::setprecision(2) << v << " px";
         return os.str();
       };
-      o.status = "its fitted diameter " + px(o.diameter_px) + " departs from its neighbours' " +
-                 px(m) + " (the ball joined by a surface or a reflection)";
+      o.status = ball ? "its fitted diameter " + px(o.diameter_px) +
+                            " departs from its neighbours' " + px(m) +
+                            " (the ball joined by a surface or a reflection)"
+                      : "its length " + px(o.length_px) + " departs from its neighbours' " + px(m) +
+                            " (the outline joined by the surface)";
     }
   }
 }
@@ -674,7 +688,7 @@ SilhouetteTrack TrackSilhouette(FrameSource& source, const SilhouetteOptions& op
     track.frames.push_back(obs);
     if (progress) progress(i);
   }
-  if (options.shape == SilhouetteShape::kBall) LeaveOutJoinedBalls(track);
+  LeaveOutJoinedBodies(track, options.shape);
   if (found_frames == 0)
     throw std::runtime_error(source.Describe(0) + " (and the other " +
                              std::to_string(source.count() - 1) +

@@ -5,6 +5,7 @@
 
 #include "cli/common_options.h"
 #include "compare/trial_comparison.h"
+#include "core/frames.h"
 #include "report/html_report.h"
 
 namespace hoof::cli {
@@ -70,8 +71,10 @@ nlohmann::json SurfaceModelJson(const compare::SurfaceModel& m) {
           {"zeta_se", JsonNumber(m.zeta_fit.zeta_se)},
           {"zeta_ci_low", JsonNumber(m.zeta_fit.zeta_ci_low)},
           {"zeta_ci_high", JsonNumber(m.zeta_fit.zeta_ci_high)},
-          {"k_N_m", JsonNumber(m.k_N_m)},
-          {"b_N_s_m", JsonNumber(m.b_N_s_m)},
+          // The reference mass's k and b, where the mass is unknown, are not the body's.
+          {"k_N_m", JsonNumber(m.mass_known ? m.k_N_m : core::kNaN)},
+          {"b_N_s_m", JsonNumber(m.mass_known ? m.b_N_s_m : core::kNaN)},
+          {"mass_known", m.mass_known},
           {"mu", JsonNumber(m.mu)},
           {"mu_se", JsonNumber(m.mu_se)},
           {"mu_only_lower_bound", m.mu_only_lower_bound}};

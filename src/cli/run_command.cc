@@ -138,8 +138,12 @@ class RunPrinter : public study::StudyJobObserver {
         std::cout << format::Number(m.mu, Kind::kCoefficient) << " (a lower bound: contacts stick)";
       else
         std::cout << format::WithError(m.mu, m.mu_se, Kind::kCoefficient);
-      std::cout << " (" << m.oblique_trials << " oblique trials); k not identified\n";
+      std::cout << " (" << m.oblique_trials << " oblique trials); "
+                << (m.mass_known ? "k not identified" : "k and b need the mass (not given)")
+                << "\n";
     }
+    if (const std::string gaps = s.mass_gaps.Text(); !gaps.empty())
+      std::cout << "  " << gaps << "\n";
     std::cout << "  " << s.compared << " trial(s) compared; ";
     if (s.predictions.success)
       std::cout << s.prediction_z_over_3 << " of " << s.prediction_components
@@ -150,8 +154,10 @@ class RunPrinter : public study::StudyJobObserver {
                 << ")";
     else
       std::cout << "no prediction intervals (" << s.predictions.message << ")";
-    std::cout << "; largest marker residual over the 20 frames after impact: "
-              << format::Number(s.worst_marker_px) << " px\n";
+    std::cout << "; largest residual over the 20 frames after impact: ";
+    if (s.worst_marker_px > 0)  // a study of bodies without markers has none
+      std::cout << format::Number(s.worst_marker_px) << " px of a marker, ";
+    std::cout << format::Number(s.worst_centre_px) << " px of the centre of mass\n";
   }
 
   const RunArgs& args_;
@@ -196,6 +202,9 @@ void PrintRunJson(const RunArgs& a, const study::StudyJobSummary& s, int exit_co
                                   {"worst_z", JsonNumber(s.worst_z)},
                                   {"worst_z_id", s.worst_z_id},
                                   {"worst_marker_px", JsonNumber(s.worst_marker_px)},
+                                  {"worst_centre_px", JsonNumber(s.worst_centre_px)},
+                                  {"trials_without_mass", s.mass_gaps.without_mass},
+                                  {"mass_note", s.mass_gaps.Text()},
                                   {"prediction",
                                    {{"success", s.predictions.success},
                                     {"message", s.predictions.message},

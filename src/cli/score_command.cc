@@ -30,10 +30,18 @@ void PrintScoreJson(const pipeline::StudyScore& score, int exit_code) {
       const auto& s = t.score;
       row.update({{"marker_rms_px", s.marker_rms_px},
                   {"marker_max_px", s.marker_max_px},
+                  {"marker_count", s.marker_count},
+                  {"centre_rms_px", s.centre_rms_px},
+                  {"centre_max_px", s.centre_max_px},
+                  {"centre_count", s.centre_count},
+                  {"impacts_true", s.impacts_true},
+                  {"impacts_found", s.impacts_found},
+                  {"impacts_matched", s.impacts_matched},
+                  {"impacts_e_max_abs", JsonNumber(s.impacts_e_max_abs)},
                   {"v_before_rel", s.v_before_rel},
                   {"v_after_rel", s.v_after_rel},
-                  {"w_before_abs", s.w_before_abs},
-                  {"w_after_abs", s.w_after_abs},
+                  {"w_before_abs", JsonNumber(s.w_before_abs)},
+                  {"w_after_abs", JsonNumber(s.w_after_abs)},
                   {"e_abs", JsonNumber(s.e_abs)},
                   {"mu_eff_abs", JsonNumber(s.mu_eff_abs)},
                   {"impact_time_abs_s", s.impact_time_abs_s},
@@ -45,8 +53,12 @@ void PrintScoreJson(const pipeline::StudyScore& score, int exit_code) {
                                   {"succeeded", sum.scored},
                                   {"marker_rms_px", sum.marker_rms_px},
                                   {"marker_max_px", sum.marker_max_px},
+                                  {"centre_rms_px", sum.centre_rms_px},
+                                  {"centre_max_px", sum.centre_max_px},
+                                  {"impacts_true", sum.impacts_true},
+                                  {"impacts_matched", sum.impacts_matched},
                                   {"v_SC_max_rel", sum.v_SC_max_rel},
-                                  {"w_max_abs_rad_s", sum.w_max_abs_rad_s},
+                                  {"w_max_abs_rad_s", JsonNumber(sum.w_max_abs_rad_s)},
                                   {"e_max_abs", sum.e_max_abs},
                                   {"mu_eff_max_abs", sum.mu_eff_max_abs}};
   std::vector<JsonError> errors;
@@ -66,21 +78,44 @@ void PrintScoreText(const pipeline::StudyScore& score) {
     }
     const auto& s = t.score;
     using format::Kind;
-    std::cout << std::left << std::setw(28) << name << std::right << " marker rms "
-              << format::Number(s.marker_rms_px, Kind::kError) << " px  v "
+    std::cout << std::left << std::setw(28) << name << std::right;
+    if (s.marker_count > 0)
+      std::cout << " marker rms " << format::Number(s.marker_rms_px, Kind::kError) << " px ";
+    // A truth.json written before the centre's image was recorded has none.
+    if (s.centre_count > 0)
+      std::cout << " centre rms " << format::Number(s.centre_rms_px, Kind::kError) << " px ";
+    std::cout << " v "
               << format::Number(100 * std::max(s.v_before_rel, s.v_after_rel), Kind::kError)
-              << " %  w " << format::Number(std::max(s.w_before_abs, s.w_after_abs), Kind::kError)
-              << " rad/s  e " << format::Number(s.e_abs, Kind::kError) << "  mu_eff "
-              << format::Number(s.mu_eff_abs, Kind::kError) << "\n";
+              << " %  w ";
+    // A ball's spin is not seen: no w error.
+    if (std::isfinite(s.w_before_abs) && std::isfinite(s.w_after_abs))
+      std::cout << format::Number(std::max(s.w_before_abs, s.w_after_abs), Kind::kError)
+                << " rad/s";
+    else
+      std::cout << "n/a (not seen)";
+    std::cout << "  e " << format::Number(s.e_abs, Kind::kError) << "  mu_eff "
+              << format::Number(s.mu_eff_abs, Kind::kError);
+    if (s.impacts_true > 0)
+      std::cout << "  impacts " << s.impacts_matched << " of " << s.impacts_true;
+    std::cout << "\n";
   }
   using format::Kind;
-  std::cout << "summary: " << sum.scored << " of " << sum.trials << " trials scored; marker rms "
-            << format::Number(sum.marker_rms_px, Kind::kError) << " px (worst "
-            << format::Number(sum.marker_max_px, Kind::kError) << "), v_SC "
-            << format::Number(100 * sum.v_SC_max_rel, Kind::kError) << " %, w "
-            << format::Number(sum.w_max_abs_rad_s, Kind::kError) << " rad/s, e "
-            << format::Number(sum.e_max_abs, Kind::kError) << ", mu_eff "
-            << format::Number(sum.mu_eff_max_abs, Kind::kError) << " (worst of each)\n";
+  std::cout << "summary: " << sum.scored << " of " << sum.trials << " trials scored; ";
+  if (sum.marker_rms_px > 0)
+    std::cout << "marker rms " << format::Number(sum.marker_rms_px, Kind::kError) << " px (worst "
+              << format::Number(sum.marker_max_px, Kind::kError) << "), ";
+  if (sum.centre_max_px > 0)
+    std::cout << "centre rms " << format::Number(sum.centre_rms_px, Kind::kError) << " px (worst "
+              << format::Number(sum.centre_max_px, Kind::kError) << "), ";
+  std::cout << "v_SC " << format::Number(100 * sum.v_SC_max_rel, Kind::kError) << " %, w "
+            << (std::isfinite(sum.w_max_abs_rad_s)
+                    ? format::Number(sum.w_max_abs_rad_s, Kind::kError) + " rad/s"
+                    : std::string("n/a (not seen)"))
+            << ", e " << format::Number(sum.e_max_abs, Kind::kError) << ", mu_eff "
+            << format::Number(sum.mu_eff_max_abs, Kind::kError) << " (worst of each)";
+  if (sum.impacts_true > 0)
+    std::cout << "; impacts " << sum.impacts_matched << " of " << sum.impacts_true << " found";
+  std::cout << "\n";
 }
 
 }  // namespace

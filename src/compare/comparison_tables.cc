@@ -11,6 +11,7 @@ namespace hoof::compare {
 namespace {
 
 using core::kNaN;
+using studyfile::Presence;
 using studyfile::Table;
 using studyfile::TableReader;
 using studyfile::TableWriter;
@@ -29,8 +30,14 @@ void Serialize(Archive& a, M& m) {
   a.Number("zeta_se", m.zeta_fit.zeta_se, "1", "its standard error");
   a.Number("zeta_ci_low", m.zeta_fit.zeta_ci_low, "1", "95 % interval, low");
   a.Number("zeta_ci_high", m.zeta_fit.zeta_ci_high, "1", "95 % interval, high");
-  a.Number("k_N_m", m.k_N_m, "N/m", "stiffness used (not identified by velocities)");
-  a.Number("b_N_s_m", m.b_N_s_m, "N s/m", "damping b = 2 zeta sqrt(k m)");
+  a.Number("k_N_m", m.k_N_m, "N/m",
+           "stiffness used (not identified by velocities; NaN where the mass is unknown)");
+  a.Number("b_N_s_m", m.b_N_s_m, "N s/m",
+           "damping b = 2 zeta sqrt(k m) (NaN where the mass is unknown)");
+  a.Flag("mass_known", m.mass_known,
+         "1 when every trial's mass is known; 0: a ball of unknown mass, simulated at the "
+         "reference mass (k and b not given)",
+         Presence::kAddedLater);
   a.Number("mu", m.mu, "1", "friction coefficient");
   a.Number("mu_se", m.mu_se, "1", "its standard error (NaN: only a lower bound)");
   a.Flag("mu_only_lower_bound", m.mu_only_lower_bound,
@@ -65,6 +72,12 @@ void Serialize(Archive& a, T& t) {
   a.Number("kinetic_energy_before_J", c.kinetic_energy_before_J, "J", "measured");
   a.Number("kinetic_energy_after_meas_J", c.kinetic_energy_after_meas_J, "J", "measured");
   a.Number("kinetic_energy_after_sim_J", c.kinetic_energy_after_sim_J, "J", "simulated");
+  a.Flag("mass_known", c.mass_known,
+         "1 when the trial's mass is known (0: energies NaN, simulated at the reference mass)",
+         Presence::kAddedLater);
+  a.Flag("inertia_assumed", c.inertia_assumed,
+         "1 when a ball of unknown inertia was simulated as a solid sphere (2/5 m R^2)",
+         Presence::kAddedLater);
 }
 
 /// A row of `/comparison/frames/<id>`: the frame's index and its comparison.
@@ -89,6 +102,17 @@ void Serialize(Archive& a, R& row, const std::vector<std::string>& markers) {
   a.Number("p_WC_meas_y_m", f.p_WC_meas[1], "m", "measured centre of mass");
   a.Number("theta_W_meas_rad", f.theta_W_meas_rad, "rad", "measured angle");
   a.Number("kinetic_energy_sim_J", f.kinetic_energy_sim_J, "J", "simulated kinetic energy");
+  // Named so that no column of C ends like a marker's ("<marker>_sim_x_px").
+  a.Number("centre_px_sim_x", f.centre_px_sim[0], "px", "simulated centre of mass C, image",
+           Presence::kAddedLater);
+  a.Number("centre_px_sim_y", f.centre_px_sim[1], "px", "simulated centre of mass C, image",
+           Presence::kAddedLater);
+  a.Number("centre_px_meas_x", f.centre_px_meas[0], "px",
+           "measured centre of mass C, image (NaN: no measured pose)", Presence::kAddedLater);
+  a.Number("centre_px_meas_y", f.centre_px_meas[1], "px",
+           "measured centre of mass C, image (NaN: no measured pose)", Presence::kAddedLater);
+  a.Number("centre_residual_px", f.centre_residual_px, "px", "|measured - simulated| of C",
+           Presence::kAddedLater);
   for (std::size_t m = 0; m < markers.size(); ++m) {
     const std::string& n = markers[m];
     a.Number(n + "_sim_x_m", f.markers_W_sim[m][0], "m", "simulated marker centre in W");
@@ -122,7 +146,7 @@ std::string Where(const std::filesystem::path& h5, const std::string& path) {
 
 std::vector<std::string> MarkerNames(const pipeline::TrialAnalysis& trial) {
   std::vector<std::string> names;
-  for (const auto& [name, p_B] : trial.spec.specimen.markers_B_m) names.push_back(name);
+  for (const auto& [name, p_B] : ComparedMarkers(trial)) names.push_back(name);
   return names;
 }
 
@@ -154,6 +178,8 @@ Table SurfacesTable(const StudyComparison& comparison) {
     if (!m.success)  // a model that could not be fitted has no values
       m.zeta_fit.zeta = m.zeta_fit.zeta_se = m.zeta_fit.zeta_ci_low = m.zeta_fit.zeta_ci_high =
           m.k_N_m = m.b_N_s_m = m.mu = m.mu_se = kNaN;
+    if (!m.mass_known)  // those of the reference mass, not the body's
+      m.k_N_m = m.b_N_s_m = kNaN;
     surfaces.push_back(std::move(m));
   }
   return TableWriter::Of(
@@ -187,6 +213,8 @@ Table TrialsTable(const std::vector<pipeline::TrialAnalysis>& trials,
     row.comparison.kinetic_energy_before_J = v(c.kinetic_energy_before_J);
     row.comparison.kinetic_energy_after_meas_J = v(c.kinetic_energy_after_meas_J);
     row.comparison.kinetic_energy_after_sim_J = v(c.kinetic_energy_after_sim_J);
+    row.comparison.mass_known = c.mass_known;
+    row.comparison.inertia_assumed = c.inertia_assumed;
     rows.push_back(std::move(row));
   }
   return TableWriter::Of(

@@ -57,6 +57,12 @@ inline constexpr Glyph kMeasured{"measured", GlyphShape::kRing, 0x00, 0xe6, 0x76
 /// The contact model's marker centre (and, in the video, the simulated outline): a magenta plus.
 inline constexpr Glyph kSimulated{"simulated", GlyphShape::kPlus, 0xff, 0x2d, 0x95, 1.4,
                                   "+",         "simulated marker"};
+/// A body without markers (a ball, an unmarked outline): its centre of mass C, measured and
+/// simulated, in the markers' glyphs and colours.
+inline constexpr Glyph kMeasuredCentre{"measured", GlyphShape::kRing,        0x00, 0xe6, 0x76, 1.0,
+                                       "o",        "measured centre of mass"};
+inline constexpr Glyph kSimulatedCentre{
+    "simulated", GlyphShape::kPlus, 0xff, 0x2d, 0x95, 1.4, "+", "simulated centre of mass"};
 /// The residual, magnified: a sky-blue arrow from the measured marker.
 inline constexpr Glyph kResidual{"residual", GlyphShape::kArrow, 0x00, 0xb0, 0xff, 0.8,
                                  "->",       "residual"};

@@ -20,9 +20,17 @@ core::SurfaceRotation SurfaceAxes(const pipeline::TrialAnalysis& t) {
   return core::SurfaceRotation::FromDegrees(t.spec.surface_angle_deg);
 }
 
-/// The rigid body of the trial's specimen (without what the camera sees of it).
+/// The rigid body the trial is simulated as (without what the camera sees of it).
 dynamics::SpecimenParameters Specimen(const pipeline::TrialAnalysis& t) {
-  return static_cast<const core::SpecimenParameters&>(t.spec.specimen);
+  return BodyToSimulate(t).specimen;
+}
+
+/// "<trial folder>/trial.json, trial <id> (specimen: <origin>)": where a trial's failure
+/// points to.
+std::string TrialWhere(const pipeline::TrialAnalysis& t) {
+  std::string s = (t.spec.dir / "trial.json").string() + ", trial " + t.spec.id;
+  if (!t.spec.specimen_origin.empty()) s += " (specimen: " + t.spec.specimen_origin + ")";
+  return s;
 }
 
 /// Height of the lowest point of the round end above the touch point, along y_S, for a body in
@@ -99,6 +107,24 @@ dynamics::ImpactConditions MeasuredConditions(const pipeline::TrialAnalysis& t, 
   return c;
 }
 
+SimulatedBody BodyToSimulate(const pipeline::TrialAnalysis& t) {
+  SimulatedBody body;
+  body.specimen = static_cast<const core::SpecimenParameters&>(t.spec.specimen);
+  if (!t.spec.specimen.is_ball() || t.spec.specimen.mass_known()) return body;
+  // A ball of unknown mass: the reference mass, and the inertia of its rule (a solid sphere's
+  // when even that is unknown).
+  body.mass_known = false;
+  pipeline::BallInertia rule = t.spec.specimen.inertia;
+  if (rule != pipeline::BallInertia::kSolid && rule != pipeline::BallInertia::kHollow) {
+    rule = pipeline::BallInertia::kSolid;
+    body.inertia_assumed = true;
+  }
+  const double R = body.specimen.end_radius_m;
+  body.specimen.mass_kg = kReferenceMass_kg;
+  body.specimen.inertia_kg_m2 = pipeline::BallInertiaFactor(rule) * kReferenceMass_kg * R * R;
+  return body;
+}
+
 ModelUncertainty Uncertainty(const SurfaceModel& model) {
   ModelUncertainty u;
   u.zeta_se = std::isfinite(model.zeta_fit.zeta_se) ? model.zeta_fit.zeta_se : 0.0;
@@ -123,12 +149,16 @@ FrameComparison CompareFrame(const pipeline::TrialAnalysis& t, std::size_t f,
   const Eigen::Vector2d p_WE_sim = fc.p_WC_sim - sp.d_EC_m * R_WB_sim.x_B();
   const auto& pose = t.poses[f];
   fc.measured = pose.valid;
+  fc.centre_px_sim = cam.ToImage(fc.p_WC_sim);
   if (pose.valid) {
     fc.p_WC_meas = pose.p_WE + sp.d_EC_m * core::BodyRotation(pose.theta_W_rad).x_B();
     fc.theta_W_meas_rad = pose.theta_W_rad;
+    fc.centre_px_meas = cam.ToImage(fc.p_WC_meas);
+    fc.centre_residual_px = (fc.centre_px_meas - fc.centre_px_sim).norm();
   }
-  for (std::size_t m = 0; m < t.spec.specimen.markers_B_m.size(); ++m) {
-    const Eigen::Vector2d sim_W = p_WE_sim + R_WB_sim.ToW(t.spec.specimen.markers_B_m[m].second);
+  const auto markers = ComparedMarkers(t);
+  for (std::size_t m = 0; m < markers.size(); ++m) {
+    const Eigen::Vector2d sim_W = p_WE_sim + R_WB_sim.ToW(markers[m].second);
     fc.markers_W_sim.push_back(sim_W);
     const Eigen::Vector2d sim_px = cam.ToImage(sim_W);
     fc.markers_px_sim.push_back(sim_px);
@@ -190,6 +220,15 @@ void CompareAfter(const pipeline::TrialAnalysis& t, const dynamics::ContactParam
                   std::sqrt(t.impact.w_after_se_rad_s * t.impact.w_after_se_rad_s + var_w);
 }
 
+/// A body of unknown mass has no kinetic energy in J: the simulation's, at the reference mass,
+/// are not its own.
+void ForgetEnergies(TrialComparison& out) {
+  out.kinetic_energy_before_J = out.kinetic_energy_after_meas_J = out.kinetic_energy_after_sim_J =
+      core::kNaN;
+  for (auto& f : out.frames) f.kinetic_energy_sim_J = core::kNaN;
+  for (double& e : out.contact_kinetic_energy_J) e = core::kNaN;
+}
+
 }  // namespace
 
 TrialComparison CompareTrial(const pipeline::TrialAnalysis& t,
@@ -201,6 +240,9 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& t,
     return out;
   }
   try {
+    const SimulatedBody body = BodyToSimulate(t);
+    out.mass_known = body.mass_known;
+    out.inertia_assumed = body.inertia_assumed;
     const dynamics::ImpactSimulator sim = Simulator(t, contact);
     const dynamics::SpecimenParameters& sp = sim.specimen();
     const core::SurfaceRotation S = SurfaceAxes(t);
@@ -241,9 +283,11 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& t,
     out.kinetic_energy_before_J = t.impact.kinetic_energy_before_J;
     out.kinetic_energy_after_meas_J = t.impact.kinetic_energy_after_J;
     out.kinetic_energy_after_sim_J = out.sim.kinetic_energy_after_J;
+    if (!body.mass_known) ForgetEnergies(out);
     out.success = true;
   } catch (const std::exception& e) {
-    out.message = t.spec.id + ": " + e.what();
+    out = {};
+    out.message = TrialWhere(t) + ": " + e.what();
   }
   return out;
 }
@@ -293,8 +337,10 @@ void FitMu(const std::vector<const pipeline::TrialAnalysis*>& oblique, int jobs,
       const auto [v_sim, w_sim] = AfterAtImpactTime(t, r, touch[i]);
       const double se_v = std::max(t.impact.v_SC_after_se.x(), 1e-6);
       const double se_w = std::max(t.impact.w_after_se_rad_s, 1e-6);
-      s += std::pow((t.impact.v_SC_after.x() - v_sim.x()) / se_v, 2) +
-           std::pow((t.impact.w_after_rad_s - w_sim) / se_w, 2);
+      s += std::pow((t.impact.v_SC_after.x() - v_sim.x()) / se_v, 2);
+      // A ball's spin is not seen: only its velocity speaks for mu.
+      if (std::isfinite(t.impact.w_after_rad_s))
+        s += std::pow((t.impact.w_after_rad_s - w_sim) / se_w, 2);
     }
     return s;
   };
@@ -318,7 +364,9 @@ void FitMu(const std::vector<const pipeline::TrialAnalysis*>& oblique, int jobs,
   const double curvature = (cost(mu + h) - 2 * s_min + cost(std::max(0.0, mu - h))) / (h * h);
   // Standard error from the curvature, scaled by the reduced chi-square (the usual least-squares
   // practice: when trials scatter more than their measurement errors, mu is less certain).
-  const double dof = std::max(1.0, 2.0 * static_cast<double>(oblique.size()) - 1.0);
+  double components = 0;  // v_x of each trial, and its spin where it is seen
+  for (const auto* t : oblique) components += std::isfinite(t->impact.w_after_rad_s) ? 2 : 1;
+  const double dof = std::max(1.0, components - 1.0);
   const double scale = std::max(1.0, s_min / dof);
   m.mu_se =
       curvature > 0 && !m.mu_only_lower_bound ? std::sqrt(2.0 / curvature * scale) : core::kNaN;
@@ -327,17 +375,12 @@ void FitMu(const std::vector<const pipeline::TrialAnalysis*>& oblique, int jobs,
                 m.surface + " as well: their contacts stick, so mu is bounded only from below";
 }
 
-}  // namespace
-
-SurfaceModel FitSurfaceModel(const std::string& surface,
-                             const std::vector<pipeline::TrialAnalysis>& trials, int jobs) {
-  SurfaceModel m;
-  m.surface = surface;
-  std::vector<const pipeline::TrialAnalysis*> normal, oblique;
-  for (const auto& t : trials) {
-    if (!t.success || t.spec.surface != surface) continue;
-    (std::abs(t.spec.surface_angle_deg) < 1e-9 ? normal : oblique).push_back(&t);
-  }
+/// The model of the surface `m.surface` fitted to its normal and oblique trials.
+SurfaceModel FitSurfaceModelOf(SurfaceModel m,
+                               const std::vector<const pipeline::TrialAnalysis*>& normal,
+                               const std::vector<const pipeline::TrialAnalysis*>& oblique,
+                               int jobs) {
+  const std::string& surface = m.surface;
   m.normal_trials = static_cast<int>(normal.size());
   m.oblique_trials = static_cast<int>(oblique.size());
   if (normal.empty()) {
@@ -354,6 +397,38 @@ SurfaceModel FitSurfaceModel(const std::string& surface,
   }
   FitMu(oblique, jobs, m);
   return m;
+}
+
+}  // namespace
+
+SurfaceModel FitSurfaceModel(const std::string& surface,
+                             const std::vector<pipeline::TrialAnalysis>& trials, int jobs) {
+  SurfaceModel m;
+  m.surface = surface;
+  std::vector<const pipeline::TrialAnalysis*> normal, oblique;
+  std::string left_out;
+  for (const auto& t : trials) {
+    if (!t.success || t.spec.surface != surface) continue;
+    // A trial whose body cannot be simulated is left out of the fit, named; the others fit.
+    try {
+      BodyToSimulate(t).specimen.Validate();
+    } catch (const std::exception& e) {
+      left_out += (left_out.empty() ? "" : "; ") + TrialWhere(t) + ": " + e.what();
+      continue;
+    }
+    m.mass_known = m.mass_known && BodyToSimulate(t).mass_known;
+    (std::abs(t.spec.surface_angle_deg) < 1e-9 ? normal : oblique).push_back(&t);
+  }
+  if (!left_out.empty()) left_out = "left out of the fit: " + left_out;
+  m = FitSurfaceModelOf(std::move(m), normal, oblique, jobs);
+  if (!left_out.empty()) m.message += (m.message.empty() ? "" : "; ") + left_out;
+  return m;
+}
+
+std::vector<std::pair<std::string, Eigen::Vector2d>> ComparedMarkers(
+    const pipeline::TrialAnalysis& trial) {
+  if (trial.spec.body.is_silhouette()) return {};
+  return trial.spec.specimen.markers_B_m;
 }
 
 dynamics::SpecimenParameters SpecimenOf(const pipeline::TrialAnalysis& trial) {

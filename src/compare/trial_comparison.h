@@ -11,17 +11,43 @@
 
 #include <Eigen/Core>
 
+#include "core/frames.h"
 #include "dynamics/contact_fit.h"
 #include "dynamics/impact_simulator.h"
 #include "pipeline/trial_analysis.h"
 
 namespace hoof::compare {
 
+/// The mass that stands in for a body whose mass is unknown (a ball without a specimen): the
+/// paper's specimen's 8 g, the mass for which each surface's k is the paper's, so that contact
+/// durations stay the paper's. No velocity depends on it: with b = 2 zeta sqrt(k m) the normal
+/// contact depends on zeta and sqrt(k / m) only, and the friction's effect on I / (m R^2).
+inline constexpr double kReferenceMass_kg = 0.008;
+
+/// The body a trial is simulated as, and what of it had to be assumed.
+struct SimulatedBody {
+  dynamics::SpecimenParameters specimen;
+  /// False: the mass is unknown and kReferenceMass_kg stands in; kinetic energies and the
+  /// contact law's k and b then are not the body's.
+  bool mass_known = true;
+  /// A ball of unknown inertia (no specimen) is simulated as a solid sphere, I = 2/5 m R^2;
+  /// only its tangential velocity after a contact that sticks depends on that.
+  bool inertia_assumed = false;
+};
+
+/// The body trial `t` is simulated as: its specimen, or for a ball of unknown mass a solid
+/// sphere of kReferenceMass_kg and its radius.
+SimulatedBody BodyToSimulate(const pipeline::TrialAnalysis& trial);
+
 /// The contact law of one surface, as the study's measurements determine it.
 struct SurfaceModel {
   std::string surface;
   int normal_trials = 0;
   int oblique_trials = 0;
+  /// False when a trial on the surface has no known mass (a ball without a specimen): k and b
+  /// are then those of kReferenceMass_kg, which the simulation uses and the study file and the
+  /// report do not give as the body's (NaN, "needs the mass").
+  bool mass_known = true;
   /// zeta from the normal trials (velocities determine zeta only; see dynamics/contact_fit.h).
   dynamics::ContactFitSummary zeta_fit;
   /// k: not identified by velocities. The paper's k for steel, concrete and asphalt, else
@@ -58,6 +84,12 @@ struct FrameComparison {
   std::vector<Eigen::Vector2d> markers_px_sim;   ///< per layout marker
   std::vector<Eigen::Vector2d> markers_px_meas;  ///< NaN where not found
   std::vector<double> marker_residual_px;        ///< |measured - simulated|, NaN where not found
+  /// The centre of mass C in the image (px): simulated, measured (from the measured pose; NaN
+  /// where the frame has none) and |measured - simulated|: the one residual of a body without
+  /// markers (a ball, an outline), and of a marked one too.
+  Eigen::Vector2d centre_px_sim{0, 0};
+  Eigen::Vector2d centre_px_meas{core::kNaN, core::kNaN};
+  double centre_residual_px = core::kNaN;
   double kinetic_energy_sim_J = 0.0;
 };
 
@@ -74,8 +106,11 @@ struct TrialComparison {
   /// Residual / combined standard error (measured and propagated), per component.
   Eigen::Vector2d v_SC_after_z{0, 0};
   double w_after_z = 0.0;
+  /// Kinetic energies (J); NaN where the mass is unknown (SimulatedBody::mass_known).
   double kinetic_energy_before_J = 0.0, kinetic_energy_after_meas_J = 0.0,
          kinetic_energy_after_sim_J = 0.0;
+  bool mass_known = true;        ///< SimulatedBody::mass_known of the trial
+  bool inertia_assumed = false;  ///< SimulatedBody::inertia_assumed of the trial
   std::vector<FrameComparison> frames;
   /// Kinetic energy through the contact (paper Figure 8): times since first touch and values.
   std::vector<double> contact_t_s, contact_kinetic_energy_J;
@@ -104,7 +139,13 @@ TrialComparison CompareTrial(const pipeline::TrialAnalysis& trial,
 /// The uncertainty of a fitted surface model (NaN errors count as 0).
 ModelUncertainty Uncertainty(const SurfaceModel& model);
 
-/// The trial's specimen as the simulator wants it.
+/// The markers a trial's comparison carries, in layout order: its specimen's, where it is
+/// tracked by its markers; none for a body tracked by its silhouette (a ball, or an outline
+/// whose study.json may still list the layout of a marked specimen it has not got).
+std::vector<std::pair<std::string, Eigen::Vector2d>> ComparedMarkers(
+    const pipeline::TrialAnalysis& trial);
+
+/// The trial's specimen as the simulator wants it (BodyToSimulate's).
 dynamics::SpecimenParameters SpecimenOf(const pipeline::TrialAnalysis& trial);
 
 /// First-touch time (since frame 0) at which `contact` makes the simulated flights before and

@@ -89,6 +89,41 @@ Evaluation EvaluateRate(const RoundContext& x, const std::string& key) {
   return ev;
 }
 
+constexpr const char* kBallGap = "does not apply to a ball";
+constexpr const char* kUnmarkedGap = "not measured on bodies without markers";
+
+std::string OutOfPlaneGap(const Workspace& ws) {
+  int balls = 0, outlines = 0;
+  for (const Obs& o : ws.obs) {
+    const pipeline::TrialSpec& spec = o.trial->spec;
+    if (!spec.body.is_silhouette() && spec.specimen.markers_B_m.size() >= 2) return "";
+    (spec.body.is_ball() || spec.specimen.is_ball() ? balls : outlines) += 1;
+  }
+  if (balls + outlines == 0) return "";
+  if (outlines == 0)
+    return std::string(kBallGap) +
+           ": its rotation is not seen, and it carries no markers whose projected distance "
+           "would show a tilt";
+  const std::string bodies = (balls > 0 ? std::to_string(balls) + " ball(s) and " : std::string()) +
+                             std::to_string(outlines) + " unmarked outline(s)";
+  return std::string(kUnmarkedGap) + " (" + bodies +
+         "): the out-of-plane check reads the projected distance of the markers";
+}
+
+bool IsOutOfPlaneGap(const std::string& message) {
+  return message.starts_with(kBallGap) || message.starts_with(kUnmarkedGap);
+}
+
+Evaluation NotApplicable(const std::string& key, const std::string& why) {
+  Evaluation ev;
+  ev.c = CandidateOf(key);
+  ev.c.message = why;
+  ev.c.identifiability = Identifiability::kNotTested;
+  ev.c.outcome = CandidateOutcome::kNotTested;
+  ev.c.reason = "not tested: " + why;
+  return ev;
+}
+
 /// The constant out-of-plane tilt, judged on the marker distance alone.
 Evaluation EvaluateTilt(const RoundContext& x, const std::string& key) {
   Evaluation ev;

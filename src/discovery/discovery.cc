@@ -279,7 +279,7 @@ DiscoveryResult Discover(const std::vector<pipeline::TrialAnalysis>& trials,
   FinalStructure(*current.ws, st, all, final_residuals, options, out);
   FinalValues(*current.ws, st, out);
   TrialResidualsOf(ws, ws.Residuals(baseline_model, all), final_residuals, out);
-  out.verdict = VerdictText(out, options, skipped);
+  out.verdict = VerdictText(out, options, skipped) + MassNote(ws);
   out.simulations = ws.simulations.load() +
                     (current.remeasured_ws ? current.remeasured_ws->simulations.load() : 0);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -58,6 +58,9 @@ int UsedResiduals(const Workspace& ws);
 Evaluation EvaluateRate(const RoundContext& x, const std::string& key);
 /// The constant out-of-plane tilt, judged on the marker distance alone.
 Evaluation EvaluateTilt(const RoundContext& x, const std::string& key);
+
+/// The candidate `key`, not tested for the reason `why` (OutOfPlaneGap's).
+Evaluation NotApplicable(const std::string& key, const std::string& why);
 /// A contact effect: probed for identifiability, fitted (shared, then per surface), tested by
 /// its likelihood ratio, cross-validated, and checked to stand clear of 0.
 Evaluation EvaluateContact(const RoundContext& x, const std::string& key);

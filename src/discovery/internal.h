@@ -498,4 +498,16 @@ std::vector<EffectValue> EffectValues(const Workspace& ws, const Fit& f, const s
 /// The verdict in words, from the filled result.
 std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& options, int skipped);
 
+/// A paragraph for the verdict on the trials of unknown mass (a ball without a specimen,
+/// simulated at compare::kReferenceMass_kg), or "" when every mass is known.
+std::string MassNote(const Workspace& ws);
+
+/// Why the out-of-plane candidates cannot be judged on the workspace's trials, or "" when they
+/// can: they read the projected distance of a body's markers, which a ball (whose rotation is
+/// not seen) and an unmarked outline do not have.
+std::string OutOfPlaneGap(const Workspace& ws);
+
+/// Whether a candidate's message is one of OutOfPlaneGap's.
+bool IsOutOfPlaneGap(const std::string& message);
+
 }  // namespace hoof::discovery::internal

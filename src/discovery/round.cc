@@ -220,9 +220,12 @@ RoundOutcome RunCandidates(const Workspace& ws, const RoundState& state,
   x.n_res = UsedResiduals(ws);
 
   std::vector<Evaluation> evals;
+  const std::string out_of_plane_gap = OutOfPlaneGap(ws);
   for (const auto& key : to_try) {
     say("  " + key);
-    if (IsRotationRate(key))
+    if (Entry(key).measurement_effect && !out_of_plane_gap.empty())
+      evals.push_back(NotApplicable(key, out_of_plane_gap));
+    else if (IsRotationRate(key))
       evals.push_back(EvaluateRate(x, key));
     else if (Entry(key).measurement_effect)
       evals.push_back(EvaluateTilt(x, key));

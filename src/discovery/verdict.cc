@@ -2,8 +2,10 @@
 // "Reading the verdict").
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <sstream>
 
+#include "compare/trial_comparison.h"
 #include "discovery/internal.h"
 
 namespace hoof::discovery::internal {
@@ -104,7 +106,13 @@ void WriteNotAdded(std::ostream& v, const DiscoveryResult& out, double alpha) {
 /// trial is sensitive to.
 void WriteLimits(std::ostream& v, const Round& last) {
   std::vector<std::string> limits, untested;
+  std::map<std::string, std::vector<std::string>> inapplicable;  // by why (OutOfPlaneGap)
   for (const auto& c : last.candidates) {
+    const bool gap = c.outcome == CandidateOutcome::kNotTested && IsOutOfPlaneGap(c.message);
+    if (gap) {
+      inapplicable[c.message].push_back(c.name);
+      continue;
+    }
     // (A rotation the image cannot see, but whose velocities speak, has its own line above.)
     if (c.outcome == CandidateOutcome::kNotTested &&
         !(IsRotationRate(c.key) && c.p_value < last.naming_level))
@@ -133,6 +141,11 @@ void WriteLimits(std::ostream& v, const Round& last) {
          "refitted):\n";
     for (const auto& l : limits) v << "  - " << l << "\n";
   }
+  for (const auto& [why, names] : inapplicable) {
+    v << "\nNot tested: ";
+    for (std::size_t i = 0; i < names.size(); ++i) v << (i ? "; " : "") << names[i];
+    v << ": " << why << ".\n";
+  }
   if (!untested.empty()) {
     v << "\nNot tested by these data (no trial is sensitive to them): ";
     for (std::size_t i = 0; i < untested.size(); ++i) v << (i ? "; " : "") << untested[i];
@@ -141,6 +154,17 @@ void WriteLimits(std::ostream& v, const Round& last) {
 }
 
 }  // namespace
+
+std::string MassNote(const Workspace& ws) {
+  int without = 0;
+  for (const Obs& o : ws.obs) without += compare::BodyToSimulate(*o.trial).mass_known ? 0 : 1;
+  if (without == 0) return "";
+  return "\nMass: " + std::to_string(without) +
+         " trial(s) of a ball of unknown mass, simulated at the reference mass of " +
+         Fmt(compare::kReferenceMass_kg * 1e3, 3) +
+         " g; no velocity depends on it, but an effect sized in force units (Hunt-Crossley "
+         "damping c, in N s/m^2) is that mass's, not the ball's.\n";
+}
 
 std::string VerdictText(const DiscoveryResult& out, const DiscoveryOptions& options, int skipped) {
   std::ostringstream v;

@@ -235,8 +235,10 @@ void Build(const std::vector<pipeline::TrialAnalysis>& trials, const DiscoveryOp
     // The measured impact speed (continuous speeds have no nominal level).
     o.speed_m_s = t->spec.nominal_speed_m_s.value_or(o.scale);
     SimulationInputs(*t, m, o);
-    // Normal impacts carry no information about the contact law in v_x and w.
-    o.used = {!o.normal, true, !o.normal};
+    // Normal impacts carry no information about the contact law in v_x and w; nor does a
+    // ball's spin, which is not seen (NaN), and would be w d = 0 with d = 0 anyway.
+    const bool spin_seen = std::isfinite(o.measured[2]) && o.specimen.d_EC_m > 0;
+    o.used = {!o.normal, true, !o.normal && spin_seen};
     const std::string cell_key =
         t->spec.surface + "|" + Fmt(o.angle_deg, 6) + "|" + Fmt(o.speed_m_s, 6);
     o.cell = cell_index.try_emplace(cell_key, static_cast<int>(cell_index.size())).first->second;

@@ -100,7 +100,8 @@ TrialData LoadTrial(const fs::path& h5, const std::string& id, const fs::path& m
   d.spec = pipeline::ReadTrial(
       trial_dir, fs::exists(study_json) ? std::optional<fs::path>(study_json) : std::nullopt);
   std::vector<std::string> markers;
-  for (const auto& [name, p_B] : d.spec.specimen.markers_B_m) markers.push_back(name);
+  if (!d.spec.body.is_silhouette())  // the comparison carries markers only where they were tracked
+    for (const auto& [name, p_B] : d.spec.specimen.markers_B_m) markers.push_back(name);
   d.frames = compare::ReadComparedFrames(h5, id, markers);
   d.camera.m_per_px = d.result.m_per_px_used;  // the scale the comparison used
   d.camera.gravity_I = d.spec.camera.gravity_image;
@@ -133,6 +134,12 @@ FrameOverlay BuildFrame(const TrialData& d, std::size_t f, const OverlayOptions&
   const compare::FrameComparison& fc = d.frames[f];
   o.markers_sim_px = fc.markers_px_sim;
   o.markers_meas_px = fc.markers_px_meas;
+  if (sp.markers_B_m.empty() || d.spec.body.is_silhouette()) {
+    // No markers (a ball, an unmarked outline): the centre of mass is the point compared.
+    o.centre_of_mass = true;
+    o.markers_sim_px = {fc.centre_px_sim};
+    o.markers_meas_px = {fc.centre_px_meas};
+  }
   o.outline_sim_px = OutlineToImage(sp, fc.p_WC_sim, fc.theta_W_sim_rad, d.camera);
   // Contact point T at first touch: the round end's lowest point along the surface normal y_S.
   if (std::isfinite(d.t_touch_s)) {
@@ -243,9 +250,16 @@ std::vector<std::pair<std::string, cv::Scalar>> OverlayLegend(const FrameOverlay
   std::vector<std::pair<std::string, cv::Scalar>> lines;
   if (!o.title.empty()) lines.emplace_back(o.title, white);
   lines.emplace_back(Stamp(o), white);
-  lines.emplace_back(std::string(kMeasured.symbol) + "  " + kMeasured.label, Bgr(kMeasured));
-  lines.emplace_back(std::string(kSimulated.symbol) + "  " + kSimulated.label + ", outline",
-                     Bgr(kSimulated));
+  if (o.centre_of_mass) {
+    lines.emplace_back(std::string(kMeasured.symbol) + "  " + kMeasuredCentre.label,
+                       Bgr(kMeasured));
+    lines.emplace_back(std::string(kSimulated.symbol) + "  " + kSimulatedCentre.label + ", outline",
+                       Bgr(kSimulated));
+  } else {
+    lines.emplace_back(std::string(kMeasured.symbol) + "  " + kMeasured.label, Bgr(kMeasured));
+    lines.emplace_back(std::string(kSimulated.symbol) + "  " + kSimulated.label + ", outline",
+                       Bgr(kSimulated));
+  }
   if (o.residual_scale > 0)
     lines.emplace_back(std::string(kResidual.symbol) + " " + kResidual.label + " x " +
                            std::to_string(o.residual_scale) + " (sim. - meas.)",

@@ -6,7 +6,9 @@
 /// On each frame, in the glyphs and colours every replay of hoofimpact uses
 /// (compare/replay_convention.h; the report's replay draws the same): the tracked marker
 /// centres (green rings), the simulated marker centres (magenta plus signs) and the simulated
-/// specimen outline (magenta; the bar with its round end), the residual of each marker as an
+/// specimen outline (magenta; the bar with its round end, or a ball's circle; a body without
+/// markers has its measured and simulated centre of mass drawn instead of markers), the
+/// residual of each marker (or of the centre) as an
 /// arrow from the measured centre to measured + F (simulated - measured) (sky blue, F stated in
 /// the legend: a 0.3 px disagreement is drawn 6 px long at F = 20), the surface line and the
 /// contact point T at the simulated first touch (yellow), and a time stamp with the legend and
@@ -62,6 +64,9 @@ struct FrameOverlay {
   Eigen::Vector2d contact_px{0, 0};              ///< T at the simulated first touch
   Eigen::Vector2d surface_a_px{0, 0}, surface_b_px{0, 0};  ///< two points of the surface line
   double marker_radius_px = 6.0;  ///< the glyphs' size unit (compare::replay::Glyph::size)
+  /// The glyphs mark the centre of mass C (one measured, one simulated), not markers: a body
+  /// without markers (a ball, drawn as its circle, or an unmarked outline).
+  bool centre_of_mass = false;
   /// Magnification F of the residual arrows (measured -> measured + F (simulated - measured),
   /// for each marker with both centres); 0 = no arrows.
   int residual_scale = 0;

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/frames.h"
 #include "tracking/camera_file.h"
 #include "tracking/frame_source.h"
 
@@ -99,10 +100,68 @@ void CheckFormat(const json& j, const std::string& expected, const fs::path& fil
   if (f != expected) Fail(file, "format", "is \"" + f + "\", expected \"" + expected + "\"");
 }
 
+/// A ball's fields (`"shape": "ball"`): its diameter, its mass (optional: unknown without it)
+/// and the rule of its inertia, "solid" (the default), "hollow" or a number in kg m^2, at most a
+/// thin shell's 2/3 m R^2. The bar's fields are errors: a ball has no round end of its own.
+SpecimenSpec ParseBall(const json& s, const fs::path& file, const std::string& prefix,
+                       std::vector<std::string>& warnings) {
+  WarnUnknown(s,
+              {"shape", "diameter_m", "mass_kg", "inertia", "end_radius_m", "d_EC_m",
+               "inertia_kg_m2", "markers_B_m", "length_m", "width_m", "thickness_m"},
+              file, prefix, warnings);
+  for (const char* key : {"end_radius_m", "d_EC_m", "inertia_kg_m2", "markers_B_m", "length_m",
+                          "width_m", "thickness_m"})
+    if (s.contains(key))
+      Fail(file, prefix + key,
+           "applies to the hoof-wall specimen; a ball (\"shape\": \"ball\") is given by "
+           "diameter_m, mass_kg and inertia");
+  SpecimenSpec spec;
+  spec.shape = SpecimenShape::kBall;
+  spec.end_radius_m = Number(s, "diameter_m", file, prefix, true) / 2;
+  spec.d_EC_m = 0.0;
+  spec.mass_kg = s.contains("mass_kg") ? Number(s, "mass_kg", file, prefix, true) : core::kNaN;
+  spec.inertia = BallInertia::kSolid;
+  if (s.contains("inertia")) {
+    const json& i = s.at("inertia");
+    if (i.is_number()) {
+      spec.inertia = BallInertia::kGiven;
+      spec.inertia_kg_m2 = Number(s, "inertia", file, prefix, true);
+      if (!s.contains("mass_kg"))
+        Fail(file, prefix + "inertia", "is a number, which needs the ball's mass_kg beside it");
+      const double shell = BallInertiaFactor(BallInertia::kHollow) * spec.mass_kg *
+                           spec.end_radius_m * spec.end_radius_m;
+      if (spec.inertia_kg_m2 > shell * (1 + 1e-9))
+        Fail(file, prefix + "inertia",
+             "is " + i.dump() + " kg m^2, more than a thin shell's 2/3 m R^2 = " +
+                 json(shell).dump() + " kg m^2: no ball of this mass and diameter has it");
+    } else if (i == "solid" || i == "hollow") {
+      spec.inertia = i == "solid" ? BallInertia::kSolid : BallInertia::kHollow;
+    } else {
+      Fail(file, prefix + "inertia",
+           "must be \"solid\" (2/5 m R^2), \"hollow\" (2/3 m R^2) or a number in kg m^2, "
+           "found " +
+               i.dump());
+    }
+  }
+  if (spec.inertia != BallInertia::kGiven)
+    spec.inertia_kg_m2 = BallInertiaFactor(spec.inertia) * spec.mass_kg * spec.end_radius_m *
+                         spec.end_radius_m;  // NaN with the mass unknown
+  return spec;
+}
+
 /// A specimen's fields; `markers_B_m` may be left out where `markers_required` is false (the
-/// inline specimen of a trial tracked by its silhouette).
+/// inline specimen of a trial tracked by its silhouette). `"shape": "ball"` reads a ball.
 SpecimenSpec ParseSpecimen(const json& s, const fs::path& file, const std::string& prefix,
                            std::vector<std::string>& warnings, bool markers_required = true) {
+  if (s.is_object() && s.contains("shape")) {
+    const std::string shape = Text(s, "shape", file, prefix);
+    if (shape != "ball")
+      Fail(file, prefix + "shape",
+           "is \"" + shape +
+               "\": must be \"ball\" (without \"shape\" the specimen is the hoof-wall "
+               "specimen)");
+    return ParseBall(s, file, prefix, warnings);
+  }
   WarnUnknown(s,
               {"mass_kg", "inertia_kg_m2", "end_radius_m", "d_EC_m", "length_m", "width_m",
                "thickness_m", "markers_B_m"},
@@ -112,6 +171,8 @@ SpecimenSpec ParseSpecimen(const json& s, const fs::path& file, const std::strin
   spec.inertia_kg_m2 = Number(s, "inertia_kg_m2", file, prefix, true);
   spec.end_radius_m = Number(s, "end_radius_m", file, prefix, true);
   spec.d_EC_m = Number(s, "d_EC_m", file, prefix, false);
+  if (spec.d_EC_m < 0)
+    Fail(file, prefix + "d_EC_m", "must be >= 0, found " + s.at("d_EC_m").dump());
   if (s.contains("length_m")) spec.length_m = Number(s, "length_m", file, prefix, true);
   if (s.contains("width_m")) spec.width_m = Number(s, "width_m", file, prefix, true);
   if (s.contains("thickness_m")) spec.thickness_m = Number(s, "thickness_m", file, prefix, true);
@@ -129,6 +190,31 @@ SpecimenSpec ParseSpecimen(const json& s, const fs::path& file, const std::strin
 }
 
 }  // namespace
+
+std::string BallInertiaName(BallInertia inertia) {
+  switch (inertia) {
+    case BallInertia::kSolid:
+      return "solid";
+    case BallInertia::kHollow:
+      return "hollow";
+    case BallInertia::kGiven:
+      return "given";
+    case BallInertia::kUnknown:
+      return "unknown";
+  }
+  return "unknown";
+}
+
+double BallInertiaFactor(BallInertia inertia) {
+  switch (inertia) {
+    case BallInertia::kSolid:
+      return 2.0 / 5.0;
+    case BallInertia::kHollow:
+      return 2.0 / 3.0;
+    default:
+      return core::kNaN;
+  }
+}
 
 StudySpec ReadStudy(const fs::path& dir) {
   const fs::path file = dir / "study.json";
@@ -450,6 +536,26 @@ BodySpec ParseBody(const json& body, const fs::path& file, std::vector<std::stri
   return out;
 }
 
+/// A trial whose specimen is a ball (`"shape": "ball"`): it must be tracked as one, and its
+/// body.diameter_m, when given, must be the specimen's (else it is taken from it, so the
+/// diameter can give the scale).
+void TakeBallSpecimen(TrialSpec& t, const fs::path& file) {
+  const std::string where =
+      "names the ball specimen \"" + t.specimen_id + "\" (" + t.specimen_origin + ")";
+  if (!t.body.is_ball())
+    Fail(file, "specimen",
+         where + ", but the trial tracks " +
+             (t.body.is_silhouette() ? std::string("an outline") : std::string("markers")) +
+             ": a ball is tracked by its silhouette, \"body\": {\"model\": \"silhouette\", "
+             "\"shape\": \"ball\"}");
+  const double diameter = 2 * t.specimen.end_radius_m;
+  if (t.body.diameter_m > 0 && std::abs(t.body.diameter_m - diameter) > 1e-6 * diameter)
+    Fail(file, "body.diameter_m",
+         "is " + json(t.body.diameter_m).dump() + " m, but the trial " + where +
+             " whose diameter_m is " + json(diameter).dump() + " m");
+  t.body.diameter_m = diameter;
+}
+
 TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
   const fs::path file = trial_dir / "trial.json";
   const json j = ReadJson(file);
@@ -468,7 +574,10 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
     // fitted diameter at the trial's scale), its centre of mass at its centre, its mass and
     // inertia unknown.
     t.specimen_id = "ball";
-    t.specimen.mass_kg = t.specimen.inertia_kg_m2 = std::numeric_limits<double>::quiet_NaN();
+    t.specimen_origin = file.string() + " (a ball without a specimen: mass and inertia unknown)";
+    t.specimen.shape = SpecimenShape::kBall;
+    t.specimen.inertia = BallInertia::kUnknown;
+    t.specimen.mass_kg = t.specimen.inertia_kg_m2 = core::kNaN;
     t.specimen.end_radius_m = t.body.diameter_m / 2;
     t.specimen.d_EC_m = 0.0;
   } else if (j.contains("specimen_parameters")) {
@@ -479,6 +588,7 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
     // marker layout.
     t.specimen = ParseSpecimen(j.at("specimen_parameters"), file, "specimen_parameters.",
                                t.warnings, !t.body.is_silhouette());
+    t.specimen_origin = file.string() + ", specimen_parameters";
   } else {
     t.specimen_id = Text(j, "specimen", file, "");
     const auto sp = study.specimens.find(t.specimen_id);
@@ -487,7 +597,9 @@ TrialSpec ReadTrial(const fs::path& trial_dir, const StudySpec& study) {
            "names \"" + t.specimen_id + "\", which " + (study.dir / "study.json").string() +
                " does not define");
     t.specimen = sp->second;
+    t.specimen_origin = (study.dir / "study.json").string() + ", specimens." + t.specimen_id;
   }
+  if (t.specimen.is_ball()) TakeBallSpecimen(t, file);
   t.surface = Text(j, "surface", file, "");
   t.surface_angle_deg = Number(j, "surface_angle_deg", file, "", false);
   if (std::abs(t.surface_angle_deg) >= 90)

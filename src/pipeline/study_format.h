@@ -4,6 +4,7 @@
 /// and the field; unknown fields are reported as warnings and otherwise ignored.
 
 #include <array>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -18,13 +19,41 @@
 
 namespace hoof::pipeline {
 
+/// What a specimen is: the hoof-wall specimen (a bar with a round end, the paper's) or a ball.
+enum class SpecimenShape {
+  kBar,   ///< study.json's specimen without "shape": mass, inertia, R and d given
+  kBall,  ///< "shape": "ball": R half its diameter, its centre of mass at its centre (d = 0)
+};
+
+/// Where a ball's moment of inertia about its centre comes from (study.json's "inertia").
+enum class BallInertia {
+  kSolid,    ///< "solid": I = 2/5 m R^2 (the default)
+  kHollow,   ///< "hollow": a thin shell, I = 2/3 m R^2
+  kGiven,    ///< a number (kg m^2), at most 2/3 m R^2
+  kUnknown,  ///< a ball without a specimen (trial.json names none): mass and inertia unknown
+};
+
+/// "solid", "hollow", "given" or "unknown".
+std::string BallInertiaName(BallInertia inertia);
+
+/// I / (m R^2) of a ball whose inertia is `inertia` (solid 2/5, hollow 2/3); NaN for kGiven and
+/// kUnknown.
+double BallInertiaFactor(BallInertia inertia);
+
 /// A specimen of study.json: the rigid body (the project's one specimen type) and what the
-/// camera sees of it.
+/// camera sees of it. A ball's mass may be unknown (NaN, and its inertia then NaN too):
+/// velocities, e and mu_eff do not need it; kinetic energies and the contact law's k and b do.
 struct SpecimenSpec : core::SpecimenParameters {
+  SpecimenShape shape = SpecimenShape::kBar;
+  BallInertia inertia = BallInertia::kSolid;                ///< a ball's; unused for the bar
   double length_m = 0.0, width_m = 0.0, thickness_m = 0.0;  ///< 0 when not given
   /// Centres of the white dots in the body frame B (origin E, x toward C), in metres, in the
   /// order of the file.
   std::vector<std::pair<std::string, Eigen::Vector2d>> markers_B_m;
+
+  bool is_ball() const { return shape == SpecimenShape::kBall; }
+  /// The mass (and with it the inertia) is known: a number, not NaN.
+  bool mass_known() const { return std::isfinite(mass_kg) && std::isfinite(inertia_kg_m2); }
 };
 
 /// A calibration image of trial.json's camera (docs/format.md, "The scale"): a checkerboard or a
@@ -105,6 +134,9 @@ struct TrialSpec {
   /// The body model. A ball needs no specimen: without one, the ball is the specimen (radius
   /// diameter_m / 2, centre of mass at its centre, mass and inertia unknown: NaN).
   BodySpec body;
+  /// Where the specimen was defined, for messages: "S/study.json, specimens.A",
+  /// "S/t1/trial.json, specimen_parameters" or "S/t1/trial.json (a ball without a specimen)".
+  std::string specimen_origin;
   std::optional<std::array<Eigen::Vector2d, 2>> surface_line_px;
   std::optional<double> nominal_speed_m_s;
   std::string notes;

@@ -118,13 +118,22 @@ std::size_t Rows(const Table& t) { return t.columns.empty() ? 0 : t.columns.fron
 
 // ---- sections ----------------------------------------------------------------------------
 
-std::string ModelSection(const std::vector<compare::SurfaceModel>& surfaces) {
+std::string ModelSection(const std::vector<compare::SurfaceModel>& surfaces,
+                         const std::vector<compare::ComparedTrial>& compared) {
+  compare::MassGaps gaps;
+  for (const compare::ComparedTrial& t : compared) {
+    if (!t.comparison.success || t.comparison.mass_known) continue;
+    ++gaps.without_mass;
+    gaps.inertia_assumed += t.comparison.inertia_assumed ? 1 : 0;
+  }
   std::ostringstream h;
   h << "<section id=\"model\"><h2>Contact model per surface</h2>"
     << "<p class=\"note\">Fitted from the measured trials (<code>/comparison/surfaces</code>): "
        "zeta from the normal impacts, mu from the oblique ones. The stiffness k is not "
-       "identified by velocities alone.</p>"
-    << "<table class=\"data\"><thead><tr><th>surface</th><th>normal trials</th><th>oblique "
+       "identified by velocities alone.</p>";
+  if (gaps.without_mass > 0)
+    h << "<p class=\"note mass-gaps\">" << HtmlEscape(gaps.Text()) << ".</p>";
+  h << "<table class=\"data\"><thead><tr><th>surface</th><th>normal trials</th><th>oblique "
        "trials</th><th>zeta</th><th>zeta 95 % interval</th><th>mu</th><th>k</th><th>note</th>"
        "</tr></thead><tbody>";
   for (const compare::SurfaceModel& m : surfaces) {
@@ -145,7 +154,8 @@ std::string ModelSection(const std::vector<compare::SurfaceModel>& surfaces) {
       h << "&ge; " << Fmt(m.mu) << " (contacts stick)";
     else
       h << format::WithError(m.mu, m.mu_se, format::Kind::kCoefficient, " &plusmn; ");
-    h << "</td><td>k not identified</td><td>" << HtmlEscape(m.message) << "</td></tr>";
+    h << "</td><td>" << (m.mass_known ? "k not identified" : "k and b need the mass (not given)")
+      << "</td><td>" << HtmlEscape(m.message) << "</td></tr>";
   }
   h << "</tbody></table></section>";
   return h.str();
@@ -304,7 +314,7 @@ HtmlReportSummary WriteHtmlReport(const fs::path& study_h5, const fs::path& outp
     << "<a href=\"#replay\">Replay</a><a href=\"#figures\">Figures</a>"
     << (has_discovery ? "<a href=\"#discovery\">Discovery</a>" : "")
     << "<a href=\"#trials\">Trials</a><a href=\"#statistics\">Statistics</a></nav><main>"
-    << SummarySection(study, study_h5, options) << ModelSection(surfaces)
+    << SummarySection(study, study_h5, options) << ModelSection(surfaces, compared)
     << ReplaySection(study, study_h5, options, summary)
     << FiguresSection(study, study_h5, summary.figures) << discovery_section
     << TrialsSection(study, compared, study_h5, summary) << StatsSection(study_h5, summary)

@@ -61,9 +61,8 @@ fs::path TrialFolder(const studyfile::TrialResult& t, const std::string& study_d
 
 /// Frames [first, last) of the trial as JPEG data URIs, grey levels stretched over the range
 /// of those frames, downscaled to max_width. Sets `scale` (shown px per image px).
-std::vector<std::string> EncodeFrames(const fs::path& trial_dir, int first, int last,
+std::vector<std::string> EncodeFrames(const pipeline::TrialSpec& spec, int first, int last,
                                       const HtmlReportOptions& o, double& scale) {
-  const pipeline::TrialSpec spec = pipeline::ReadTrial(trial_dir);
   const std::unique_ptr<tracking::FrameSource> source = pipeline::OpenFrames(spec);
   std::vector<cv::Mat> frames;
   double lo = 1e300, hi = -1e300;
@@ -104,23 +103,41 @@ double LargestResidualPx(const compare::FrameComparison& f) {
   return largest;
 }
 
+/// The points a replay compares: the markers, or for a body without markers (a ball, an
+/// unmarked outline) its centre of mass C as the one point "C".
+compare::ComparedFrames ReplayedPoints(compare::ComparedFrames compared) {
+  if (!compared.markers.empty()) return compared;
+  compared.markers = {"C"};
+  for (auto& f : compared.frames) {
+    f.markers_px_sim = {f.centre_px_sim};
+    f.markers_px_meas = {f.centre_px_meas};
+  }
+  return compared;
+}
+
 /// One replay as a JSON object, with its frames as hidden <img> elements appended to `imgs`
 /// (in the document, so the page's load event waits for them).
 std::string ReplayJson(const studyfile::TrialResult& t, const fs::path& trial_dir,
-                       const compare::ComparedFrames& compared, const HtmlReportOptions& o,
-                       int index, std::string& imgs) {
+                       const compare::ComparedFrames& compared, bool centre_of_mass,
+                       const HtmlReportOptions& o, int index, std::string& imgs) {
   const int n_frames = static_cast<int>(compared.frames.size());
   const int impact = static_cast<int>(std::lround(t.impact_time_s * t.fps));
   const int first = std::clamp(impact - o.frames_per_replay / 2, 0, std::max(0, n_frames - 1));
   const int last = std::min(n_frames, first + o.frames_per_replay);
   double scale = 1.0;
-  const auto uris = EncodeFrames(trial_dir, first, last, o, scale);
+  const pipeline::TrialSpec spec = pipeline::ReadTrial(trial_dir);
+  const auto uris = EncodeFrames(spec, first, last, o, scale);
   if (uris.empty()) throw std::runtime_error("no frames could be read in " + trial_dir.string());
   const std::vector<std::string>& markers = compared.markers;
+  // A ball is drawn as its simulated circle about the simulated centre (image px).
+  const bool ball = spec.body.is_ball() || spec.specimen.is_ball();
+  const double ball_radius_px =
+      ball && t.m_per_px_used > 0 ? spec.specimen.end_radius_m / t.m_per_px_used : core::kNaN;
   std::ostringstream j;
   j << "{\"id\":" << JsonString(t.id) << ",\"surface\":" << JsonString(t.surface)
     << ",\"folder\":" << JsonString(trial_dir.string()) << ",\"scale\":" << JsonNumber(scale)
-    << ",\"impact\":" << impact << ",\"markers\":[";
+    << ",\"impact\":" << impact << ",\"centre_of_mass\":" << (centre_of_mass ? "true" : "false")
+    << ",\"ball_radius_px\":" << JsonNumber(ball_radius_px) << ",\"markers\":[";
   for (std::size_t m = 0; m < markers.size(); ++m) j << (m ? "," : "") << JsonString(markers[m]);
   j << "],\"frames\":[";
   for (int k = 0; k < static_cast<int>(uris.size()); ++k) {
@@ -181,9 +198,12 @@ std::string ReplaySection(const studyfile::StudyResults& study, const fs::path& 
   for (const auto* t : PickReplays(study, o.replay_trials)) {
     try {
       const fs::path dir = TrialFolder(*t, study.study_dir, o.study_dir);
-      const compare::ComparedFrames frames = compare::ReadComparedFrames(h5, t->id);
+      const compare::ComparedFrames read = compare::ReadComparedFrames(h5, t->id);
+      const bool centre_of_mass = read.markers.empty();
+      const compare::ComparedFrames frames = ReplayedPoints(read);
       std::string trial_imgs;
-      const std::string one = ReplayJson(*t, dir, frames, o, summary.replays, trial_imgs);
+      const std::string one =
+          ReplayJson(*t, dir, frames, centre_of_mass, o, summary.replays, trial_imgs);
       trials += (summary.replays ? "," : "") + one;
       imgs += trial_imgs;
       ++summary.replays;
@@ -222,7 +242,10 @@ std::string ReplaySection(const studyfile::StudyResults& study, const fs::path& 
       << HtmlEscape(rp::kResidual.label)
       << " (simulated &minus; measured) magnified <b id=\"residual-scale\">" << F
       << "&times;</b>, drawn from the measured marker</span>: an arrow " << F
-      << " px long stands for a disagreement of 1 px (in image pixels). "
+      << " px long stands for a disagreement of 1 px (in image pixels). A body without markers "
+         "(a ball, an unmarked outline) shows its "
+      << HtmlEscape(rp::kMeasuredCentre.label) << " and " << HtmlEscape(rp::kSimulatedCentre.label)
+      << " in those glyphs instead, and a ball its simulated circle. "
       << "Arrow keys step frames.</p>"
       << "<div class=\"replay-controls\"><label>Trial <select id=\"replay-trial\"></select></label>"
       << "<button id=\"replay-prev\" type=\"button\">&#9664; prev</button>"

@@ -44,17 +44,23 @@ void SummarizeComparison(StudyJobSummary& s) {
     const auto& c = s.comparison.trials[i];
     if (!c.success) continue;
     ++s.compared;
-    const double z = std::max(
-        {std::abs(c.v_SC_after_z.x()), std::abs(c.v_SC_after_z.y()), std::abs(c.w_after_z)});
+    double z = 0;  // a ball's spin is not seen: its z is NaN and does not count
+    for (double zi : {c.v_SC_after_z.x(), c.v_SC_after_z.y(), c.w_after_z})
+      if (std::isfinite(zi)) z = std::max(z, std::abs(zi));
     if (z > s.worst_z) {
       s.worst_z = z;
       s.worst_z_id = s.trials[i].spec.id;
     }
     const int first_after = static_cast<int>(std::ceil(c.t_touch_s * s.trials[i].spec.fps));
-    for (int f = first_after; f < first_after + 20 && f < static_cast<int>(c.frames.size()); ++f)
-      for (double r : c.frames[static_cast<std::size_t>(f)].marker_residual_px)
+    for (int f = first_after; f < first_after + 20 && f < static_cast<int>(c.frames.size()); ++f) {
+      const auto& frame = c.frames[static_cast<std::size_t>(f)];
+      for (double r : frame.marker_residual_px)
         if (std::isfinite(r)) s.worst_marker_px = std::max(s.worst_marker_px, r);
+      if (std::isfinite(frame.centre_residual_px))
+        s.worst_centre_px = std::max(s.worst_centre_px, frame.centre_residual_px);
+    }
   }
+  s.mass_gaps = compare::MassGapsOf(s.comparison);
 }
 
 /// The prediction z's headline numbers: how many trial components lie beyond 3 and the largest.

@@ -61,6 +61,11 @@ struct StudyJobSummary {
   double worst_z = 0;          ///< largest |measured - simulated| / s.e. after impact
   std::string worst_z_id;      ///< of that trial
   double worst_marker_px = 0;  ///< largest marker residual over the 20 frames after impact
+  /// Largest residual of the centre of mass C in the image over those frames (every body; the
+  /// one residual of a ball or an outline).
+  double worst_centre_px = 0;
+  /// The compared trials without a known mass (a ball without a specimen) and what they lack.
+  compare::MassGaps mass_gaps;
   /// Each trial on the scale of its prediction interval (stored under /prediction).
   discovery::BaselinePredictions predictions;
   int prediction_components = 0;  ///< trial components with a prediction z

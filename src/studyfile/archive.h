@@ -107,6 +107,15 @@ class H5Writer {
             const std::string& description) {
     h5::Text(g_, name, v.string(), description);
   }
+  /// A text or a number that a file written before the field existed lacks (the reader then
+  /// keeps the value it was given).
+  void LaterText(const std::string& name, const std::string& v, const std::string& description) {
+    Text(name, v, description);
+  }
+  void LaterNumber(const std::string& name, double v, const std::string& units,
+                   const std::string& description) {
+    Number(name, v, units, description);
+  }
   void TextList(const std::string& name, const std::vector<std::string>& v,
                 const std::string& description) {
     h5::Texts(g_, name, v, {v.size()}, description);
@@ -168,6 +177,13 @@ class H5Writer {
       if (value == v) return h5::Text(g_, name, text, description);
     throw std::logic_error(name + ": an enum value without a name");
   }
+  /// An enum stored as its text, which a file written before the field existed lacks (the
+  /// reader then keeps the value it was given).
+  template <class Enum, std::size_t N>
+  void LaterChoice(const std::string& name, Enum v, const EnumNames<Enum, N>& names,
+                   const std::string& description) {
+    Choice(name, v, names, description);
+  }
 
  protected:
   /// The group written, for an archive that adds fields of other kinds (FramesWriter).
@@ -211,6 +227,13 @@ class H5Reader {
   void Path(const std::string& name, std::filesystem::path& v,
             const std::string& /*description*/) const {
     v = g_.Text(name);
+  }
+  void LaterText(const std::string& name, std::string& v, const std::string& description) const {
+    if (g_.Has(name)) Text(name, v, description);
+  }
+  void LaterNumber(const std::string& name, double& v, const std::string& units,
+                   const std::string& description) const {
+    if (g_.Has(name)) Number(name, v, units, description);
   }
   void TextList(const std::string& name, std::vector<std::string>& v,
                 const std::string& /*description*/) const {
@@ -273,6 +296,11 @@ class H5Reader {
       choices += (choices.empty() ? "" : ", ") + std::string(value_text);
     }
     throw std::runtime_error(g_.Item(name) + " = \"" + text + "\" is none of " + choices);
+  }
+  template <class Enum, std::size_t N>
+  void LaterChoice(const std::string& name, Enum& v, const EnumNames<Enum, N>& names,
+                   const std::string& description) const {
+    if (g_.Has(name)) Choice(name, v, names, description);
   }
 
  protected:

@@ -26,7 +26,19 @@ namespace hoof::studyfile::internal {
 template <class Archive, class T>
 requires std::is_same_v<std::remove_const_t<T>, pipeline::SpecimenSpec>
 void Serialize(Archive&& a, T& s) {
-  a.Number("mass_kg", s.mass_kg, "kg", "specimen mass");
+  static constexpr EnumNames<pipeline::SpecimenShape, 2> kShapes{
+      {{pipeline::SpecimenShape::kBar, "bar"}, {pipeline::SpecimenShape::kBall, "ball"}}};
+  static constexpr EnumNames<pipeline::BallInertia, 4> kInertia{
+      {{pipeline::BallInertia::kSolid, "solid"},
+       {pipeline::BallInertia::kHollow, "hollow"},
+       {pipeline::BallInertia::kGiven, "given"},
+       {pipeline::BallInertia::kUnknown, "unknown"}}};
+  a.LaterChoice("shape", s.shape, kShapes,
+                "bar (the hoof-wall specimen) or ball (R half its diameter, d = 0)");
+  a.LaterChoice("inertia", s.inertia, kInertia,
+                "a ball's inertia: solid (2/5 m R^2), hollow (2/3 m R^2), given, or unknown "
+                "(no specimen: mass and inertia NaN); solid for the bar, unused");
+  a.Number("mass_kg", s.mass_kg, "kg", "specimen mass (NaN: unknown)");
   a.Number("inertia_kg_m2", s.inertia_kg_m2, "kg m^2",
            "moment of inertia about the centre of mass C, out of the image plane");
   a.Number("end_radius_m", s.end_radius_m, "m", "radius of the round end (centre E)");
@@ -96,6 +108,12 @@ void SerializeMetadata(Archive&& a, T& r) {
   a.Text("id", s.id, "trial id (trial.json)");
   a.Path("dir", s.dir, "trial folder");
   a.Text("specimen", s.specimen_id, "specimen id (study.json)");
+  a.LaterText("specimen_origin", s.specimen_origin,
+              "where the specimen was defined (study.json or trial.json, and the field)");
+  a.LaterText("body_model", s.body.model, "how the body is tracked: markers or silhouette");
+  a.LaterText("body_shape", s.body.shape, "a silhouette's shape: ball or outline (else empty)");
+  a.LaterNumber("body_diameter_m", s.body.diameter_m, "m",
+                "a ball's known diameter (trial.json's body.diameter_m; 0 when not given)");
   a.Text("surface", s.surface, "surface name");
   a.Number("surface_angle_deg", s.surface_angle_deg, "deg", "surface angle (trial.json)");
   a.Number("fps", s.fps, "1/s", "frame rate");

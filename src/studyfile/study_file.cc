@@ -71,6 +71,11 @@ void WriteTrial(const H5::Group& trials, const std::string& group_name,
   internal::H5Writer metadata(
       h5::MakeGroup(g, "metadata", "trial.json and the calibration checks"));
   internal::SerializeMetadata(metadata, r);
+  // The trial's own specimen, as it was measured with: a ball without a specimen, or one given
+  // in trial.json, is in no study.json.
+  internal::H5Writer specimen(
+      h5::MakeGroup(g, "specimen", "the trial's specimen (" + r.spec.specimen_origin + ")"));
+  internal::Serialize(specimen, r.spec.specimen);
   internal::FramesWriter tracks(h5::MakeGroup(g, "tracks", "raw marker tracks"));
   internal::SerializeTracks(tracks, r);
   internal::FramesWriter poses(h5::MakeGroup(g, "poses", "body pose per frame"));

@@ -146,7 +146,11 @@ std::vector<pipeline::TrialAnalysis> ReadTrialAnalyses(const std::filesystem::pa
       if (r.spec.id != ids[i])
         throw std::runtime_error(where + "/metadata/id is \"" + r.spec.id +
                                  "\", /results/id says \"" + ids[i] + "\"");
-      if (!r.spec.specimen_id.empty()) {
+      const GroupReader trial(file.openGroup(groups[i]), where);
+      if (trial.Has("specimen")) {
+        // The trial's own specimen (files from before it was written have only the study's).
+        internal::Serialize(internal::H5Reader(trial.Group("specimen")), r.spec.specimen);
+      } else if (!r.spec.specimen_id.empty()) {
         auto it = specimens.find(r.spec.specimen_id);
         if (it == specimens.end()) {
           const GroupReader g = root.Group("study").Group("specimens").Group(r.spec.specimen_id);

@@ -534,7 +534,7 @@ std::vector<cv::Mat> RenderFrames(const TrialTruth& truth, const SpecimenGeometr
 
 TrialResult RenderTrial(const TrialSpec& spec, const SpecimenGeometry& geometry,
                         const RenderOptions& options, const SceneAssets& assets,
-                        const fs::path& trial_dir, bool overwrite) {
+                        const fs::path& trial_dir, bool overwrite, bool in_study) {
   const auto start = std::chrono::steady_clock::now();
   if (!overwrite && fs::exists(trial_dir))
     throw std::runtime_error("output folder '" + trial_dir.string() +
@@ -561,7 +561,7 @@ TrialResult RenderTrial(const TrialSpec& spec, const SpecimenGeometry& geometry,
       throw std::runtime_error("cannot write the calibration image '" + file.string() + "'");
   }
   io::WriteTextAtomically(folder.path() / "trial.json",
-                          TrialJson(truth, options, geometry).dump(2) + "\n");
+                          TrialJson(truth, options, geometry, in_study).dump(2) + "\n");
   io::WriteTextAtomically(folder.path() / "truth.json",
                           TruthJson(truth, geometry, options).dump(2) + "\n");
   folder.Commit(overwrite);

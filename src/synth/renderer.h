@@ -103,9 +103,13 @@ struct TrialResult {
 /// Renders a trial into the folder `trial_dir`. The folder is written under a temporary name
 /// beside it and renamed when complete, so a crash never leaves half a trial. An existing
 /// folder is replaced only when `overwrite` is true; otherwise std::runtime_error names it.
+/// `in_study`: the trial is one of a study, whose study.json defines its specimen (a ball's
+/// trial.json then names the study's ball; alone, a ball is its own specimen of unknown mass,
+/// as a clip from a phone).
 TrialResult RenderTrial(const TrialSpec& spec, const SpecimenGeometry& geometry,
                         const RenderOptions& options, const SceneAssets& assets,
-                        const std::filesystem::path& trial_dir, bool overwrite = false);
+                        const std::filesystem::path& trial_dir, bool overwrite = false,
+                        bool in_study = false);
 
 /// Writes one frame of a trial: frames/%06d.png under `trial_dir` (8- or 16-bit grey PNG).
 void WriteFrame(const std::filesystem::path& trial_dir, int index, const cv::Mat& image,

@@ -131,8 +131,8 @@ StudyResult RenderStudy(const StudyDesign& design, const SpecimenGeometry& geome
   core::ParallelFor(result.trials.size(), threads, [&](std::size_t i) {
     StudyTrial& st = result.trials[i];
     try {
-      st.result =
-          RenderTrial(st.spec, geometry, options, assets, study_dir / st.spec.id, overwrite);
+      st.result = RenderTrial(st.spec, geometry, options, assets, study_dir / st.spec.id, overwrite,
+                              /*in_study=*/true);
       st.ok = true;
     } catch (const std::exception& e) {
       st.error = e.what();

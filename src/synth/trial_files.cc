@@ -76,7 +76,14 @@ nlohmann::json BodyJson(const SpecimenGeometry& g) {
 
 }  // namespace
 
+std::string SpecimenId(const SpecimenGeometry& g) { return g.body == Body::kBall ? "ball" : "A"; }
+
 nlohmann::json SpecimenJson(const SpecimenGeometry& g) {
+  if (g.body == Body::kBall)  // Simulated(): a solid sphere of ball_mass_kg
+    return {{"shape", "ball"},
+            {"diameter_m", g.ball_diameter_m},
+            {"mass_kg", g.ball_mass_kg},
+            {"inertia", "solid"}};
   nlohmann::json markers = nlohmann::json::object();
   for (const Marker& m : g.markers) markers[m.name] = Vec(m.p_BM_m);
   const dynamics::SpecimenParameters body = g.Simulated();  // the ball's, for a ball
@@ -90,7 +97,8 @@ nlohmann::json SpecimenJson(const SpecimenGeometry& g) {
           {"markers_B_m", markers}};
 }
 
-nlohmann::json TrialJson(const TrialTruth& t, const RenderOptions& o, const SpecimenGeometry& g) {
+nlohmann::json TrialJson(const TrialTruth& t, const RenderOptions& o, const SpecimenGeometry& g,
+                         bool in_study) {
   nlohmann::json camera = {{"m_per_px", o.m_per_px}, {"gravity_image", {0.0, 1.0}}};
   const LensModel lens(o.camera, o.width_px, o.height_px);
   if (lens.distorts()) {
@@ -125,9 +133,13 @@ nlohmann::json TrialJson(const TrialTruth& t, const RenderOptions& o, const Spec
   }
   // A body without markers is tracked by its silhouette (docs/format.md, "body"); the ball's
   // known diameter is what a user would write, the scale stays camera.m_per_px.
-  // A ball is its own specimen (its radius and mass centre from the diameter), so it names none.
+  // A ball alone is its own specimen (its radius and mass centre from the diameter), so it
+  // names none; in a study it names the study's ball, whose mass and inertia study.json gives.
   if (g.body == Body::kBall) {
-    trial.erase("specimen");
+    if (in_study)
+      trial["specimen"] = SpecimenId(g);
+    else
+      trial.erase("specimen");
     trial["body"] = {{"model", "silhouette"}, {"shape", "ball"}, {"diameter_m", g.ball_diameter_m}};
   } else if (g.body == Body::kUnmarked)
     trial["body"] = {{"model", "silhouette"}, {"shape", "outline"}};
@@ -284,7 +296,7 @@ nlohmann::json StudyJson(const std::string& name, const SpecimenGeometry& g,
                          const std::vector<std::string>& trial_ids) {
   return {{"format", "hoofimpact-study/1"},
           {"name", name},
-          {"specimens", {{"A", SpecimenJson(g)}}},
+          {"specimens", {{SpecimenId(g), SpecimenJson(g)}}},
           {"trials", trial_ids}};
 }
 

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/run_command.h"
+#include "support/test_studies.h"
 
 namespace {
 
@@ -27,6 +28,29 @@ TEST(ScoreCommandTest, SampleTrialsMeetTheirTruthOnAnyNumberOfThreads) {
   EXPECT_LT(s.at("v_SC_max_rel").get<double>(), 1e-3);
   EXPECT_LT(s.at("marker_rms_px").get<double>(), 0.05);
   ASSERT_EQ(j.at("trials").size(), 4u);
+}
+
+TEST(ScoreCommandTest, BallsAndOutlinesAreScoredOnTheirCentreAndImpacts) {
+  // A ball's and an outline's truth has no markers; score reads their centre path and impacts
+  // (bounds as in tests/pipeline/truth_score_test.cc) and says that a ball's spin is not seen.
+  for (const std::string name : {"ball_8", "unmarked_8"}) {
+    const std::string study = hoof::testing::TestStudyDir(name).string();
+    const auto text = RunHoofimpact("score " + study);
+    ASSERT_EQ(text.exit_code, 0) << text.err << text.out;
+    EXPECT_NE(text.out.find("summary: 8 of 8 trials scored; centre rms"), std::string::npos)
+        << text.out;
+    EXPECT_NE(text.out.find("impacts 8 of 8 found"), std::string::npos) << text.out;
+    EXPECT_EQ(text.out.find("w n/a (not seen)") != std::string::npos, name == "ball_8") << text.out;
+    const auto json = RunHoofimpact("score " + study + " --json");
+    ASSERT_EQ(json.exit_code, 0) << json.err;
+    const nlohmann::json parsed = nlohmann::json::parse(json.out);
+    const auto& s = parsed.at("results").at("summary");
+    EXPECT_EQ(s.at("succeeded").get<int>(), 8);
+    EXPECT_LT(s.at("e_max_abs").get<double>(), 0.003) << name;
+    EXPECT_LT(s.at("mu_eff_max_abs").get<double>(), 0.003) << name;
+    EXPECT_LT(s.at("centre_rms_px").get<double>(), 0.6) << name;
+    EXPECT_EQ(s.at("w_max_abs_rad_s").is_null(), name == "ball_8") << name;
+  }
 }
 
 }  // namespace

@@ -241,5 +241,78 @@ TEST_F(OverlayCommandTest, AnUnknownTrialIsAClearError) {
   EXPECT_FALSE(fs::exists(base_ / "bad" / "no_such_trial"));
 }
 
+TEST(OverlayBallTest, ABallIsItsSimulatedCircleAndItsCentresResidualArrow) {
+  // A ball has no markers: the overlay draws its simulated circle (R = 10 mm, 50 px at 0.2 mm/px)
+  // about the simulated centre of mass, the measured and simulated centres, and the residual
+  // arrow of the centre, ending at measured + F (simulated - measured) as the study file stores
+  // them (/comparison/frames/<id>, centre_px_*).
+  const fs::path base =
+      fs::path(HOOF_BINARY_DIR) / "test-output" / ("overlay_ball_" + std::to_string(::getpid()));
+  fs::remove_all(base);
+  auto r = RunHoofimpact("run " + hoof::testing::TestStudyDir("ball_8").string() + " -o " +
+                         (base / "out").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const fs::path h5 = base / "out" / "study.h5";
+  const std::string id = "steel_20deg_v3.50_r1";
+  const auto frames = studyfile::ReadTable(h5, "/comparison/frames/" + id);
+  const auto& sx = Doubles(frames, "centre_px_sim_x");
+  const auto& sy = Doubles(frames, "centre_px_sim_y");
+  const auto& mx = Doubles(frames, "centre_px_meas_x");
+  const auto& my = Doubles(frames, "centre_px_meas_y");
+  std::size_t frame = 0;
+  double largest = 0;
+  for (std::size_t f = 0; f < sx.size(); ++f) {
+    const double d = std::hypot(sx[f] - mx[f], sy[f] - my[f]);
+    if (std::isfinite(d) && d > largest) largest = d, frame = f;
+  }
+  ASSERT_GT(largest, 0.0);
+  const int scale = std::clamp(static_cast<int>(std::ceil(30.0 / largest)), 1, 1000);
+  r = RunHoofimpact("overlay " + h5.string() + " " + id + " -o " + (base / "ov").string() +
+                    " --frames-only --residual-scale " + std::to_string(scale));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%06zu.png", frame);
+  const cv::Mat img = cv::imread((base / "ov" / id / name).string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(img.empty()) << name;
+  // A pixel of `g`'s hue: each channel's excess over the grey it is drawn on (its smallest
+  // channel) within 40 % of the glyph's, so that a thin anti-aliased line, half over the frame's
+  // grey, still counts.
+  const auto near = [&](const compare::replay::Glyph& g, const Eigen::Vector2d& p, int reach) {
+    const int gmin = std::min({g.b, g.g, g.r});
+    for (int y = static_cast<int>(p.y()) - reach; y <= static_cast<int>(p.y()) + reach; ++y)
+      for (int x = static_cast<int>(p.x()) - reach; x <= static_cast<int>(p.x()) + reach; ++x) {
+        if (y < 0 || x < 0 || y >= img.rows || x >= img.cols) continue;
+        const cv::Vec3b c = img.at<cv::Vec3b>(y, x);
+        const int cmin = std::min({c[0], c[1], c[2]});
+        const double w = static_cast<double>(std::max({c[0], c[1], c[2]}) - cmin) /
+                         (std::max({g.b, g.g, g.r}) - gmin);
+        if (w < 0.4) continue;
+        bool same = true;
+        for (const auto& [have, want] : {std::pair<int, int>{c[0], g.b}, {c[1], g.g}, {c[2], g.r}})
+          same = same && std::abs((have - cmin) - w * (want - gmin)) <= 0.4 * w * 255;
+        if (same) return true;
+      }
+    return false;
+  };
+  const Eigen::Vector2d sim(sx[frame], sy[frame]), meas(mx[frame], my[frame]);
+  // The simulated circle: its colour 50 px from the simulated centre all around (12 directions),
+  // and not at 40 px or 60 px.
+  int on = 0, off = 0;
+  for (int k = 0; k < 12; ++k) {
+    const Eigen::Vector2d u(std::cos(k * M_PI / 6), std::sin(k * M_PI / 6));
+    // (Within 2 px: the lens's distortion bends the circle by up to a px.)
+    on += near(compare::replay::kSimulated, sim + 50 * u, 2);
+    off += near(compare::replay::kSimulated, sim + 40 * u, 2) +
+           near(compare::replay::kSimulated, sim + 60 * u, 2);
+  }
+  EXPECT_GE(on, 10) << "frame " << frame << ", simulated centre " << sim.transpose();
+  EXPECT_EQ(off, 0);
+  // The measured centre's ring and the arrow's tip at measured + F (simulated - measured).
+  EXPECT_TRUE(near(compare::replay::kMeasured, meas, 6));
+  EXPECT_TRUE(near(compare::replay::kResidual, meas + scale * (sim - meas), 2))
+      << "F " << scale << ", largest residual " << largest << " px in frame " << frame;
+  if (!::testing::Test::HasFailure()) fs::remove_all(base);
+}
+
 }  // namespace
 }  // namespace hoof::cli

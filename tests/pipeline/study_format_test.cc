@@ -1,5 +1,6 @@
 #include "pipeline/study_format.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -306,6 +307,87 @@ TEST(StudyFormatTest, ATrialMayCarryItsSpecimen) {
   std::ofstream(dir / "t1" / "trial.json") << trial;  // no study.json anywhere
   const TrialSpec t = ReadTrial(dir / "t1");
   EXPECT_DOUBLE_EQ(t.specimen.mass_kg, 0.01);
+}
+
+/// A study of one ball specimen `ball` (its JSON) and one trial of a ball naming it.
+fs::path WriteBallStudy(const std::string& name, const std::string& ball,
+                        const std::string& body = R"({"model": "silhouette", "shape": "ball"})") {
+  const std::string study =
+      R"({"format": "hoofimpact-study/1", "specimens": {"ball": )" + ball + "}}";
+  std::string trial = kTrial;
+  trial.insert(1, R"("body": )" + body + ",");
+  trial.replace(trial.find(R"("specimen": "A")"), 15, R"("specimen": "ball")");
+  return Write(name, study, trial);
+}
+
+TEST(StudyFormatTest, ABallSpecimenGivesItsInertiaByItsRule) {
+  // R = 10 mm, m = 8 g: solid 2/5 m R^2 = 3.2e-7, hollow 2/3 m R^2 = 5.333e-7 kg m^2.
+  const std::string ball = R"({"shape": "ball", "diameter_m": 0.02, "mass_kg": 0.008)";
+  struct Case {
+    std::string inertia;
+    BallInertia rule;
+    double expected_kg_m2;
+  };
+  for (const Case& c :
+       {Case{"", BallInertia::kSolid, 0.4 * 0.008 * 1e-4},
+        Case{R"(, "inertia": "solid")", BallInertia::kSolid, 0.4 * 0.008 * 1e-4},
+        Case{R"(, "inertia": "hollow")", BallInertia::kHollow, 2.0 / 3.0 * 0.008 * 1e-4},
+        Case{R"(, "inertia": 4e-7)", BallInertia::kGiven, 4e-7}}) {
+    const fs::path dir = WriteBallStudy("format_ball", ball + c.inertia + "}");
+    const StudySpec study = ReadStudy(dir);
+    const TrialSpec t = ReadTrial(study.trial_dirs.at(0), study);
+    EXPECT_TRUE(t.specimen.is_ball());
+    EXPECT_EQ(t.specimen.inertia, c.rule) << c.inertia;
+    EXPECT_NEAR(t.specimen.inertia_kg_m2, c.expected_kg_m2, 1e-18) << c.inertia;
+    EXPECT_DOUBLE_EQ(t.specimen.mass_kg, 0.008);
+    EXPECT_DOUBLE_EQ(t.specimen.end_radius_m, 0.01);
+    EXPECT_EQ(t.specimen.d_EC_m, 0.0);
+    // The trial's body takes the specimen's diameter (so it can give the scale).
+    EXPECT_DOUBLE_EQ(t.body.diameter_m, 0.02);
+    EXPECT_TRUE(t.specimen.mass_known());
+    EXPECT_NE(t.specimen_origin.find("study.json, specimens.ball"), std::string::npos);
+  }
+  // Without its mass the ball is measured all the same: mass and inertia unknown (NaN).
+  const fs::path dir = WriteBallStudy("format_ball", R"({"shape": "ball", "diameter_m": 0.02})");
+  const TrialSpec t = ReadTrial(dir / "t1");
+  EXPECT_FALSE(t.specimen.mass_known());
+  EXPECT_TRUE(std::isnan(t.specimen.inertia_kg_m2));
+}
+
+TEST(StudyFormatTest, ABadBallNamesTheFileAndTheField) {
+  const auto expect = [](const std::string& ball, const std::string& needle,
+                         const std::string& body = R"({"model": "silhouette", "shape": "ball"})") {
+    const fs::path dir = WriteBallStudy("format_bad_ball", ball, body);
+    ExpectError([&] { ReadTrial(dir / "t1"); }, needle);
+  };
+  expect(R"({"shape": "cube", "diameter_m": 0.02})",
+         "study.json: field \"specimens.ball.shape\" is \"cube\": must be \"ball\"");
+  expect(R"({"shape": "ball"})", "study.json: field \"specimens.ball.diameter_m\" is missing");
+  expect(R"({"shape": "ball", "diameter_m": 0.02, "mass_kg": 0.008, "inertia": "wooden"})",
+         "field \"specimens.ball.inertia\" must be \"solid\" (2/5 m R^2), \"hollow\"");
+  // More than a thin shell's 2/3 m R^2 = 5.33e-7 kg m^2: no such ball.
+  expect(R"({"shape": "ball", "diameter_m": 0.02, "mass_kg": 0.008, "inertia": 6e-7})",
+         "field \"specimens.ball.inertia\" is 6e-07 kg m^2, more than a thin shell's");
+  expect(R"({"shape": "ball", "diameter_m": 0.02, "inertia": 3e-7})",
+         "field \"specimens.ball.inertia\" is a number, which needs the ball's mass_kg");
+  expect(R"({"shape": "ball", "diameter_m": 0.02, "d_EC_m": 0.001})",
+         "field \"specimens.ball.d_EC_m\" applies to the hoof-wall specimen");
+  // A trial that tracks markers cannot name a ball, and a ball's diameters must agree.
+  expect(R"({"shape": "ball", "diameter_m": 0.02})",
+         "trial.json: field \"specimen\" names the ball specimen \"ball\"",
+         R"({"model": "markers"})");
+  expect(R"({"shape": "ball", "diameter_m": 0.02})",
+         "trial.json: field \"body.diameter_m\" is 0.025 m, but the trial names the ball "
+         "specimen",
+         R"({"model": "silhouette", "shape": "ball", "diameter_m": 0.025})");
+}
+
+TEST(StudyFormatTest, ANegativeDistanceFromEToCIsNamed) {
+  std::string study = kStudy;
+  study.replace(study.find("\"d_EC_m\": 0.0135"), 16, "\"d_EC_m\": -0.001");
+  const fs::path dir = Write("format_negative_d", study, kTrial);
+  ExpectError([&] { ReadStudy(dir); },
+              "study.json: field \"specimens.A.d_EC_m\" must be >= 0, found -0.001");
 }
 
 }  // namespace

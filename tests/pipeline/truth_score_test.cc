@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "support/test_studies.h"
 #include "support/test_util.h"
 
 namespace {
@@ -125,6 +126,53 @@ TEST(ScoreStudyTest, ABrokenTrialKeepsItsErrorAndTheOthersAreScored) {
   EXPECT_EQ(score.summary.scored, 2);
   EXPECT_EQ(score.summary.trials, 4);
   EXPECT_LT(score.summary.e_max_abs, 1e-3);
+}
+
+TEST(ScoreStudyTest, BallsAndOutlinesAreScoredAgainstTheirTruth) {
+  // A ball's and an unmarked outline's truth has no markers: each is scored on what it gives,
+  // the centre path (the measured pose's C against truth's center_px), the impacts, v, e and
+  // mu_eff. Bounds: e and mu_eff within 0.003 (measured, worst of 8: 0.0017 and 0.0013 for the
+  // ball, 0.0015 and 0.0008 for the outline), velocities within 0.5 % (0.22 %, 0.34 %), the
+  // centre within 0.6 px rms (0.32 px: the lit sphere's shading moves its edge toward the light;
+  // 0.12 px for the outline, its E placed from its round end).
+  for (const std::string name : {"ball_8", "unmarked_8"}) {
+    const bool ball = name == "ball_8";
+    const auto score = ScoreStudy(hoof::testing::TestStudyDir(name), {}, 2);
+    ASSERT_EQ(score.trials.size(), 8u);
+    for (const auto& t : score.trials) {
+      ASSERT_TRUE(t.scored()) << name << " " << t.dir << ": " << t.error;
+      const auto& s = t.score;
+      EXPECT_EQ(s.marker_count, 0) << t.id;
+      EXPECT_GE(s.centre_count, 40) << t.id;  // of 52 frames, those about the contact may be lost
+      EXPECT_LT(s.centre_rms_px, 0.6) << name << " " << t.id;
+      EXPECT_LT(s.e_abs, 0.003) << name << " " << t.id;
+      if (std::isfinite(s.mu_eff_abs)) {
+        EXPECT_LT(s.mu_eff_abs, 0.003) << name << " " << t.id;
+      }
+      EXPECT_EQ(std::isnan(s.mu_eff_abs), t.id.find("_0deg_") != std::string::npos) << t.id;
+      EXPECT_LT(std::max(s.v_before_rel, s.v_after_rel), 0.005) << name << " " << t.id;
+      // A ball's spin is not seen.
+      EXPECT_EQ(std::isnan(s.w_after_abs), ball) << t.id;
+      EXPECT_EQ(s.impacts_true, 1) << t.id;
+      EXPECT_EQ(s.impacts_matched, 1) << t.id;
+      EXPECT_LT(s.impacts_e_max_abs, 0.003) << t.id;
+    }
+    const auto& sum = score.summary;
+    EXPECT_EQ(sum.scored, 8);
+    EXPECT_EQ(sum.impacts_matched, 8);
+    EXPECT_EQ(std::isnan(sum.w_max_abs_rad_s), ball);
+    std::cout << name << ": centre rms " << sum.centre_rms_px << " px (worst " << sum.centre_max_px
+              << "), v " << 100 * sum.v_SC_max_rel << " %, e " << sum.e_max_abs << ", mu_eff "
+              << sum.mu_eff_max_abs << "\n";
+  }
+  // A ball's truth reads without markers: its body, centres and impacts.
+  const auto truth = ReadTruth(hoof::testing::TestStudyDir("ball_8") / "steel_20deg_v2.50_r1");
+  EXPECT_EQ(truth.body, "ball");
+  ASSERT_FALSE(truth.centre_px.empty());
+  EXPECT_TRUE(truth.centre_px.front().has_value());
+  EXPECT_TRUE(truth.markers_px.front().empty());
+  ASSERT_EQ(truth.impacts.size(), 1u);
+  EXPECT_EQ(truth.impacts[0].e, truth.e);
 }
 
 }  // namespace

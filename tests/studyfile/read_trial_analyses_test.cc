@@ -144,10 +144,12 @@ void ExpectSame(const Eigen::Vector2d& read, const Eigen::Vector2d& written,
 }
 
 void ExpectSameSpecimen(const pipeline::SpecimenSpec& a, const pipeline::SpecimenSpec& b) {
-  EXPECT_EQ(a.mass_kg, b.mass_kg);
-  EXPECT_EQ(a.inertia_kg_m2, b.inertia_kg_m2);
+  ExpectSame(a.mass_kg, b.mass_kg, "mass_kg");  // NaN for a ball of unknown mass
+  ExpectSame(a.inertia_kg_m2, b.inertia_kg_m2, "inertia_kg_m2");
   EXPECT_EQ(a.end_radius_m, b.end_radius_m);
   EXPECT_EQ(a.d_EC_m, b.d_EC_m);
+  EXPECT_EQ(a.shape, b.shape);
+  EXPECT_EQ(a.inertia, b.inertia);
   EXPECT_EQ(a.length_m, b.length_m);
   EXPECT_EQ(a.width_m, b.width_m);
   EXPECT_EQ(a.thickness_m, b.thickness_m);
@@ -162,7 +164,11 @@ void ExpectSameSpec(const pipeline::TrialSpec& a, const pipeline::TrialSpec& b) 
   EXPECT_EQ(a.id, b.id);
   EXPECT_EQ(a.dir.string(), b.dir.string());
   EXPECT_EQ(a.specimen_id, b.specimen_id);
+  EXPECT_EQ(a.specimen_origin, b.specimen_origin);
   ExpectSameSpecimen(a.specimen, b.specimen);
+  EXPECT_EQ(a.body.model, b.body.model);
+  EXPECT_EQ(a.body.shape, b.body.shape);
+  EXPECT_EQ(a.body.diameter_m, b.body.diameter_m);
   EXPECT_EQ(a.surface, b.surface);
   EXPECT_EQ(a.surface_angle_deg, b.surface_angle_deg);
   EXPECT_EQ(a.fps, b.fps);
@@ -520,13 +526,46 @@ TEST(ReadTrialAnalysesTest, AMissingDatasetIsNamed) {
       "no-fit.h5", [&](H5::H5File& f) { f.unlink(trial + "/fits/after/cov_v_WC_m2_s2"); });
   ExpectFailureNaming(fit, ":" + trial + "/fits/after/cov_v_WC_m2_s2 does not exist");
 
-  const fs::path specimen =
-      BrokenCopy("no-specimen.h5", [&](H5::H5File& f) { f.unlink("/study/specimens/A"); });
+  // A trial's own specimen is read where the file has it, else the study's (files written
+  // before trials kept their own): without either, the study's is named.
+  const fs::path own =
+      BrokenCopy("no-own-mass.h5", [&](H5::H5File& f) { f.unlink(trial + "/specimen/mass_kg"); });
+  ExpectFailureNaming(own, ":" + trial + "/specimen/mass_kg does not exist");
+  const fs::path specimen = BrokenCopy("no-specimen.h5", [&](H5::H5File& f) {
+    f.unlink("/study/specimens/A");
+    for (const std::string& g : Study().groups) f.unlink("/trials/" + g + "/specimen");
+  });
   ExpectFailureNaming(specimen, ":/study/specimens/A does not exist");
 
   const fs::path results =
       BrokenCopy("no-results.h5", [&](H5::H5File& f) { f.unlink("/results/group"); });
   ExpectFailureNaming(results, "no column \"group\"");
+}
+
+TEST(ReadTrialAnalysesTest, ABallWithoutASpecimenComesBackAsItWasMeasured) {
+  // A ball that is its own specimen (mass and inertia unknown, in no study.json) and its body
+  // model come back from the trial's own group: the study file says what it was measured as.
+  pipeline::TrialAnalysis t = Study().trials.at(0);
+  t.spec.specimen_id = "ball";
+  t.spec.specimen_origin = "t/trial.json (a ball without a specimen: mass and inertia unknown)";
+  t.spec.body.model = "silhouette";
+  t.spec.body.shape = "ball";
+  t.spec.body.diameter_m = 0.02;
+  auto& s = t.spec.specimen;
+  s.shape = pipeline::SpecimenShape::kBall;
+  s.inertia = pipeline::BallInertia::kUnknown;
+  s.mass_kg = s.inertia_kg_m2 = std::nan("");
+  s.end_radius_m = 0.01;
+  s.d_EC_m = 0.0;
+  s.markers_B_m.clear();
+  const fs::path file = Dir() / "ball.h5";
+  StudyInfo info = StudyInfo::Of(Study().study, {}, "");
+  WriteStudyFile(file, info, {t});
+  const auto read = ReadTrialAnalyses(file);
+  ASSERT_EQ(read.size(), 1u);
+  ExpectSameSpec(read[0].spec, t.spec);
+  EXPECT_TRUE(std::isnan(read[0].spec.specimen.mass_kg));
+  EXPECT_FALSE(read[0].spec.specimen.mass_known());
 }
 
 TEST(ReadTrialAnalysesTest, AMalformedDatasetIsNamed) {

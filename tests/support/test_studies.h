@@ -86,6 +86,19 @@ inline const std::vector<TestStudy>& CommandStudies() {
        "--no-scatter --surfaces steel,concrete --angles-deg 0,20 --speeds 2.5,3.5 "
        "--trials-per-cell 2 --seed 8",
        ""},
+      // The whole job on bodies without markers: a ball (study.json's ball specimen, a solid
+      // sphere) and the unmarked specimen, each 2 surfaces x 2 angles x 2 speeds of short trials
+      // without scatter, so the fitted contact law is the truth's; 8 trials, discovery's least
+      // (tests/compare/trial_comparison_test.cc, tests/pipeline/truth_score_test.cc and the
+      // command tests of run, score, overlay, report and discover).
+      {"ball_8",
+       "--body ball --no-scatter --surfaces steel,asphalt --angles-deg 0,20 --speeds 2.5,3.5 "
+       "--trials-per-cell 1 --frames-before 26 --frames-after 26 --seed 21",
+       ""},
+      {"unmarked_8",
+       "--body unmarked --no-scatter --surfaces steel,asphalt --angles-deg 0,20 --speeds 2.5,3.5 "
+       "--trials-per-cell 1 --frames-before 26 --frames-after 26 --seed 22",
+       ""},
   };
   return studies;
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,9 +48,12 @@ struct Rendered {
 };
 
 /// A trial at 8000 fps with the renderer's default nuisances (noise, motion blur, defocus, lens
-/// distortion, vignetting), `before` frames before the first touch and `after` from it.
+/// distortion, vignetting), `before` frames before the first touch and `after` from it; the
+/// scene's textures from `scene_seed` (a study's seed), by default the trial's.
 Rendered Render(synth::Body body, synth::Lighting lighting, dynamics::Surface surface,
-                double angle_deg, std::uint64_t seed, int before, int after) {
+                double angle_deg, std::uint64_t seed, int before, int after,
+                std::optional<std::uint64_t> scene_seed = std::nullopt,
+                double speed_m_s = synth::TrialSpec{}.speed_m_s) {
   Rendered r;
   r.geometry.body = body;
   r.options.lighting = lighting;
@@ -59,8 +63,10 @@ Rendered Render(synth::Body body, synth::Lighting lighting, dynamics::Surface su
   spec.surface = surface;
   spec.angle_deg = angle_deg;
   spec.seed = seed;
+  spec.speed_m_s = speed_m_s;
   r.truth = synth::PlanTrial(spec, r.geometry, r.options);
-  const synth::SceneAssets assets = synth::BuildSceneAssets(r.geometry, r.options, {surface}, seed);
+  const synth::SceneAssets assets =
+      synth::BuildSceneAssets(r.geometry, r.options, {surface}, scene_seed.value_or(seed));
   r.source.frames = synth::RenderFrames(r.truth, r.geometry, r.options, assets);
   return r;
 }
@@ -226,6 +232,52 @@ TEST(SilhouetteRenderedTest, AnOutlineJoinedByTheSurfaceAtTheContactDoesNotJump)
               << " frames lost\n";
     EXPECT_LT(worst, 0.1) << synth::ToString(lighting);
   }
+}
+
+TEST(SilhouetteRenderedTest, AnOutlineJoinedByAGrainOfTheSurfaceIsLeftOut) {
+  // The unmarked specimen falling upright at 2 m/s onto asphalt at 20 deg, as trial
+  // asphalt_20deg_v2.00_r3 of `hoofimpact synth --study --seed 20 --body unmarked --surfaces
+  // asphalt --angles-deg 20 --speeds 2,3` draws it (its trial seed; the scene's textures from the
+  // study's seed). e is 0.35, so the round end leaves the surface at 0.4 px per frame, and for
+  // the five frames from just before the touch a lit grain of the asphalt beside it joins the
+  // outline: the region is 1.1 px longer (218.2 px for 217.2), its centroid 0.46 px toward the
+  // grain and its axis 2.5 mrad off. Too little for the "outline grew" refusal, it passed as the
+  // body's motion (a jump of the normal velocity as the grain let go, taken for a second bounce
+  // three frames after the impact, which left 1 frame for the fit after it). Those frames are
+  // now left out by their length; every frame kept sits at the same point of the body to within
+  // 0.1 px (the bound of AnOutlineJoinedByTheSurfaceAtTheContactDoesNotJump).
+  Rendered r = Render(synth::Body::kUnmarked, synth::Lighting::kFront, dynamics::Surface::kAsphalt,
+                      20.0, 4645975589145387511ULL, 8, 16, /*scene_seed=*/20, /*speed_m_s=*/2.0);
+  SilhouetteOptions options;
+  options.shape = SilhouetteShape::kOutline;
+  const SilhouetteTrack track = TrackSilhouette(r.source, options);
+  std::vector<Eigen::Vector2d> offsets_B;
+  int lost = 0;
+  for (int j = 0; j < track.frame_count(); ++j) {
+    const auto& o = track.frames[static_cast<std::size_t>(j)];
+    const auto& t = r.truth.frames[static_cast<std::size_t>(j)];
+    if (!o.found) {
+      ++lost;
+      EXPECT_LE(std::abs(j - r.truth.first_frame_after_touch), 5)
+          << "frame " << j << " lost away from the contact (" << o.status << ")";
+      continue;
+    }
+    const double a = o.angle_I_rad;
+    const Eigen::Vector2d e = o.p_I - t.center_px;
+    offsets_B.emplace_back(std::cos(a) * e.x() + std::sin(a) * e.y(),
+                           -std::sin(a) * e.x() + std::cos(a) * e.y());
+  }
+  EXPECT_GE(lost, 1);
+  EXPECT_LE(lost, 6);
+  EXPECT_EQ(FramesWarnedOf(track.warnings), lost);
+  ASSERT_GE(offsets_B.size(), 18u);
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& v : offsets_B) mean += v / static_cast<double>(offsets_B.size());
+  double worst = 0;
+  for (const auto& v : offsets_B) worst = std::max(worst, (v - mean).norm());
+  std::cout << "centroid - C in body axes " << mean.transpose() << " px, worst frame off it by "
+            << worst << " px, " << lost << " frames lost\n";
+  EXPECT_LT(worst, 0.1);
 }
 
 }  // namespace

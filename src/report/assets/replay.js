@@ -34,6 +34,9 @@
     ctx.drawImage(im,0,0,canvas.width,canvas.height);
     if(ov.checked){
       var s=r.scale*z;ctx.lineWidth=2;
+      // A ball: its simulated circle about the simulated centre, in the simulated colour.
+      if(r.ball_radius_px!==null&&f.sim.length&&ok(f.sim[0])){ctx.strokeStyle=G.simulated.colour;
+        ctx.beginPath();ctx.arc(f.sim[0][0]*s,f.sim[0][1]*s,r.ball_radius_px*s,0,2*Math.PI);ctx.stroke();}
       f.sim.forEach(function(p){if(ok(p))glyph(G.simulated,p[0]*s,p[1]*s);});
       f.meas.forEach(function(p){if(ok(p))glyph(G.measured,p[0]*s,p[1]*s);});
       // measured -> measured + F (simulated - measured), in image px, then to the canvas.
