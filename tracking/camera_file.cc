@@ -261,6 +261,12 @@ cv::Mat FrameRangeSource::Read(int index) {
   return source_->Read(first_ + index);
 }
 
+cv::Mat FrameRangeSource::ReadColour(int index) {
+  if (index < 0 || index >= count_)
+    throw std::out_of_range("frame " + std::to_string(index) + " is outside the range");
+  return source_->ReadColour(first_ + index);
+}
+
 std::string FrameRangeSource::Describe(int index) const {
   return source_->Describe(first_ + index);
 }

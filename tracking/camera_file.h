@@ -66,6 +66,7 @@ class FrameRangeSource : public FrameSource {
   FrameRangeSource(std::unique_ptr<FrameSource> source, int first, int count);
   int count() const override { return count_; }
   cv::Mat Read(int index) override;
+  cv::Mat ReadColour(int index) override;
   std::string Describe(int index) const override;
   std::optional<double> TimeOf(int index) const override;
 

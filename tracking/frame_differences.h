@@ -50,6 +50,8 @@ class DifferencingSource : public FrameSource {
   DifferencingSource(FrameSource& inner, int max_grid_pixels, bool compare = true);
   int count() const override { return inner_.count(); }
   cv::Mat Read(int index) override;
+  /// The inner source's colour frame; compared (as grey) like Read's.
+  cv::Mat ReadColour(int index) override;
   std::string Describe(int index) const override { return inner_.Describe(index); }
   std::optional<double> TimeOf(int index) const override { return inner_.TimeOf(index); }
   /// The comparison of every frame of the clip when each was read in order, else nullopt (then

@@ -155,6 +155,10 @@ std::string JpegProblem(const std::vector<unsigned char>& bytes) {
 }  // namespace
 
 cv::Mat ImageSequenceSource::Read(int index) {
+  return ToGrey(ReadColour(index), PathOf(index).string());
+}
+
+cv::Mat ImageSequenceSource::ReadColour(int index) {
   if (index < 0 || index >= count_)
     throw std::out_of_range("frame " + std::to_string(index) + " is outside the sequence");
   const auto path = PathOf(index);
@@ -190,7 +194,7 @@ cv::Mat ImageSequenceSource::Read(int index) {
   if (image.empty())
     throw std::runtime_error(path.string() + ": frame " + std::to_string(index) +
                              " cannot be decoded (corrupt or not an image)");
-  return ToGrey(image, path.string());
+  return image;
 }
 
 namespace {
@@ -264,7 +268,9 @@ std::string VideoSource::Describe(int index) const {
   return path_.string() + " frame " + std::to_string(index);
 }
 
-cv::Mat VideoSource::Read(int index) {
+cv::Mat VideoSource::Read(int index) { return ToGrey(ReadColour(index), Describe(index)); }
+
+cv::Mat VideoSource::ReadColour(int index) {
   if (index < 0 || index >= count_)
     throw std::out_of_range("frame " + std::to_string(index) + " is outside the video");
   if (index < next_) Open();
@@ -273,10 +279,9 @@ cv::Mat VideoSource::Read(int index) {
     if (!capture_->read(frame)) throw std::runtime_error(Describe(next_) + ": cannot be decoded");
     ++next_;
   }
-  cv::Mat grey = ToGrey(frame, Describe(index));
-  if (info_.rotation_deg == 0) return grey;
+  if (info_.rotation_deg == 0) return frame;
   cv::Mat upright;
-  cv::rotate(grey, upright,
+  cv::rotate(frame, upright,
              info_.rotation_deg == 90    ? cv::ROTATE_90_CLOCKWISE
              : info_.rotation_deg == 180 ? cv::ROTATE_180
                                          : cv::ROTATE_90_COUNTERCLOCKWISE);

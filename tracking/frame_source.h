@@ -31,6 +31,10 @@ class FrameSource {
   /// Frame `index` (0-based within the sequence). Video sources read forward; reading an
   /// earlier frame reopens the file.
   virtual cv::Mat Read(int index) = 0;
+  /// Frame `index` as decoded, before the conversion to grey: 8-bit BGR for a video, the file's
+  /// own channels and depth for an image. Sources without colour give Read's image. Finding a
+  /// body by its motion and colour (tracking/motion_blobs.h) reads this.
+  virtual cv::Mat ReadColour(int index) { return Read(index); }
   /// Where frame `index` comes from, for messages ("frames/000012.png", "clip.avi frame 12").
   virtual std::string Describe(int index) const = 0;
   /// Recorded time of frame `index` in seconds after frame 0, where the source has per-frame
@@ -66,6 +70,7 @@ class ImageSequenceSource : public FrameSource {
   ImageSequenceSource(std::filesystem::path dir, std::string pattern, int first, int count);
   int count() const override { return count_; }
   cv::Mat Read(int index) override;
+  cv::Mat ReadColour(int index) override;
   std::string Describe(int index) const override;
   /// Path of frame `index`.
   std::filesystem::path PathOf(int index) const;
@@ -102,6 +107,7 @@ class VideoSource : public FrameSource {
   ~VideoSource() override;
   int count() const override { return count_; }
   cv::Mat Read(int index) override;
+  cv::Mat ReadColour(int index) override;
   std::string Describe(int index) const override;
   const VideoInfo& info() const { return info_; }
 

@@ -292,6 +292,15 @@ cv::Mat DifferencingSource::Read(int index) {
   return image;
 }
 
+cv::Mat DifferencingSource::ReadColour(int index) {
+  cv::Mat image = inner_.ReadColour(index);
+  if (!compare_) return image;
+  std::lock_guard lock(mutex_);
+  if (index == differencer_.frames_added())
+    differencer_.Add(ToGrey(image, inner_.Describe(index)), inner_.Describe(index));
+  return image;
+}
+
 std::optional<ImageDifferences> DifferencingSource::Differences() const {
   if (!compare_) return std::nullopt;
   std::lock_guard lock(mutex_);
