@@ -1,0 +1,438 @@
+#include "tracking/motion_blobs.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+
+namespace hoof::tracking {
+namespace {
+
+double MedianOf(std::vector<double> v) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+/// The working size: `options.work_width_px` wide at most, the frame's aspect kept.
+cv::Size WorkSize(const cv::Size& full, const MotionOptions& options) {
+  if (full.width <= options.work_width_px) return full;
+  const double s = static_cast<double>(options.work_width_px) / full.width;
+  return {options.work_width_px, std::max(1, static_cast<int>(std::lround(full.height * s)))};
+}
+
+/// The robust noise of a likeness image: its median and 1.4826 x its median absolute deviation,
+/// from a grid of at most about 20000 pixels.
+std::pair<double, double> LikenessNoise(const cv::Mat& L) {
+  const int step =
+      std::max(1, static_cast<int>(std::sqrt(static_cast<double>(L.total()) / 20000.0)));
+  std::vector<double> v;
+  for (int y = 0; y < L.rows; y += step) {
+    const auto* row = L.ptr<std::uint8_t>(y);
+    for (int x = 0; x < L.cols; x += step) v.push_back(row[x]);
+  }
+  const double med = MedianOf(v);
+  for (double& x : v) x = std::abs(x - med);
+  return {med, 1.4826 * MedianOf(v)};
+}
+
+}  // namespace
+
+void MotionOptions::Validate() const {
+  auto fail = [](const std::string& field, const std::string& rule) {
+    throw std::invalid_argument("MotionOptions." + field + " " + rule);
+  };
+  if (background_frames < 3) fail("background_frames", "must be >= 3");
+  if (work_width_px < 64) fail("work_width_px", "must be >= 64");
+  if (!(noise_sigmas > 0)) fail("noise_sigmas", "must be > 0");
+  if (!(min_likeness > 0)) fail("min_likeness", "must be > 0");
+  if (!(min_area_fraction > 0 && min_area_fraction < 1))
+    fail("min_area_fraction", "must be in (0, 1)");
+  if (max_regions < 1) fail("max_regions", "must be >= 1");
+  if (!(link_sizes > 0)) fail("link_sizes", "must be > 0");
+  if (!(link_size_ratio > 1)) fail("link_size_ratio", "must be > 1");
+  if (max_gap_frames < 0) fail("max_gap_frames", "must be >= 0");
+}
+
+cv::Mat ToBgr8(const cv::Mat& image, const std::string& what) {
+  if (image.empty()) throw std::runtime_error(what + ": empty image");
+  cv::Mat eight;
+  if (image.depth() == CV_8U) {
+    eight = image;
+  } else if (image.depth() == CV_16U || image.depth() == CV_32F || image.depth() == CV_64F) {
+    cv::Mat grey = image.channels() == 1 ? image : ToGrey(image, what);
+    const auto [lo, hi] = FrameLevels(grey);
+    const double span = hi > lo ? hi - lo : 1.0;
+    image.convertTo(eight, CV_8U, 255.0 / span, -lo * 255.0 / span);
+  } else {
+    throw std::runtime_error(what + ": unsupported image depth");
+  }
+  cv::Mat bgr;
+  switch (eight.channels()) {
+    case 1:
+      cv::cvtColor(eight, bgr, cv::COLOR_GRAY2BGR);
+      return bgr;
+    case 3:
+      return eight;
+    case 4:
+      cv::cvtColor(eight, bgr, cv::COLOR_BGRA2BGR);
+      return bgr;
+    default:
+      throw std::runtime_error(what + ": unsupported number of channels");
+  }
+}
+
+cv::Mat Likeness(const cv::Mat& frame, const cv::Mat& background) {
+  CV_Assert(frame.type() == CV_8UC3 && background.type() == CV_8UC3 &&
+            frame.size() == background.size());
+  cv::Mat out(frame.size(), CV_8UC1);
+  for (int y = 0; y < frame.rows; ++y) {
+    const auto* f = frame.ptr<std::uint8_t>(y);
+    const auto* b = background.ptr<std::uint8_t>(y);
+    auto* o = out.ptr<std::uint8_t>(y);
+    for (int x = 0; x < frame.cols; ++x, f += 3, b += 3) {
+      const float i0 = f[0], i1 = f[1], i2 = f[2], b0 = b[0], b1 = b[1], b2 = b[2];
+      const float bb = b0 * b0 + b1 * b1 + b2 * b2 + 1.0f;
+      const float g =
+          std::clamp((i0 * b0 + i1 * b1 + i2 * b2) / bb, static_cast<float>(kShadowGainMin),
+                     static_cast<float>(kShadowGainMax));
+      const float d0 = i0 - g * b0, d1 = i1 - g * b1, d2 = i2 - g * b2;
+      o[x] = cv::saturate_cast<std::uint8_t>(std::sqrt(d0 * d0 + d1 * d1 + d2 * d2));
+    }
+  }
+  return out;
+}
+
+cv::Mat MedianBackground(FrameSource& source, const MotionOptions& options,
+                         const std::function<void(int)>& progress) {
+  options.Validate();
+  const int n = source.count();
+  const int k = std::min(n, options.background_frames);
+  std::vector<int> picks;
+  for (int i = 0; i < k; ++i)
+    picks.push_back(k == 1 ? 0 : static_cast<int>(std::lround(i * (n - 1.0) / (k - 1.0))));
+  picks.erase(std::unique(picks.begin(), picks.end()), picks.end());
+  std::vector<cv::Mat> frames;
+  for (int f : picks) {
+    frames.push_back(ToBgr8(source.ReadColour(f), source.Describe(f)));
+    if (frames.back().size() != frames.front().size())
+      throw std::runtime_error(source.Describe(f) + ": its size differs from frame " +
+                               std::to_string(picks.front()) + "'s");
+    if (progress) progress(f);
+  }
+  const cv::Size size = frames.front().size();
+  cv::Mat out(size, CV_8UC3);
+  const int m = static_cast<int>(frames.size());
+  cv::parallel_for_(cv::Range(0, size.height), [&](const cv::Range& rows) {
+    std::vector<std::uint8_t> v(static_cast<std::size_t>(m));
+    for (int y = rows.start; y < rows.end; ++y) {
+      auto* o = out.ptr<std::uint8_t>(y);
+      for (int x = 0; x < 3 * size.width; ++x) {
+        for (int i = 0; i < m; ++i)
+          v[static_cast<std::size_t>(i)] = frames[i].ptr<std::uint8_t>(y)[x];
+        auto mid = v.begin() + m / 2;
+        std::nth_element(v.begin(), mid, v.end());
+        o[x] = *mid;
+      }
+    }
+  });
+  return out;
+}
+
+double MotionPath::Travel() const {
+  double t = 0;
+  for (const auto& r : regions) t = std::max(t, (r.p_I - regions.front().p_I).norm());
+  return t;
+}
+
+double MotionPath::MedianDiameter() const {
+  std::vector<double> d;
+  for (const auto& r : regions) d.push_back(r.diameter_px);
+  return MedianOf(d);
+}
+
+Eigen::Vector3d MotionPath::MedianRgb() const {
+  Eigen::Vector3d out;
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> v;
+    for (const auto& r : regions) v.push_back(r.rgb[c]);
+    out[c] = MedianOf(v);
+  }
+  return out;
+}
+
+double MotionPath::MedianLikeness() const {
+  std::vector<double> v;
+  for (const auto& r : regions) v.push_back(r.likeness);
+  return MedianOf(v);
+}
+
+namespace {
+
+/// The regions of one frame (`frame`, full size) that differ from the background.
+std::vector<MotionRegion> RegionsOf(const cv::Mat& frame, const cv::Mat& background,
+                                    const cv::Mat& small_background, int index,
+                                    const MotionOptions& options, double& noise) {
+  cv::Mat small;
+  cv::resize(frame, small, small_background.size(), 0, 0, cv::INTER_AREA);
+  const cv::Mat L = Likeness(small, small_background);
+  const auto [med, sd] = LikenessNoise(L);
+  noise = sd;
+  const double threshold = std::max(options.min_likeness, med + options.noise_sigmas * sd);
+  cv::Mat mask = L > threshold;
+  const cv::Mat k3 = cv::getStructuringElement(cv::MORPH_ELLIPSE, {3, 3});
+  cv::morphologyEx(mask, mask, cv::MORPH_OPEN, k3);
+  cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, k3);
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
+  const double min_area =
+      std::max(4.0, options.min_area_fraction * static_cast<double>(small.total()));
+  // Sums of colour and likeness per label, in one pass.
+  std::vector<Eigen::Vector4d> sums(static_cast<std::size_t>(n), Eigen::Vector4d::Zero());
+  std::vector<Eigen::Vector3d> second(static_cast<std::size_t>(n), Eigen::Vector3d::Zero());
+  for (int y = 0; y < small.rows; ++y) {
+    const auto* lab = labels.ptr<int>(y);
+    const auto* px = small.ptr<std::uint8_t>(y);
+    const auto* l = L.ptr<std::uint8_t>(y);
+    for (int x = 0; x < small.cols; ++x)
+      if (lab[x] > 0) {
+        const auto k = static_cast<std::size_t>(lab[x]);
+        sums[k] += Eigen::Vector4d(px[3 * x + 2], px[3 * x + 1], px[3 * x], l[x]);
+        second[k] += Eigen::Vector3d(static_cast<double>(x) * x, static_cast<double>(x) * y,
+                                     static_cast<double>(y) * y);
+      }
+  }
+  const double sx = static_cast<double>(frame.cols) / small.cols;
+  const double sy = static_cast<double>(frame.rows) / small.rows;
+  std::vector<MotionRegion> out;
+  for (int i = 1; i < n; ++i) {
+    const int area = stats.at<int>(i, cv::CC_STAT_AREA);
+    if (area < min_area) continue;
+    const int bx = stats.at<int>(i, cv::CC_STAT_LEFT), by = stats.at<int>(i, cv::CC_STAT_TOP);
+    const int bw = stats.at<int>(i, cv::CC_STAT_WIDTH), bh = stats.at<int>(i, cv::CC_STAT_HEIGHT);
+    MotionRegion r;
+    r.frame = index;
+    r.p_I = {(centroids.at<double>(i, 0) + 0.5) * sx - 0.5,
+             (centroids.at<double>(i, 1) + 0.5) * sy - 0.5};
+    r.area_px = area * sx * sy;
+    r.diameter_px = std::sqrt(4 * r.area_px / M_PI);
+    r.fill = static_cast<double>(area) / (static_cast<double>(bw) * bh);
+    r.aspect = static_cast<double>(std::max(bw, bh)) / std::max(1, std::min(bw, bh));
+    const Eigen::Vector4d s = sums[static_cast<std::size_t>(i)] / area;
+    r.rgb = s.head<3>();
+    r.likeness = s[3];
+    r.touches_border = bx <= 0 || by <= 0 || bx + bw >= small.cols || by + bh >= small.rows;
+    {
+      const double cx = centroids.at<double>(i, 0), cy = centroids.at<double>(i, 1);
+      const Eigen::Vector3d m = second[static_cast<std::size_t>(i)] / area;
+      // Central moments, plus a pixel's own 1/12, scaled to full size.
+      r.moments << (m[0] - cx * cx + 1.0 / 12) * sx * sx, (m[1] - cx * cy) * sx * sy,
+          (m[1] - cx * cy) * sx * sy, (m[2] - cy * cy + 1.0 / 12) * sy * sy;
+    }
+    out.push_back(r);
+  }
+  std::sort(out.begin(), out.end(),
+            [](const MotionRegion& a, const MotionRegion& b) { return a.area_px > b.area_px; });
+  if (out.size() > static_cast<std::size_t>(options.max_regions))
+    out.resize(static_cast<std::size_t>(options.max_regions));
+  // The full-size pixels around each region, for the sub-pixel measurement.
+  const cv::Rect whole(0, 0, frame.cols, frame.rows);
+  for (auto& r : out) {
+    if (r.area_px > static_cast<double>(frame.total()) / 9) continue;
+    const double half = 1.2 * r.diameter_px + 16;
+    const cv::Rect box =
+        cv::Rect(static_cast<int>(std::floor(r.p_I.x() - half)),
+                 static_cast<int>(std::floor(r.p_I.y() - half)),
+                 static_cast<int>(std::ceil(2 * half)), static_cast<int>(std::ceil(2 * half))) &
+        whole;
+    if (box.width < 8 || box.height < 8) continue;
+    r.crop = box;
+    r.crop_bgr = frame(box).clone();
+    r.crop_background = background(box);
+  }
+  return out;
+}
+
+struct Active {
+  MotionPath path;
+  Eigen::Vector2d v{0, 0};  ///< px per frame
+};
+
+}  // namespace
+
+MotionScene FindMotion(FrameSource& source, const cv::Mat& background, const MotionOptions& options,
+                       const std::function<void(int)>& progress) {
+  options.Validate();
+  if (background.empty() || background.type() != CV_8UC3)
+    throw std::invalid_argument("FindMotion: the background must be 8-bit BGR");
+  MotionScene scene;
+  scene.background = background;
+  scene.frame_count = source.count();
+  scene.width = background.cols;
+  scene.height = background.rows;
+  cv::Mat small_background;
+  cv::resize(background, small_background, WorkSize(background.size(), options), 0, 0,
+             cv::INTER_AREA);
+  std::vector<Active> active;
+  std::vector<double> noises;
+  for (int f = 0; f < source.count(); ++f) {
+    const cv::Mat frame = ToBgr8(source.ReadColour(f), source.Describe(f));
+    if (frame.size() != background.size())
+      throw std::runtime_error(source.Describe(f) + ": " + std::to_string(frame.cols) + " x " +
+                               std::to_string(frame.rows) + " px, but the background is " +
+                               std::to_string(background.cols) + " x " +
+                               std::to_string(background.rows));
+    double noise = 0;
+    std::vector<MotionRegion> regions =
+        RegionsOf(frame, background, small_background, f, options, noise);
+    noises.push_back(noise);
+    // Link: the pairs within their gates, nearest first.
+    struct Pair {
+      double d;
+      std::size_t path, region;
+    };
+    std::vector<Pair> pairs;
+    for (std::size_t a = 0; a < active.size(); ++a) {
+      const MotionRegion& last = active[a].path.regions.back();
+      const int gap = f - last.frame;
+      const Eigen::Vector2d predicted = last.p_I + active[a].v * gap;
+      const double gate = options.link_sizes * last.diameter_px + active[a].v.norm() * gap + 2.0;
+      for (std::size_t r = 0; r < regions.size(); ++r) {
+        const double ratio = regions[r].diameter_px / std::max(1e-9, last.diameter_px);
+        if (ratio > options.link_size_ratio || ratio < 1 / options.link_size_ratio) continue;
+        const double d = (regions[r].p_I - predicted).norm();
+        if (d < gate) pairs.push_back({d, a, r});
+      }
+    }
+    std::sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) { return x.d < y.d; });
+    std::vector<bool> path_used(active.size(), false), region_used(regions.size(), false);
+    for (const Pair& p : pairs) {
+      if (path_used[p.path] || region_used[p.region]) continue;
+      path_used[p.path] = region_used[p.region] = true;
+      Active& a = active[p.path];
+      const MotionRegion& last = a.path.regions.back();
+      a.v = (regions[p.region].p_I - last.p_I) / static_cast<double>(f - last.frame);
+      a.path.regions.push_back(std::move(regions[p.region]));
+    }
+    for (std::size_t r = 0; r < regions.size(); ++r)
+      if (!region_used[r]) {
+        Active a;
+        a.path.regions.push_back(std::move(regions[r]));
+        active.push_back(std::move(a));
+      }
+    // Paths not seen for too long end.
+    for (std::size_t a = 0; a < active.size();) {
+      if (f - active[a].path.last_frame() > options.max_gap_frames) {
+        scene.paths.push_back(std::move(active[a].path));
+        active.erase(active.begin() + static_cast<std::ptrdiff_t>(a));
+      } else {
+        ++a;
+      }
+    }
+    if (progress) progress(f);
+  }
+  for (auto& a : active) scene.paths.push_back(std::move(a.path));
+  std::stable_sort(
+      scene.paths.begin(), scene.paths.end(),
+      [](const MotionPath& a, const MotionPath& b) { return a.regions.size() > b.regions.size(); });
+  scene.noise = MedianOf(noises);
+  return scene;
+}
+
+namespace {
+
+/// Bilinear sample of an 8-bit image at `p` (px); -1 outside.
+double Sample(const cv::Mat& L, const Eigen::Vector2d& p) {
+  const int x0 = static_cast<int>(std::floor(p.x())), y0 = static_cast<int>(std::floor(p.y()));
+  if (x0 < 0 || y0 < 0 || x0 + 1 >= L.cols || y0 + 1 >= L.rows) return -1;
+  const double fx = p.x() - x0, fy = p.y() - y0;
+  auto at = [&](int x, int y) { return static_cast<double>(L.at<std::uint8_t>(y, x)); };
+  return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) +
+         fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
+}
+
+/// The ball's width across `n` (unit) through `c` on its likeness `L`: the distance between
+/// the outermost half-level crossings on either side, the levels the median inside (within a
+/// quarter of `d`, the fitted diameter) and outside (0.8 to 1.1 d from the centre). Motion blur
+/// stretches the ball along its motion only, so across it the width is the ball's. NaN where
+/// the levels do not differ or a crossing is not found.
+double WidthAcross(const cv::Mat& L, const Eigen::Vector2d& c, const Eigen::Vector2d& n, double d) {
+  const double step = 0.25;
+  std::vector<double> inside, outside;
+  for (double s = -1.1 * d; s <= 1.1 * d; s += step) {
+    const double v = Sample(L, c + s * n);
+    if (v < 0) return std::numeric_limits<double>::quiet_NaN();
+    if (std::abs(s) < 0.25 * d) inside.push_back(v);
+    if (std::abs(s) > 0.8 * d) outside.push_back(v);
+  }
+  const double in = MedianOf(inside), out = MedianOf(outside);
+  if (!(in - out > 10)) return std::numeric_limits<double>::quiet_NaN();
+  const double half = 0.5 * (in + out);
+  double reach[2];
+  for (int side = 0; side < 2; ++side) {
+    const double sign = side == 0 ? 1.0 : -1.0;
+    reach[side] = std::numeric_limits<double>::quiet_NaN();
+    double prev = Sample(L, c);
+    for (double s = step; s <= 1.1 * d; s += step) {
+      const double v = Sample(L, c + sign * s * n);
+      if (prev >= half && v < half) {
+        reach[side] = s - step + step * (prev - half) / (prev - v);
+        // The outermost crossing: keep looking for a later one that stays below.
+      }
+      prev = v;
+    }
+  }
+  return reach[0] + reach[1];
+}
+
+}  // namespace
+
+SilhouetteTrack MeasureBallPath(const MotionPath& path, int frame_count,
+                                const SilhouetteOptions& options) {
+  SilhouetteTrack track;
+  track.polarity = Polarity::kBrightOnDark;
+  track.frames.resize(static_cast<std::size_t>(std::max(0, frame_count)));
+  for (auto& o : track.frames) o.status = "not on the body's path";
+  SilhouetteOptions so = options;
+  so.shape = SilhouetteShape::kBall;
+  so.polarity = Polarity::kBrightOnDark;
+  double diameter = path.MedianDiameter();
+  for (std::size_t k = 0; k < path.regions.size(); ++k) {
+    const MotionRegion& r = path.regions[k];
+    if (r.frame < 0 || r.frame >= frame_count) continue;
+    SilhouetteObservation& out = track.frames[static_cast<std::size_t>(r.frame)];
+    if (r.crop_bgr.empty()) {
+      out.status = "the region is too large to be the ball";
+      continue;
+    }
+    const cv::Mat L = Likeness(r.crop_bgr, r.crop_background);
+    SilhouetteObservation previous;
+    previous.diameter_px = diameter;
+    const Eigen::Vector2d offset(r.crop.x, r.crop.y);
+    SilhouetteObservation o = MeasureSilhouetteNear(L, so, Polarity::kBrightOnDark, r.p_I - offset,
+                                                    previous, 0.35 * diameter + 3);
+    if (!o.found) {
+      out.status = "the ball's edge was not fitted (" + o.status + ")";
+      continue;
+    }
+    // Across the motion, where the ball moves more than a tenth of its size between frames:
+    // there motion blur stretches the fitted circle.
+    const MotionRegion& before = path.regions[k > 0 ? k - 1 : k];
+    const MotionRegion& after = path.regions[k + 1 < path.regions.size() ? k + 1 : k];
+    const Eigen::Vector2d motion = after.p_I - before.p_I;
+    const int frames = std::max(1, after.frame - before.frame);
+    if (motion.norm() / frames > 0.1 * o.diameter_px) {
+      const Eigen::Vector2d n(-motion.y() / motion.norm(), motion.x() / motion.norm());
+      const double w = WidthAcross(L, o.p_I, n, o.diameter_px);
+      if (std::isfinite(w) && w > 0.5 * o.diameter_px && w < 1.2 * o.diameter_px) o.diameter_px = w;
+    }
+    o.p_I += offset;
+    out = o;
+  }
+  return track;
+}
+
+}  // namespace hoof::tracking
