@@ -111,6 +111,22 @@ nlohmann::json SurfaceEnds(const pipeline::TrialSetup& s) {
   return {{a.x(), a.y()}, {b.x(), b.y()}};
 }
 
+/// What moved and what each path was judged to be, or null when the motion was not examined.
+nlohmann::json MovingPaths(const pipeline::TrialSetup& s) {
+  if (!s.moving) return nullptr;
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& c : s.moving->candidates)
+    out.push_back({{"first_frame", c.first_frame},
+                   {"last_frame", c.last_frame},
+                   {"frames", c.regions},
+                   {"first_px", {c.p_first_I.x(), c.p_first_I.y()}},
+                   {"diameter_px", c.diameter_px},
+                   {"color", pipeline::ColourHex(c.rgb)},
+                   {"verdict", pipeline::CandidateVerdictName(c.verdict)},
+                   {"reason", c.reason}});
+  return out;
+}
+
 }  // namespace
 
 void RegisterInit(CLI::App& app, RunState& state) {
@@ -145,6 +161,9 @@ void RegisterInit(CLI::App& app, RunState& state) {
                   "Capture rate (1/s): for a clip that does not record it, or a slow-motion "
                   "video, whose container records the rate it plays at")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--color", args->options.color,
+                  "The ball's colour (#rrggbb, or red, green, blue, yellow, orange, white, black, "
+                  "pink, purple): a cue for finding it by its motion, where several things move");
   cmd->add_option("--surface", args->options.surface, "The surface's name in trial.json")
       ->capture_default_str();
   cmd->add_option("--specimen", args->options.specimen,
@@ -166,11 +185,23 @@ void RegisterInit(CLI::App& app, RunState& state) {
       throw std::runtime_error((dir / "trial.json").string() +
                                ": exists already (--overwrite replaces it)");
     const pipeline::InitCalibration calibration = ParseCalibration(a.calibration, a.options);
-    pipeline::TrialSetup s = pipeline::SetUpTrial(a.clip, dir, a.options);
+    const fs::path sheet = dir / "contact-sheet.png";
+    pipeline::TrialSetup s;
+    try {
+      s = pipeline::SetUpTrial(a.clip, dir, a.options);
+    } catch (const pipeline::SetupRefused& refused) {
+      // Nothing to measure: the sheet still shows what moved and why each path was refused.
+      io::CreateFolder(dir);
+      io::WriteTextAtomically(sheet, pipeline::EncodePng(pipeline::ContactSheet(refused.setup())));
+      throw std::runtime_error(std::string(refused.what()) + " (what moved: " + sheet.string() +
+                               ")");
+    }
     pipeline::UseCalibrationScale(calibration, dir, s);
     io::CreateFolder(dir);
-    const fs::path sheet = dir / "contact-sheet.png";
     io::WriteTextAtomically(sheet, pipeline::EncodePng(pipeline::ContactSheet(s)));
+    if (s.found_by == "motion")
+      io::WriteTextAtomically(dir / pipeline::kBackgroundFile,
+                              pipeline::EncodePng(s.moving->scene.background));
     io::WriteTextAtomically(dir / "trial.json", s.trial_json);
     state.exit_code = kExitOk;
     if (a.json) {
@@ -184,6 +215,15 @@ void RegisterInit(CLI::App& app, RunState& state) {
           {"container_fps", JsonNumber(s.container_fps)},
           {"rotation_deg", s.rotation_deg},
           {"body_shape", s.shape},
+          {"found_by", s.found_by},
+          {"gravity_image", {s.gravity_image.x(), s.gravity_image.y()}},
+          {"gravity_from_arcs", s.gravity_from_arcs},
+          {"contact_level_from_arcs", s.contact_level_from_arcs},
+          {"capture_fps_from_gravity",
+           JsonNumber(s.capture_rate.measured ? s.capture_rate.capture_fps : core::kNaN)},
+          {"capture_fps_from_gravity_se",
+           JsonNumber(s.capture_rate.measured ? s.capture_rate.capture_fps_se : core::kNaN)},
+          {"moving_paths", MovingPaths(s)},
           {"polarity", s.shape == "markers"
                            ? nlohmann::json(nullptr)
                            : nlohmann::json(tracking::PolarityName(s.track.polarity))},
@@ -206,10 +246,13 @@ void RegisterInit(CLI::App& app, RunState& state) {
     using format::Kind;
     std::cout << "Clip " << s.clip.string() << ": " << s.count << " frames at "
               << format::Number(s.fps, Kind::kMeasured) << " fps\n";
-    std::cout << "  body     " << s.shape << ", ";
+    std::cout << "  body     " << s.shape << (s.found_by == "motion" ? " (by its motion)" : "")
+              << ", ";
     if (s.shape == "markers")
       std::cout << s.marker_dots_px.size() << " white dots"
                 << (s.marker_layout_known ? ", layout from the specimen" : ", layout not given");
+    else if (s.found_by == "motion")
+      std::cout << "colour " << pipeline::ColourHex(s.moving->rgb);
     else
       std::cout << tracking::PolarityName(s.track.polarity);
     if (s.shape == "ball")
@@ -222,6 +265,12 @@ void RegisterInit(CLI::App& app, RunState& state) {
     for (int f : s.impact_frames) std::cout << "frame " << f << " ";
     std::cout << "\n  scale    " << format::WithError(s.m_per_px, s.m_per_px_se) << " m/px from "
               << s.scale_from << "\n";
+    if (s.moving && s.found_by == "motion")
+      for (std::size_t i = 1; i < s.moving->candidates.size() && i <= 5; ++i) {
+        const auto& c = s.moving->candidates[i];
+        std::cout << "  moving   frames " << c.first_frame << "-" << c.last_frame << ": "
+                  << pipeline::CandidateVerdictName(c.verdict) << ": " << c.reason << "\n";
+      }
     for (const auto& w : s.warnings) std::cout << "  warning: " << w << "\n";
     std::cout << "Wrote " << (dir / "trial.json").string() << " and " << sheet.string()
               << "; review them, then: hoofimpact track " << dir.string() << "\n";

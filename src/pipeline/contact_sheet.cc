@@ -1,4 +1,5 @@
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -23,6 +24,86 @@ std::string EncodePng(const cv::Mat& image) {
   if (!cv::imencode(".png", image, bytes)) throw std::runtime_error("cannot encode a PNG image");
   return std::string(bytes.begin(), bytes.end());
 }
+
+namespace {
+
+/// BGR of a verdict's drawing: green for the body, amber for a joined piece, red for the rest.
+cv::Scalar VerdictColour(CandidateVerdict v) {
+  switch (v) {
+    case CandidateVerdict::kBody:
+      return {0, 220, 0};
+    case CandidateVerdict::kJoined:
+      return {0, 200, 255};
+    default:
+      return {60, 60, 255};
+  }
+}
+
+/// `text` cut to about `chars` characters at a word, with "..." where cut.
+std::string Shortened(const std::string& text, std::size_t chars) {
+  if (text.size() <= chars) return text;
+  std::size_t cut = text.rfind(' ', chars - 3);
+  if (cut == std::string::npos || cut < chars / 2) cut = chars - 3;
+  return text.substr(0, cut) + "...";
+}
+
+/// What moved (s.moving): the clip's background with every moving path drawn, numbered, the
+/// body's measured centre on every frame it was measured (green dots), and a list of the
+/// numbered paths with what each was judged to be and why. `width` px wide.
+cv::Mat MotionPanel(const TrialSetup& s, int width) {
+  const MovingBody& m = *s.moving;
+  const cv::Mat& bg = m.scene.background;
+  const int max_h = 420;
+  const double zoom =
+      std::min(static_cast<double>(width) / bg.cols, static_cast<double>(max_h) / bg.rows);
+  cv::Mat view;
+  cv::resize(bg, view,
+             cv::Size(std::max(1, static_cast<int>(bg.cols * zoom)),
+                      std::max(1, static_cast<int>(bg.rows * zoom))),
+             0, 0, cv::INTER_AREA);
+  view *= 0.6;  // dimmed, so the paths stand out
+  auto P = [&](const Eigen::Vector2d& p) { return cv::Point2d(p.x() * zoom, p.y() * zoom); };
+  const std::size_t listed = std::min<std::size_t>(m.candidates.size(), 10);
+  for (std::size_t i = 0; i < listed; ++i) {
+    const MovingCandidate& c = m.candidates[i];
+    const auto& path = m.scene.paths[static_cast<std::size_t>(c.path)];
+    const cv::Scalar colour = VerdictColour(c.verdict);
+    for (std::size_t k = 1; k < path.regions.size(); ++k)
+      cv::line(view, P(path.regions[k - 1].p_I), P(path.regions[k].p_I), colour, 1, cv::LINE_AA);
+    cv::putText(view, std::to_string(i + 1), P(c.p_first_I) + cv::Point2d(4, -4),
+                cv::FONT_HERSHEY_SIMPLEX, 0.45, colour, 1, cv::LINE_AA);
+  }
+  for (const auto& o : s.track.frames)
+    if (o.found) cv::circle(view, P(o.p_I), 2, cv::Scalar(0, 255, 0), cv::FILLED, cv::LINE_AA);
+  const int line_h = 16;
+  std::vector<std::string> lines;
+  lines.push_back(m.found ? "what moved (numbered), the body's centre on every frame (green dots):"
+                          : "what moved (numbered); no body: " + Shortened(m.message, 200));
+  const std::size_t chars = static_cast<std::size_t>(width / 7);
+  for (std::size_t i = 0; i < listed; ++i) {
+    const MovingCandidate& c = m.candidates[i];
+    std::ostringstream os;
+    os << i + 1 << ". frames " << c.first_frame << "-" << c.last_frame << ", "
+       << std::lround(c.diameter_px) << " px, " << ColourHex(c.rgb) << ": "
+       << CandidateVerdictName(c.verdict) << ": " << c.reason;
+    lines.push_back(Shortened(os.str(), chars));
+  }
+  if (m.candidates.size() > listed)
+    lines.push_back(std::to_string(m.candidates.size() - listed) + " more paths not drawn");
+  cv::Mat panel(view.rows + line_h * static_cast<int>(lines.size()) + 8, width, CV_8UC3,
+                cv::Scalar(32, 32, 32));
+  view.copyTo(panel(cv::Rect((width - view.cols) / 2, 0, view.cols, view.rows)));
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    const cv::Scalar colour = k == 0        ? cv::Scalar(240, 240, 240)
+                              : k <= listed ? VerdictColour(m.candidates[k - 1].verdict)
+                                            : cv::Scalar(200, 200, 200);
+    cv::putText(panel, lines[k], cv::Point(6, view.rows + 14 + line_h * static_cast<int>(k)),
+                cv::FONT_HERSHEY_SIMPLEX, 0.4, colour, 1, cv::LINE_AA);
+  }
+  return panel;
+}
+
+}  // namespace
 
 cv::Mat ContactSheet(const TrialSetup& s) {
   std::unique_ptr<tracking::FrameSource> source;
@@ -137,7 +218,10 @@ cv::Mat ContactSheet(const TrialSetup& s) {
     cv::putText(sheet, caption[k],
                 cv::Point(6, rows * (th + label_h) + 18 + 20 * static_cast<int>(k)),
                 cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(240, 240, 240), 1, cv::LINE_AA);
-  return sheet;
+  if (!s.moving || s.moving->scene.background.empty()) return sheet;
+  cv::Mat with_motion;
+  cv::vconcat(MotionPanel(s, sheet.cols), sheet, with_motion);
+  return with_motion;
 }
 
 }  // namespace hoof::pipeline

@@ -508,10 +508,14 @@ CameraSpec ParseCamera(const json& camera, const fs::path& file,
 /// known diameter.
 BodySpec ParseBody(const json& body, const fs::path& file, std::vector<std::string>& warnings) {
   BodySpec out;
-  WarnUnknown(body, {"model", "shape", "polarity", "diameter_m"}, file, "body.", warnings);
+  WarnUnknown(
+      body,
+      {"model", "shape", "polarity", "diameter_m", "find", "background", "rgb", "diameter_px"},
+      file, "body.", warnings);
   out.model = Text(body, "model", file, "body.");
   if (out.model == "markers") {
-    for (const char* key : {"shape", "polarity", "diameter_m"})
+    for (const char* key :
+         {"shape", "polarity", "diameter_m", "find", "background", "rgb", "diameter_px"})
       if (body.contains(key))
         Fail(file, std::string("body.") + key, "applies to the \"silhouette\" model only");
     return out;
@@ -533,6 +537,36 @@ BodySpec ParseBody(const json& body, const fs::path& file, std::vector<std::stri
     if (out.shape != "ball") Fail(file, "body.diameter_m", "applies to a ball only");
     out.diameter_m = Number(body, "diameter_m", file, "body.", true);
   }
+  if (body.contains("find")) {
+    out.find = Text(body, "find", file, "body.");
+    if (out.find != "shape" && out.find != "motion")
+      Fail(file, "body.find", "is \"" + out.find + "\": must be \"shape\" or \"motion\"");
+    if (out.find == "motion" && out.shape != "ball")
+      Fail(file, "body.find", "\"motion\" applies to a ball only");
+  }
+  for (const char* key : {"background", "rgb", "diameter_px"})
+    if (body.contains(key) && out.find != "motion")
+      Fail(file, std::string("body.") + key, "applies to body.find \"motion\" only");
+  if (body.contains("background")) {
+    out.background = Text(body, "background", file, "body.");
+    if (out.background.empty()) Fail(file, "body.background", "must name an image file");
+  }
+  if (body.contains("rgb")) {
+    const json& c = body.at("rgb");
+    if (!c.is_array() || c.size() != 3)
+      Fail(file, "body.rgb", "must be [red, green, blue], each 0 to 255");
+    Eigen::Vector3d rgb;
+    for (int i = 0; i < 3; ++i) {
+      if (!c[static_cast<std::size_t>(i)].is_number() ||
+          !(c[static_cast<std::size_t>(i)].get<double>() >= 0 &&
+            c[static_cast<std::size_t>(i)].get<double>() <= 255))
+        Fail(file, "body.rgb", "must be [red, green, blue], each 0 to 255");
+      rgb[i] = c[static_cast<std::size_t>(i)].get<double>();
+    }
+    out.rgb = rgb;
+  }
+  if (body.contains("diameter_px"))
+    out.diameter_px = Number(body, "diameter_px", file, "body.", true);
   return out;
 }
 

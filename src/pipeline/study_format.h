@@ -116,7 +116,18 @@ struct BodySpec {
   /// Ball: its known diameter, a scale (m per px = diameter_m / fitted diameter in px); 0 when
   /// not given.
   double diameter_m = 0.0;
+  /// Ball: how it is found in the frames: "shape" (the silhouette of one polarity) or "motion"
+  /// (against the clip's background, its path ballistic: pipeline/moving_body.h).
+  std::string find = "shape";
+  /// find "motion": the background image relative to the trial folder (init writes it); empty:
+  /// made from the clip (one more pass over its frames).
+  std::string background;
+  /// find "motion": the ball's colour (0..255 each) and apparent diameter (px) as cues for
+  /// choosing among moving paths; nullopt and 0 where not given.
+  std::optional<Eigen::Vector3d> rgb;
+  double diameter_px = 0.0;
   bool is_silhouette() const { return model == "silhouette"; }
+  bool by_motion() const { return is_silhouette() && find == "motion"; }
   bool is_ball() const { return is_silhouette() && shape == "ball"; }
 };
 

@@ -6,9 +6,12 @@
 #include <memory>
 #include <sstream>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "core/frames.h"
 #include "kinematics/gravity_scale.h"
 #include "pipeline/calibration_scale.h"
+#include "pipeline/moving_body.h"
 #include "pipeline/round_end.h"
 #include "pipeline/trial_impacts.h"
 #include "tracking/camera_file.h"
@@ -194,6 +197,36 @@ std::vector<std::optional<Eigen::Vector2d>> BySlot(
   return out;
 }
 
+/// A ball found by its motion (body.find "motion"): the background init wrote (or the clip's
+/// median, made here), what moves against it, and the ballistic path, chosen with the colour
+/// and size trial.json gives as cues. Throws naming the frames when no ball is found.
+tracking::SilhouetteTrack TrackByMotion(const TrialSpec& spec, tracking::FrameSource& tracked,
+                                        const tracking::SilhouetteOptions& so,
+                                        const std::string& frames_named,
+                                        const std::function<void(int)>& progress,
+                                        std::vector<std::string>& warnings) {
+  MovingBodyOptions mo;
+  mo.rgb = spec.body.rgb;
+  mo.diameter_px = spec.body.diameter_px;
+  mo.silhouette = so;
+  cv::Mat background;
+  if (!spec.body.background.empty()) {
+    const std::filesystem::path file = spec.dir / spec.body.background;
+    background = cv::imread(file.string(), cv::IMREAD_COLOR);
+    if (background.empty())
+      throw std::runtime_error(
+          file.string() + ": the background image (body.background) " +
+          (std::filesystem::exists(file) ? "cannot be decoded" : "does not exist"));
+  } else {
+    background = tracking::MedianBackground(tracked, mo.motion);
+  }
+  MovingBody m = FindMovingBody(tracking::FindMotion(tracked, background, mo.motion, progress),
+                                spec.fps, frames_named, mo);
+  if (!m.found) throw std::runtime_error(m.message);
+  for (auto& w : m.warnings) warnings.push_back(std::move(w));
+  return std::move(m.track);
+}
+
 /// A body without markers: the silhouette track, the scale (from a ball's diameter when the
 /// trial states none), the poses, and the motion's straight-line summary. Throws naming the
 /// frames for a body that is not found or does not move.
@@ -207,10 +240,13 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
       spec.body.is_ball() ? tracking::SilhouetteShape::kBall : tracking::SilhouetteShape::kOutline;
   so.polarity = PolarityOf(spec.body.polarity);
   so.gravity_I = spec.camera.gravity_image;
-  out.silhouette = tracking::TrackSilhouette(tracked, so, progress);
-  for (const auto& w : out.silhouette.warnings) out.warnings.push_back(w);
   const std::string frames_named =
       source.Describe(0) + " .. " + source.Describe(source.count() - 1);
+  if (spec.body.by_motion())
+    out.silhouette = TrackByMotion(spec, tracked, so, frames_named, progress, out.warnings);
+  else
+    out.silhouette = tracking::TrackSilhouette(tracked, so, progress);
+  for (const auto& w : out.silhouette.warnings) out.warnings.push_back(w);
 
   // The centre (a ball's) or area centroid (an outline's, taken as C) in undistorted px, and
   // the frames' capture times from the images and this path.

@@ -300,15 +300,17 @@ bool SetUpMarkers(tracking::FrameSource& source, const TrialSetupOptions& option
 }
 
 /// A body without markers, by its silhouette: a ball or an outline by its shape in the first
-/// frame that shows it (or as --body says), tracked through the clip. Fills the track, the
-/// shape and a ball's diameter; `c_px` gets its centre per frame. Returns how far it moves (px).
-double SetUpSilhouette(tracking::FrameSource& source, const TrialSetupOptions& options,
+/// frame that shows it (or as `shape` says: "ball", "outline", or "" to decide), tracked
+/// through the clip. Fills the track, the shape and a ball's diameter; `c_px` gets its centre
+/// per frame. Returns how far it moves (px).
+double SetUpSilhouette(tracking::FrameSource& source, const std::string& shape,
                        const std::string& named, TrialSetup& s,
                        std::vector<std::optional<Eigen::Vector2d>>& c_px) {
   // The body: a silhouette, ball or outline by its shape in the first frame that shows it.
   tracking::SilhouetteOptions so;
-  if (options.body == "ball" || options.body == "outline") {
-    s.shape = options.body;
+  s.found_by = "shape";
+  if (!shape.empty()) {
+    s.shape = shape;
   } else {
     so.shape = tracking::SilhouetteShape::kOutline;
     for (int f = 0; f < source.count() && s.shape.empty(); ++f) {
@@ -329,6 +331,7 @@ double SetUpSilhouette(tracking::FrameSource& source, const TrialSetupOptions& o
   Eigen::Vector2d first_seen{0, 0};
   bool any = false;
   double travel = 0;
+  c_px.clear();
   for (const auto& o : s.track.frames) {
     c_px.push_back(o.found ? std::optional<Eigen::Vector2d>(o.p_I) : std::nullopt);
     if (!o.found) continue;
@@ -339,6 +342,112 @@ double SetUpSilhouette(tracking::FrameSource& source, const TrialSetupOptions& o
   }
   s.body_diameter_px = Median(diameters);
   return travel;
+}
+
+/// A shape-found silhouette is trusted where the motion finder found no ballistic path only
+/// when it is a lab clip's: the body found in at least 90 % of the frames.
+bool ShapeTrackHolds(const TrialSetup& s) {
+  int found = 0;
+  for (const auto& o : s.track.frames) found += o.found ? 1 : 0;
+  return !s.track.frames.empty() && found >= 0.9 * static_cast<double>(s.track.frames.size());
+}
+
+/// A body without markers found by its motion (pipeline/moving_body.h): the clip's median
+/// background, what moves against it, and the path that is ballistic. Fills the setup for a
+/// ball found so (found_by "motion", its track, colour, diameter and gravity's direction) and
+/// returns true; returns false with `s.moving` set when no ball was found that way (an outline,
+/// or nothing ballistic), for the caller to try the body's shape.
+bool SetUpByMotion(tracking::FrameSource& source, const TrialSetupOptions& options,
+                   const std::string& named, TrialSetup& s,
+                   std::vector<std::optional<Eigen::Vector2d>>& c_px, double& travel) {
+  MovingBodyOptions mo;
+  if (!options.color.empty()) {
+    try {
+      mo.rgb = ParseColour(options.color);
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(std::string("--color: ") + e.what());
+    }
+  }
+  const cv::Mat background = tracking::MedianBackground(source, mo.motion);
+  auto moving = std::make_shared<MovingBody>(
+      FindMovingBody(tracking::FindMotion(source, background, mo.motion), s.fps, named, mo));
+  s.moving = moving;
+  if (!moving->found || !moving->round) return false;
+  s.shape = "ball";
+  s.found_by = "motion";
+  s.track = moving->track;
+  s.body_diameter_px = moving->diameter_px;
+  for (const auto& w : moving->warnings) s.warnings.push_back(w);
+  if (moving->down_measured) {
+    s.gravity_image = moving->down_I;
+    s.gravity_from_arcs = true;
+  }
+  c_px.clear();
+  travel = 0;
+  std::optional<Eigen::Vector2d> first_seen;
+  for (const auto& o : s.track.frames) {
+    c_px.push_back(o.found ? std::optional<Eigen::Vector2d>(o.p_I) : std::nullopt);
+    if (!o.found) continue;
+    if (!first_seen) first_seen = o.p_I;
+    travel = std::max(travel, (o.p_I - *first_seen).norm());
+  }
+  return true;
+}
+
+/// The angle (deg) of the image direction `down_I` from the image's down, positive leaning
+/// toward +x: the camera's roll.
+double RollDeg(const Eigen::Vector2d& down_I) {
+  return std::atan2(down_I.x(), down_I.y()) * 180 / M_PI;
+}
+
+/// Where a ball found by its motion touches the surface: at each contact of its arcs, the
+/// lowest point (along gravity) of the ball at the arcs' meeting, in image px.
+std::vector<Eigen::Vector2d> ContactPoints(const TrialSetup& s) {
+  std::vector<Eigen::Vector2d> out;
+  if (!s.moving || !s.moving->found) return out;
+  const auto& arcs = s.moving->arcs;
+  const int first = s.moving->path.first_frame();
+  for (const auto& c : arcs.contacts) {
+    Eigen::Vector2d lowest{0, 0};
+    double depth = -1e300;
+    for (int f : {c.last_frame_before, c.first_frame_after}) {
+      const int frame = first + f;
+      if (frame < 0 || frame >= static_cast<int>(s.track.frames.size())) continue;
+      const auto& o = s.track.frames[static_cast<std::size_t>(frame)];
+      if (!o.found) continue;
+      const double along = o.p_I.dot(s.gravity_image);
+      if (along > depth) {
+        depth = along;
+        lowest = o.p_I + 0.5 * o.diameter_px * s.gravity_image;
+      }
+    }
+    if (depth > -1e300) out.push_back(lowest);
+  }
+  return out;
+}
+
+/// The capture rate gravity implies where the scale is known apart from it (`m_per_px` from a
+/// stated scale or a ball's diameter) and the arcs measured |a|; a warning when it disagrees
+/// with the rate used.
+void CheckCaptureRate(TrialSetup& s, double m_per_px, double scale_rel_se) {
+  if (!s.moving || !s.moving->found || !(m_per_px > 0)) return;
+  const auto& arcs = s.moving->arcs;
+  if (arcs.status != kinematics::ArcFitStatus::kFitted || !(arcs.a_norm > 0)) return;
+  s.capture_rate = kinematics::CaptureRateFromGravity(
+      arcs.a_norm * m_per_px, arcs.a_norm_se * m_per_px, s.fps, scale_rel_se);
+  const auto& r = s.capture_rate;
+  if (!r.measured) return;
+  const double off = std::abs(r.ratio - 1);
+  if (off > 0.1 && off > 3 * r.ratio_se) {
+    std::ostringstream os;
+    os.precision(3);
+    os << "gravity's parabola and the scale say the frames were captured at " << r.capture_fps
+       << " +- " << r.capture_fps_se << " fps, " << r.ratio << " x the " << s.fps
+       << " fps used (a slow-motion file records the rate it plays at, not its capture rate, or "
+          "the scale is off); give --fps "
+       << std::lround(r.capture_fps) << " if it was captured so (--fps decides)";
+    s.warnings.push_back(os.str());
+  }
 }
 
 }  // namespace
@@ -412,8 +521,49 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
   // The body: white dots on black patches (a marked specimen), else a silhouette.
   std::vector<std::optional<Eigen::Vector2d>> c_px;
   double travel = 0;
-  if (!SetUpMarkers(*source, options, s, c_px, travel))
-    travel = SetUpSilhouette(*source, options, named, s, c_px);
+  if (SetUpMarkers(*source, options, s, c_px, travel)) {
+    s.found_by = "markers";
+  } else if (options.body == "outline") {
+    travel = SetUpSilhouette(*source, "outline", named, s, c_px);
+  } else if (s.clip_kind == "camera_file" || s.fps >= kHighSpeedFps ||
+             s.count / s.fps < kMinMotionClip_s) {
+    // A high-speed camera's clip: the body moves little between frames against a plain
+    // background, and the clip is often too short in time for gravity to bend its path
+    // measurably, which finding it by its motion needs.
+    travel = SetUpSilhouette(*source, options.body == "ball" ? "ball" : "", named, s, c_px);
+  } else if (!SetUpByMotion(*source, options, named, s, c_px, travel)) {
+    // Nothing ballistic moves against the clip's background, or what does is elongated: the
+    // body by its shape, where that holds through the clip (a lab clip: a back-lit body, a
+    // high frame rate at which the body moves less than its size).
+    const MovingBody& m = *s.moving;
+    const bool outline = m.found && !m.round;
+    // Only where nothing moved that could be tested (every path still or too short): a path
+    // that moves and was refused must not be replaced by a silhouette that does not move.
+    bool untested = true;
+    for (const auto& c : m.candidates)
+      untested &= c.verdict == CandidateVerdict::kStill || c.verdict == CandidateVerdict::kTooShort;
+    if (!outline && !untested) throw SetupRefused(m.message, std::make_shared<TrialSetup>(s));
+    bool shape_found = true;
+    try {
+      travel = SetUpSilhouette(*source,
+                               outline                  ? "outline"
+                               : options.body == "ball" ? "ball"
+                                                        : "",
+                               named, s, c_px);
+    } catch (const std::runtime_error&) {
+      if (outline) throw;
+      shape_found = false;
+    }
+    if (!outline && (!shape_found || !ShapeTrackHolds(s) || travel < 0.5)) {
+      // What the silhouette found is not a body that moves: the motion's verdicts say why.
+      s.shape.clear();
+      s.track = tracking::SilhouetteTrack{};
+      throw SetupRefused(m.message, std::make_shared<TrialSetup>(s));
+    }
+    if (!outline)
+      s.warnings.push_back("the body was found by its shape in the frames, not by its motion (" +
+                           m.message + ")");
+  }
   if (travel < 0.5) {
     std::ostringstream os;
     os << named << ": no moving body: the "
@@ -422,15 +572,52 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
     throw std::runtime_error(os.str());
   }
 
-  // The surface: the straight edge in the first frame.
+  // The surface: the straight edge in the first frame, measured from gravity's perpendicular.
   s.surface_line =
       tracking::FindSurfaceLine(tracking::ToGrey(source->Read(0), source->Describe(0)));
-  if (s.surface_line)
-    s.surface_angle_deg = std::round(SurfaceAngleDeg(*s.surface_line) * 100) / 100;
-  else
+  const double roll_deg = RollDeg(s.gravity_image);
+  const std::vector<Eigen::Vector2d> contacts = ContactPoints(s);
+  bool edge_refused = false;
+  if (s.surface_line && !contacts.empty()) {
+    // The edge found must be where the ball turns: within a diameter of every contact.
+    const tracking::ImageLine& l = *s.surface_line;
+    const Eigen::Vector2d n(-l.direction_I.y(), l.direction_I.x());
+    double worst = 0;
+    for (const auto& c : contacts) worst = std::max(worst, std::abs((c - l.point_I).dot(n)));
+    if (!(worst < std::max(4.0, s.body_diameter_px))) {
+      std::ostringstream os;
+      os << "the straight edge found in the first frame lies " << std::lround(worst)
+         << " px from where the ball turns: it is not the surface; the contact level is taken "
+            "from where the arcs meet, level with gravity";
+      s.warnings.push_back(os.str());
+      s.surface_line.reset();
+      s.contact_level_from_arcs = true;
+      edge_refused = true;
+    }
+  }
+  if (s.surface_line) {
+    double phi = SurfaceAngleDeg(*s.surface_line) - roll_deg;
+    if (phi > 90) phi -= 180;
+    if (phi <= -90) phi += 180;
+    s.surface_angle_deg = std::round(phi * 100) / 100;
+  } else if (!contacts.empty()) {
+    s.contact_level_from_arcs = true;
+    if (!edge_refused)
+      s.warnings.push_back(
+          "no surface line found in the first frame: the contact level is taken from where the "
+          "arcs meet, and the surface as level with gravity (surface_angle_deg 0); check it");
+  } else {
     s.warnings.push_back(
         "no surface line found in the first frame: surface_angle_deg 0 is assumed; "
         "check it");
+  }
+  if (s.gravity_from_arcs && std::abs(roll_deg) > 0.5) {
+    std::ostringstream os;
+    os.precision(3);
+    os << "gravity's direction is taken from the arcs' shared acceleration: " << roll_deg << " +- "
+       << s.moving->down_se_deg << " deg from the image's down (the camera's roll)";
+    s.warnings.push_back(os.str());
+  }
 
   // A marked body's specimen and layout (study.json), and the scale its spacing gives.
   json marked_specimen;
@@ -449,19 +636,28 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
   // Impacts and the scale from gravity: one fit.
   kinematics::GravityScaleOptions go;
   go.gravity_m_s2 = options.gravity_m_s2;
-  s.gravity = kinematics::EstimateGravityScale(c_px, s.fps, Eigen::Vector2d(0, 1), go);
-  for (std::size_t i = 0; i < s.gravity.contact_frames.size(); ++i)
-    if (i == 0 || s.gravity.contact_frames[i] > s.gravity.contact_frames[i - 1] + 1)
-      s.impact_frames.push_back(s.gravity.contact_frames[i]);
+  s.gravity = kinematics::EstimateGravityScale(c_px, s.fps, s.gravity_image, go);
+  if (s.found_by == "motion") {
+    // The impacts of the arcs that found the body.
+    const int first = s.moving->path.first_frame();
+    for (const auto& c : s.moving->arcs.contacts)
+      s.impact_frames.push_back(first + c.first_frame_after);
+  } else {
+    for (std::size_t i = 0; i < s.gravity.contact_frames.size(); ++i)
+      if (i == 0 || s.gravity.contact_frames[i] > s.gravity.contact_frames[i - 1] + 1)
+        s.impact_frames.push_back(s.gravity.contact_frames[i]);
+  }
   if (options.m_per_px > 0) {
     s.scale_from = "m_per_px";
     s.m_per_px = options.m_per_px;
     s.m_per_px_se = 0;
+    CheckCaptureRate(s, s.m_per_px, 0.0);
   } else if (options.diameter_m > 0) {
     if (s.shape != "ball")
       throw std::runtime_error("--diameter-m: the body found in " + named + " is not a ball");
     s.scale_from = "body_diameter";
     s.m_per_px = options.diameter_m / s.body_diameter_px;
+    CheckCaptureRate(s, s.m_per_px, 0.01);
   } else if (s.shape == "markers" && layout_m_per_px > 0) {
     s.scale_from = "markers";
     s.m_per_px = layout_m_per_px;
@@ -501,7 +697,10 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
     t["frames"] = {{"video", s.frames_reference}};
   else
     t["frames"] = {{"pattern", s.frames_reference}, {"first", s.first}, {"count", s.count}};
-  json camera = {{"gravity_image", {0.0, 1.0}}, {"scale_from", s.scale_from}};
+  json camera = {
+      {"gravity_image",
+       {std::round(s.gravity_image.x() * 1e6) / 1e6, std::round(s.gravity_image.y() * 1e6) / 1e6}},
+      {"scale_from", s.scale_from}};
   if (s.scale_from == "m_per_px") camera["m_per_px"] = s.m_per_px;
   // The marker tracker matches the dots to the layout at an approximate scale, also when the
   // scale used comes from the markers' spacing or gravity.
@@ -519,6 +718,13 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
                  {"shape", s.shape},
                  {"polarity", tracking::PolarityName(s.track.polarity)}};
     if (s.shape == "ball" && options.diameter_m > 0) body["diameter_m"] = options.diameter_m;
+    if (s.found_by == "motion") {
+      body["find"] = "motion";
+      body["background"] = kBackgroundFile;
+      const Eigen::Vector3d& c = s.moving->rgb;
+      body["rgb"] = {std::lround(c[0]), std::lround(c[1]), std::lround(c[2])};
+      body["diameter_px"] = std::round(s.body_diameter_px * 100) / 100;
+    }
     t["body"] = body;
   }
   if (s.shape == "outline") {

@@ -7,17 +7,33 @@
 /// contact sheet of what was found; `hoofimpact track` then measures the trial as written.
 
 #include <filesystem>
+#include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
+#include "kinematics/capture_rate.h"
 #include "kinematics/gravity_scale.h"
+#include "pipeline/moving_body.h"
 #include "tracking/silhouette_tracker.h"
 #include "tracking/surface_line.h"
 
 namespace hoof::pipeline {
+
+/// The background image init writes beside trial.json for a body found by its motion (the
+/// clip's median: tracking/motion_blobs.h), which track then reads instead of making it again.
+inline constexpr const char* kBackgroundFile = "background.png";
+
+/// Camera files, clips at kHighSpeedFps or more, and clips shorter than kMinMotionClip_s (s)
+/// are taken as a high-speed camera's: their body is found by its silhouette, not by its motion.
+/// There the body moves little between frames (so much of it stays in the clip's median) and
+/// gravity may not bend its path measurably (0.2 s bends a free fall by 0.2 m); a phone's
+/// slow-motion clip (240 captures a second, 1 s or more) is found by its motion.
+inline constexpr double kHighSpeedFps = 400.0;
+inline constexpr double kMinMotionClip_s = 0.2;
 
 /// Settings of `init`.
 struct TrialSetupOptions {
@@ -31,6 +47,9 @@ struct TrialSetupOptions {
   std::filesystem::path study_json;
   std::string specimen;
   double gravity_m_s2 = core::kStandardGravity_m_s2;
+  /// The body's colour (`--color`: "#rrggbb" or a name, ParseColour), a cue for finding it by
+  /// its motion; empty: taken from the moving body itself.
+  std::string color;
 };
 
 /// What `init` found.
@@ -46,6 +65,21 @@ struct TrialSetup {
   double container_fps = core::kNaN;
   int rotation_deg = 0;
   std::string shape;  ///< "markers", "ball" or "outline"
+  /// How the body was found: "markers", "motion" (a ball whose path is ballistic against the
+  /// clip's own background: `moving`) or "shape" (a silhouette by its shape in one frame).
+  std::string found_by;
+  /// What moves in the clip and what each moving path was judged to be (found_by "motion", or
+  /// tried before "shape"); null when not tried.
+  std::shared_ptr<const MovingBody> moving;
+  /// Gravity's direction in the image: from the arcs where measured, else down the image.
+  Eigen::Vector2d gravity_image{0.0, 1.0};
+  bool gravity_from_arcs = false;
+  /// No straight edge where the ball turns: the contact level is where its arcs meet, and the
+  /// surface is taken as level with gravity.
+  bool contact_level_from_arcs = false;
+  /// The capture rate gravity implies, where a scale independent of gravity is known (a ball's
+  /// diameter, a stated scale); `measured` false otherwise.
+  kinematics::CaptureRate capture_rate;
   tracking::SilhouetteTrack track;
   std::optional<tracking::ImageLine> surface_line;
   double surface_angle_deg = 0.0;
@@ -66,10 +100,23 @@ struct TrialSetup {
   std::string trial_json;  ///< the trial.json text
 };
 
+/// SetUpTrial's refusal when no body can be measured: the message names what failed, and the
+/// setup holds what was found (the moving paths and their verdicts) for the contact sheet.
+class SetupRefused : public std::runtime_error {
+ public:
+  SetupRefused(const std::string& message, std::shared_ptr<const TrialSetup> setup)
+      : std::runtime_error(message), setup_(std::move(setup)) {}
+  const TrialSetup& setup() const { return *setup_; }
+
+ private:
+  std::shared_ptr<const TrialSetup> setup_;
+};
+
 /// Finds what `clip` (a camera file, a video file, or a folder of numbered images) shows and
 /// writes the trial.json text for the trial folder `trial_dir` (the clip referenced relative
 /// to it, never copied or modified). Throws std::runtime_error naming the file for an
-/// unreadable clip, a clip without frame rate, or one without a moving body.
+/// unreadable clip, a clip without frame rate; throws SetupRefused for one without a body
+/// that can be measured.
 TrialSetup SetUpTrial(const std::filesystem::path& clip, const std::filesystem::path& trial_dir,
                       const TrialSetupOptions& options);
 

@@ -1,0 +1,147 @@
+// `hoofimpact init` then `hoofimpact track`, with no options, on everyday footage rendered with
+// known truth (`hoofimpact synth footage`): a room with clutter on the shelves, a hand that lets
+// the ball go, the ball's shadow, a camera rolled a little, H.264. The ball is found by its
+// motion, and each bounce measured is held against the renderer's e. Then the clips that hold
+// nothing to measure (nothing moves, only a hand moves) are refused naming the clip, with the
+// contact sheet still written; a ball that never lands is set up and track says it has no
+// impact.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "support/run_command.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using hoof::testing::RunHoofimpact;
+using json = nlohmann::json;
+
+const fs::path kOut = fs::path(HOOF_BINARY_DIR) / "test-output" / "init_footage";
+
+json ReadJson(const fs::path& p) {
+  std::ifstream in(p);
+  return json::parse(in);
+}
+
+/// Renders a small clip (480 x 270, H.264) into `dir` with `extra` options.
+void Render(const fs::path& dir, const std::string& extra) {
+  fs::remove_all(dir);
+  const auto r = RunHoofimpact("synth footage -o " + dir.string() +
+                               " --width-px 480 --height-px 270 " + extra);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+}
+
+// The room scene of the footage renderer at 30 fps: init finds the ball by its motion (not the
+// clutter, the hand or the shadow), gravity's direction from its arcs, and the contact level
+// from where they meet; track then measures every bounce in view, each within 0.02 of the
+// renderer's e, and invents none.
+TEST(InitFootageTest, ARoomClipsBouncesAreFoundAndMeasuredWithoutOptions) {
+  const fs::path clip = kOut / "room";
+  Render(clip, "--duration-s 1.6 --seed 3");
+  const fs::path trial = kOut / "room_trial";
+  fs::remove_all(trial);
+  const auto r =
+      RunHoofimpact("init " + (clip / "clip.mp4").string() + " -o " + trial.string() + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const json j = json::parse(r.out)["results"];
+  EXPECT_EQ(j["body_shape"], "ball");
+  EXPECT_EQ(j["found_by"], "motion");
+  EXPECT_TRUE(j["gravity_from_arcs"].get<bool>());
+  EXPECT_TRUE(fs::exists(trial / "background.png"));
+  const json truth = ReadJson(clip / "truth.json");
+  // The ball's size: the renderer's radius, from the apparent diameter.
+  const double radius_px = truth["bounces"][0]["radius_px"].get<double>();
+  EXPECT_NEAR(j["body_diameter_px"].get<double>(), 2 * radius_px, 0.25 * 2 * radius_px);
+  // Gravity's direction: the renderer's, within a degree.
+  const double gx = truth["gravity_image"][0], gy = truth["gravity_image"][1];
+  const double gx_found = j["gravity_image"][0], gy_found = j["gravity_image"][1];
+  EXPECT_LT(
+      std::acos(std::min(1.0, (gx * gx_found + gy * gy_found) / std::hypot(gx, gy))) * 180 / M_PI,
+      1.0);
+  const cv::Mat sheet = cv::imread((trial / "contact-sheet.png").string());
+  EXPECT_FALSE(sheet.empty());
+
+  const auto t = RunHoofimpact("track " + trial.string() + " --json");
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  const json m = json::parse(t.out)["results"];
+  const double fps = m["fps"].get<double>();
+  int in_view = 0, matched = 0;
+  for (const auto& b : truth["bounces"]) {
+    if (!b["in_view"].get<bool>()) continue;
+    ++in_view;
+    const double t_true = b["t_s"].get<double>();
+    for (const auto& k : m["impacts"]) {
+      if (!k["e"].is_number()) continue;
+      if (std::abs(k["impact_time_s"].get<double>() - t_true) > 1.0 / fps) continue;
+      ++matched;
+      EXPECT_NEAR(k["e"].get<double>(), b["e"].get<double>(), 0.02) << "bounce at " << t_true;
+    }
+  }
+  EXPECT_GE(in_view, 2);
+  EXPECT_EQ(matched, in_view) << t.out;
+  int measured = 0;
+  for (const auto& k : m["impacts"]) measured += k["e"].is_number() ? 1 : 0;
+  EXPECT_EQ(measured, matched) << "an impact measured where the renderer has no bounce";
+}
+
+// Nothing moves: refused, naming the clip and what failed; the sheet is still written.
+TEST(InitFootageTest, AClipWhereNothingMovesIsRefusedNamingTheClip) {
+  const fs::path clip = kOut / "still";
+  Render(clip, "--duration-s 1.0 --seed 5 --scenario still");
+  const fs::path trial = kOut / "still_trial";
+  fs::remove_all(trial);
+  const auto r = RunHoofimpact("init " + (clip / "clip.mp4").string() + " -o " + trial.string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find((clip / "clip.mp4").string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("frame"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.err.find("no moving") != std::string::npos ||
+              r.err.find("no body") != std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(trial / "trial.json"));
+}
+
+// Only a hand moves (it comes into view and leaves): nothing is taken for a ball. A hand whose
+// skin has the wall's hue, darker than it, is taken for a shadow and does not show at all ("no
+// moving body"); a hand of another hue is a moving path that is not ballistic. Either way init
+// stops naming the clip's frames, and the contact sheet is still written.
+TEST(InitFootageTest, AClipWhoseOnlyMotionIsAHandIsRefusedNamingTheFrames) {
+  for (const char* skin : {"0.2", "0.7"}) {
+    const fs::path clip = kOut / (std::string("hand_") + skin);
+    Render(clip, std::string("--duration-s 1.2 --seed 6 --scenario hand-only --skin-tone ") + skin);
+    const fs::path trial = kOut / (std::string("hand_trial_") + skin);
+    fs::remove_all(trial);
+    const auto r = RunHoofimpact("init " + (clip / "clip.mp4").string() + " -o " + trial.string());
+    EXPECT_NE(r.exit_code, 0) << skin;
+    EXPECT_NE(r.err.find((clip / "clip.mp4").string() + " frame 0 .. "), std::string::npos)
+        << r.err;
+    EXPECT_TRUE(r.err.find("no moving body") != std::string::npos ||
+                r.err.find("is ballistic") != std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(trial / "trial.json"));
+    EXPECT_FALSE(cv::imread((trial / "contact-sheet.png").string()).empty()) << r.err;
+  }
+}
+
+// A ball that falls out of view without landing: init sets it up (one arc, no impact), and
+// track says that no impact was found, exit 4, naming the frames.
+TEST(InitFootageTest, ABallThatNeverLandsHasNoImpact) {
+  const fs::path clip = kOut / "never";
+  Render(clip, "--duration-s 1.0 --seed 7 --scenario never-lands");
+  const fs::path trial = kOut / "never_trial";
+  fs::remove_all(trial);
+  const auto r =
+      RunHoofimpact("init " + (clip / "clip.mp4").string() + " -o " + trial.string() + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(json::parse(r.out)["results"]["impact_frames"].size(), 0u);
+  const auto t = RunHoofimpact("track " + trial.string());
+  EXPECT_EQ(t.exit_code, 4) << t.err << t.out;
+  EXPECT_NE((t.out + t.err).find("no impact"), std::string::npos) << t.out << t.err;
+}
+
+}  // namespace
