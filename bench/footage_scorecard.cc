@@ -168,7 +168,8 @@ ClipScore ScoreClip(const Cell& c, int seed, const fs::path& dir, int width, int
     o.fps = c.timing.fps_stated;
     const pipeline::TrialSetup setup = pipeline::SetUpTrial(r.clip, trial, o);
     io::CreateFolder(trial);
-    io::WriteTextAtomically(trial / "trial.json", setup.trial_json);
+    for (const auto& [name, bytes] : pipeline::TrialFiles(setup))
+      io::WriteTextAtomically(trial / name, bytes);
     const pipeline::TrialAnalysis a = pipeline::AnalyzeTrial(pipeline::ReadTrial(trial));
     if (a.impacts.empty() && !a.error.empty()) out.error = a.error;
     // Each measured impact to the truth bounce nearest in time, within a capture period.
@@ -213,7 +214,8 @@ ClipScore ScoreEmpty(synth::FootageScenario scenario, int seed, const fs::path& 
   try {
     const pipeline::TrialSetup setup = pipeline::SetUpTrial(r.clip, trial, {});
     io::CreateFolder(trial);
-    io::WriteTextAtomically(trial / "trial.json", setup.trial_json);
+    for (const auto& [name, bytes] : pipeline::TrialFiles(setup))
+      io::WriteTextAtomically(trial / name, bytes);
     const pipeline::TrialAnalysis a = pipeline::AnalyzeTrial(pipeline::ReadTrial(trial));
     for (const auto& k : a.impacts)
       if (k.success) ++out.invented;

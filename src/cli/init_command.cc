@@ -199,10 +199,10 @@ void RegisterInit(CLI::App& app, RunState& state) {
     pipeline::UseCalibrationScale(calibration, dir, s);
     io::CreateFolder(dir);
     io::WriteTextAtomically(sheet, pipeline::EncodePng(pipeline::ContactSheet(s)));
-    if (s.found_by == "motion")
-      io::WriteTextAtomically(dir / pipeline::kBackgroundFile,
-                              pipeline::EncodePng(s.moving->scene.background));
-    io::WriteTextAtomically(dir / "trial.json", s.trial_json);
+    // trial.json last: a trial folder whose trial.json exists is whole.
+    const auto files = pipeline::TrialFiles(s);
+    for (auto f = files.rbegin(); f != files.rend(); ++f)
+      io::WriteTextAtomically(dir / f->first, f->second);
     state.exit_code = kExitOk;
     if (a.json) {
       nlohmann::json r = {

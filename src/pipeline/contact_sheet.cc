@@ -105,6 +105,13 @@ cv::Mat MotionPanel(const TrialSetup& s, int width) {
 
 }  // namespace
 
+std::vector<std::pair<std::string, std::string>> TrialFiles(const TrialSetup& s) {
+  std::vector<std::pair<std::string, std::string>> out = {{"trial.json", s.trial_json}};
+  if (s.found_by == "motion" && s.moving)
+    out.emplace_back(kBackgroundFile, EncodePng(s.moving->scene.background));
+  return out;
+}
+
 cv::Mat ContactSheet(const TrialSetup& s) {
   std::unique_ptr<tracking::FrameSource> source;
   const fs::path clip_abs = fs::absolute(s.clip).lexically_normal();

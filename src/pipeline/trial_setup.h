@@ -11,6 +11,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -119,6 +120,10 @@ class SetupRefused : public std::runtime_error {
 /// that can be measured.
 TrialSetup SetUpTrial(const std::filesystem::path& clip, const std::filesystem::path& trial_dir,
                       const TrialSetupOptions& options);
+
+/// The files of the trial folder besides the contact sheet, name and bytes: trial.json, and for
+/// a ball found by its motion the background it was found against (kBackgroundFile, PNG).
+std::vector<std::pair<std::string, std::string>> TrialFiles(const TrialSetup& setup);
 
 /// The body found, in words: "markers (2 white dots)" or "ball (dark_on_bright)".
 std::string BodyText(const TrialSetup& setup);
