@@ -41,7 +41,8 @@ void RegisterTrack(CLI::App& app, RunState& state) {
   cmd->add_option(
       "--figures", args->figures_dir,
       "Write the trial's figures into this folder (PNG and SVG): <id>_displacement (the "
-      "paper's Figure 3) and <id>_out_of_plane");
+      "paper's Figure 3), <id>_out_of_plane, and <id>_height (height against time with the "
+      "flight arcs, each impact and its e) for a trial measured by its arcs");
   AddAnalysisOptions(cmd, args->options, args->method);
 
   cmd->callback([args, &state] {

@@ -206,6 +206,85 @@ std::vector<std::filesystem::path> WriteDisplacementFigure(const pipeline::Trial
   return WriteFigure(fig, dir, name);
 }
 
+std::vector<std::filesystem::path> WriteHeightFigure(const pipeline::TrialAnalysis& trial,
+                                                     const std::filesystem::path& dir,
+                                                     const std::string& name) {
+  if (!trial.arcs || trial.arcs->status != kinematics::ArcFitStatus::kFitted ||
+      !(trial.arcs->a_norm > 0))
+    throw std::runtime_error((dir / name).string() + ": trial " + trial.spec.id +
+                             " was not measured by its flight arcs");
+  const kinematics::FlightArcs& arcs = *trial.arcs;
+  const Eigen::Vector2d up = -arcs.a_W / arcs.a_norm;
+  const double d_EC = trial.spec.specimen.d_EC_m;
+  auto time_of = [&](std::size_t f) {
+    return f < trial.timing.t_s.size() ? trial.timing.t_s[f] : core::kNaN;
+  };
+  std::vector<double> h;  // each pose's height along up (m), NaN without a pose
+  for (const auto& p : trial.poses)
+    h.push_back(p.valid ? up.dot(p.p_WE + d_EC * core::BodyRotation(p.theta_W_rad).x_B())
+                        : core::kNaN);
+  double level =
+      trial.contact_line && trial.contact_line->measured ? trial.contact_line->level_m : core::kNaN;
+  if (!std::isfinite(level)) {
+    level = 1e300;
+    for (double v : h)
+      if (std::isfinite(v)) level = std::min(level, v);
+  }
+  Series on, off;
+  for (std::size_t f = 0; f < h.size() && f < arcs.frames.size(); ++f) {
+    if (!std::isfinite(h[f]) || !std::isfinite(time_of(f))) continue;
+    const bool fitted = arcs.frames[f].role == kinematics::ArcFrameRole::kArc;
+    Series& s = fitted ? on : off;
+    s.x.push_back(1e3 * time_of(f));
+    s.y.push_back(1e3 * (h[f] - level));
+  }
+  on.title = "measured, on an arc";
+  on.style = "points";
+  on.options = kPointsX;
+  off.title = "measured, left out (contact, outlier, not in flight)";
+  off.style = "points";
+  off.options = "lc rgb '#999999' pt 6 ps 0.7";
+  Plot plot;
+  plot.title = trial.spec.id +
+               ": height of C above the contact level, with the flight arcs\n"
+               "each impact dashed with its e (n/m: found, not measured)";
+  plot.x_label = "time t (ms)";
+  plot.y_label = "height of C (mm)";
+  plot.key = "below center horizontal";
+  plot.series.push_back(on);
+  if (!off.x.empty()) plot.series.push_back(off);
+  bool first = true;
+  for (std::size_t k = 0; k < arcs.arcs.size(); ++k) {
+    const kinematics::FlightArc& a = arcs.arcs[k];
+    if (!a.fitted) continue;
+    const double t0 = time_of(static_cast<std::size_t>(a.first_frame));
+    const double t1 = time_of(static_cast<std::size_t>(a.last_frame));
+    if (!std::isfinite(t0) || !std::isfinite(t1)) continue;
+    Series c;
+    c.title = first ? "fitted arcs (one shared acceleration)" : "";
+    first = false;
+    c.style = "lines";
+    c.options = kLineX;
+    for (int i = 0; i <= 40; ++i) {
+      const double t = t0 + (t1 - t0) * i / 40.0;
+      c.x.push_back(1e3 * t);
+      c.y.push_back(
+          1e3 * (up.dot(kinematics::ArcPosition(arcs, arcs.x, static_cast<int>(k), t)) - level));
+    }
+    plot.series.push_back(c);
+  }
+  for (const auto& k : trial.impacts) {
+    if (!std::isfinite(k.impact_time_s)) continue;
+    plot.vertical_lines.emplace_back(
+        1e3 * k.impact_time_s, k.success ? "e " + format::Significant(k.e, 3) : std::string("n/m"));
+  }
+  plot.horizontal_lines = {0.0};
+  plot.horizontal_lines_title = "contact level";
+  plot.width_px = 1000;
+  plot.height_px = 560;
+  return WriteFigure(plot, dir, name);
+}
+
 // ---- Figures 4 and 5 ------------------------------------------------------------------------
 
 namespace {
@@ -372,6 +451,10 @@ std::vector<std::string> WriteTrialFigures(const pipeline::TrialAnalysis& r,
       written.push_back(path.string());
   if (displacement && any_pose)
     for (const auto& path : WriteDisplacementFigure(r, dir, r.spec.id + "_displacement"))
+      written.push_back(path.string());
+  if (displacement && r.arcs && r.arcs->status == kinematics::ArcFitStatus::kFitted &&
+      r.arcs->a_norm > 0)
+    for (const auto& path : WriteHeightFigure(r, dir, r.spec.id + "_height"))
       written.push_back(path.string());
   return written;
 }

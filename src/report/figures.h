@@ -61,6 +61,17 @@ std::vector<std::filesystem::path> WriteDisplacementFigure(const pipeline::Trial
                                                            const std::filesystem::path& dir,
                                                            const std::string& name);
 
+/// The height of C against time for a trial measured by its joint flight arcs (trial.arcs,
+/// kinematics/flight_arcs.h): the measured heights along the fitted "up" above the contact line
+/// (or above the lowest measured point where the line was not fitted), each fitted arc as a
+/// curve, the frames left out (contact, outlier) marked apart, and each impact as a vertical
+/// line labelled with its e to 3 digits (figure `name` in `dir`; the CSV holds the heights).
+/// Returns the files written. Throws std::runtime_error naming the figure when the trial holds no
+/// fitted arcs or gnuplot fails.
+std::vector<std::filesystem::path> WriteHeightFigure(const pipeline::TrialAnalysis& trial,
+                                                     const std::filesystem::path& dir,
+                                                     const std::string& name);
+
 // ---- Figures 4 and 5: e and mu_eff by surface, impact angle and speed ---------------------
 
 /// The quantity a study figure shows.
@@ -114,8 +125,9 @@ std::vector<std::filesystem::path> WriteStudyFigures(const studyfile::StudyResul
 /// Writes into `dir` (nothing when `dir` is empty): the figure `<id>_out_of_plane` (the
 /// out-of-plane check) when the trial is flagged, or always with `always`; and, with
 /// `displacement`, `<id>_displacement` (the paper's Figure 3: C's displacement in S and the
-/// angle against time with the fits) when the trial has a valid pose; each as .png, .svg,
-/// .csv and .gp. Returns the files written.
+/// angle against time with the fits) when the trial has a valid pose, and `<id>_height` (the
+/// height of C against time with its arcs and impacts) when it was measured by its arcs; each
+/// as .png, .svg, .csv and .gp. Returns the files written.
 std::vector<std::string> WriteTrialFigures(const pipeline::TrialAnalysis& r,
                                            const pipeline::TrialAnalysisOptions& options,
                                            const std::string& dir, bool always, bool displacement);

@@ -67,9 +67,20 @@ TEST(InitFootageTest, ARoomClipsBouncesAreFoundAndMeasuredWithoutOptions) {
   const cv::Mat sheet = cv::imread((trial / "contact-sheet.png").string());
   EXPECT_FALSE(sheet.empty());
 
-  const auto t = RunHoofimpact("track " + trial.string() + " --json");
+  const fs::path figures = kOut / "room_figures";
+  fs::remove_all(figures);
+  const auto t = RunHoofimpact("track " + trial.string() + " --json --figures " + figures.string());
   ASSERT_EQ(t.exit_code, 0) << t.err;
   const json m = json::parse(t.out)["results"];
+  // The height figure: its image, and its data with a point for every measured frame.
+  EXPECT_FALSE(cv::imread((figures / "room_trial_height.png").string()).empty());
+  {
+    std::ifstream csv(figures / "room_trial_height.csv");
+    std::string line;
+    int rows = -1;  // the header
+    while (std::getline(csv, line)) ++rows;
+    EXPECT_GE(rows, 30);
+  }
   const double fps = m["fps"].get<double>();
   int in_view = 0, matched = 0;
   for (const auto& b : truth["bounces"]) {
