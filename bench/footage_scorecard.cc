@@ -166,6 +166,9 @@ ClipScore ScoreClip(const Cell& c, int seed, const fs::path& dir, int width, int
   try {
     pipeline::TrialSetupOptions o;
     o.fps = c.timing.fps_stated;
+    // A folder of PNG frames records no rate: the user states the one it plays at.
+    if (o.fps == 0 && c.codec == synth::FootageCodec::kPng)
+      o.fps = synth::ContainerFps(c.timing.options);
     const pipeline::TrialSetup setup = pipeline::SetUpTrial(r.clip, trial, o);
     io::CreateFolder(trial);
     for (const auto& [name, bytes] : pipeline::TrialFiles(setup))
