@@ -337,10 +337,13 @@ void FitMu(const std::vector<const pipeline::TrialAnalysis*>& oblique, int jobs,
       const auto [v_sim, w_sim] = AfterAtImpactTime(t, r, touch[i]);
       const double se_v = std::max(t.impact.v_SC_after_se.x(), 1e-6);
       const double se_w = std::max(t.impact.w_after_se_rad_s, 1e-6);
-      s += std::pow((t.impact.v_SC_after.x() - v_sim.x()) / se_v, 2);
-      // A ball's spin is not seen: only its velocity speaks for mu.
-      if (std::isfinite(t.impact.w_after_rad_s))
-        s += std::pow((t.impact.w_after_rad_s - w_sim) / se_w, 2);
+      // A ball's spin is not seen: only its velocity speaks for mu. The two terms are summed
+      // before they are added (one rounding): where every contact sticks the sum is flat in mu,
+      // and the last bit decides where the search for mu ends.
+      const double dv2 = std::pow((t.impact.v_SC_after.x() - v_sim.x()) / se_v, 2);
+      s += std::isfinite(t.impact.w_after_rad_s)
+               ? dv2 + std::pow((t.impact.w_after_rad_s - w_sim) / se_w, 2)
+               : dv2;
     }
     return s;
   };
