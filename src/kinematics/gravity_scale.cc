@@ -212,4 +212,50 @@ void AddScaleUncertainty(double rel_se, double surface_angle_deg,
   k.kinetic_energy_after_se_J = ke_se(k.after);
 }
 
+GravityScale GravityScaleFromArcs(const std::vector<std::optional<Eigen::Vector2d>>& p_px,
+                                  double fps, const GravityScaleOptions& options) {
+  if (!(fps > 0)) throw std::invalid_argument("GravityScaleFromArcs: fps must be > 0");
+  std::vector<PoseSample> poses(p_px.size());
+  for (std::size_t i = 0; i < p_px.size(); ++i) {
+    poses[i].t_s = static_cast<double>(i) / fps;
+    if (!p_px[i]) continue;
+    if (i > 0 && p_px[i - 1] && (*p_px[i] - *p_px[i - 1]).norm() < 1e-9) {
+      poses[i].repeated = true;
+      continue;
+    }
+    poses[i].valid = true;
+    poses[i].p_WE = *p_px[i];
+  }
+  GravityScale out;
+  const FlightArcs arcs = FitFlightArcs(poses, 0.0, 0.0);
+  if (arcs.status != ArcFitStatus::kFitted || !(arcs.a_norm > 0)) {
+    out.message = "the joint flight arcs were not fitted (" + arcs.message + ")";
+    return out;
+  }
+  out.a_px_s2 = arcs.a_W;
+  out.cov_a = arcs.cov_a_W;
+  out.a_norm_px_s2 = arcs.a_norm;
+  out.a_norm_se_px_s2 = arcs.a_norm_se;
+  out.frames_used = arcs.samples_used;
+  out.rms_residual_px = arcs.sigma;
+  for (const auto& a : arcs.arcs)
+    if (a.fitted) out.arcs.push_back({a.first_frame, a.last_frame, a.n});
+  for (std::size_t i = 0; i < arcs.frames.size(); ++i)
+    if (arcs.frames[i].role == ArcFrameRole::kContact)
+      out.contact_frames.push_back(static_cast<int>(i));
+  if (!(arcs.a_norm > options.min_significance * arcs.a_norm_se)) {
+    std::ostringstream os;
+    os << "the scale from gravity is not measured: the joint flight arcs' acceleration, "
+       << arcs.a_norm << " px/s^2 with a standard error of " << arcs.a_norm_se << ", is within "
+       << options.min_significance << " standard errors of zero";
+    out.message = os.str();
+    return out;
+  }
+  out.measured = true;
+  out.m_per_px = options.gravity_m_s2 / arcs.a_norm;
+  out.m_per_px_se = out.m_per_px * arcs.a_norm_se / arcs.a_norm;
+  out.message = "from the joint flight arcs (" + std::to_string(out.arcs.size()) + " arcs)";
+  return out;
+}
+
 }  // namespace hoof::kinematics

@@ -57,6 +57,14 @@ struct GravityScale {
   double rms_residual_px = core::kNaN;  ///< of the positions about the fitted parabolas
 };
 
+/// The scale from the joint flight arcs (kinematics/flight_arcs.h) of the same positions, where
+/// EstimateGravityScale's own segmentation does not hold (several short bounces, a hand): the
+/// arcs fitted to `p_px` at `fps` (frames whose position equals the one before are repeated
+/// images, no sample), g over their shared |a| in px/s^2, measured when |a| exceeds
+/// `options.min_significance` of its standard errors. The message says which fit gave it.
+GravityScale GravityScaleFromArcs(const std::vector<std::optional<Eigen::Vector2d>>& p_px,
+                                  double fps, const GravityScaleOptions& options = {});
+
 /// Fits the positions `p_px` (px, one per frame at `fps`, missing frames nullopt) of a body's
 /// centre of mass with a parabola per free-flight arc and one acceleration common to all
 /// arcs. `gravity_dir` is gravity's direction in the same frame (it finds the contacts: the

@@ -121,6 +121,12 @@ void ScaleFromGravity(const TrialSpec& spec, const TrialAnalysisOptions& options
   kinematics::GravityScaleOptions go;
   go.gravity_m_s2 = options.kinematics.gravity_m_s2;
   out.gravity_scale = kinematics::EstimateGravityScale(p_px, spec.fps, gravity_dir, go);
+  if (!out.gravity_scale->measured) {
+    // Where the parabolas between its contacts do not hold (several short bounces, a hand at
+    // the start), the joint flight arcs may.
+    kinematics::GravityScale arcs = kinematics::GravityScaleFromArcs(p_px, spec.fps, go);
+    if (arcs.measured) out.gravity_scale = std::move(arcs);
+  }
   out.scale_source = "gravity";
   out.m_per_px_used = out.gravity_scale->measured ? out.gravity_scale->m_per_px : core::kNaN;
   out.m_per_px_se = out.gravity_scale->measured ? out.gravity_scale->m_per_px_se : core::kNaN;

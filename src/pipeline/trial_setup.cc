@@ -637,6 +637,11 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
   kinematics::GravityScaleOptions go;
   go.gravity_m_s2 = options.gravity_m_s2;
   s.gravity = kinematics::EstimateGravityScale(c_px, s.fps, s.gravity_image, go);
+  if (!s.gravity.measured) {
+    // As track does: the joint flight arcs where the parabolas between contacts do not hold.
+    kinematics::GravityScale arcs = kinematics::GravityScaleFromArcs(c_px, s.fps, go);
+    if (arcs.measured) s.gravity = std::move(arcs);
+  }
   if (s.found_by == "motion") {
     // The impacts of the arcs that found the body.
     const int first = s.moving->path.first_frame();
