@@ -63,6 +63,23 @@ TEST(GravityScaleTest, ANoiseFreeBouncingPathGivesTheScaleExactly) {
   EXPECT_NEAR(g.direction_error_deg, 0.0, 1e-6);
 }
 
+// The joint flight arcs' scale: a phone's 30 fps with several short bounces, exact without
+// noise; with 0.3 px of noise within three of its standard errors of the truth.
+TEST(GravityScaleTest, TheJointArcsGiveTheScaleOfAPathOfShortBounces) {
+  const double m_per_px = 8e-4;  // a = 12262.5 px/s^2
+  const auto exact = Bouncing(m_per_px, 30, 60, 400, 0, 40, 0.75, Eigen::Vector2d(0, 1), 0.0, 1);
+  ASSERT_GE(exact.bounces, 4);
+  const GravityScale g = GravityScaleFromArcs(exact.p_px, 30);
+  ASSERT_TRUE(g.measured) << g.message;
+  EXPECT_NEAR(g.m_per_px, m_per_px, 1e-6 * m_per_px);
+  const auto noisy = Bouncing(m_per_px, 30, 60, 400, 0, 40, 0.75, Eigen::Vector2d(0, 1), 0.3, 2);
+  const GravityScale n = GravityScaleFromArcs(noisy.p_px, 30);
+  ASSERT_TRUE(n.measured) << n.message;
+  EXPECT_GT(n.m_per_px_se, 0.0);
+  EXPECT_NEAR(n.m_per_px, m_per_px, 3 * n.m_per_px_se);
+  EXPECT_LT(n.m_per_px_se, 0.01 * m_per_px);
+}
+
 TEST(GravityScaleTest, ARolledCameraDoesNotBiasTheScaleAndItsRollIsMeasured) {
   const double m_per_px = 1e-4, roll = 5.0 * M_PI / 180;
   const Eigen::Vector2d g_true(-std::sin(roll), std::cos(roll));
