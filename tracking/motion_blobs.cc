@@ -241,7 +241,7 @@ std::vector<MotionRegion> RegionsOf(const cv::Mat& frame, const cv::Mat& backgro
   // The full-size pixels around each region, for the sub-pixel measurement.
   const cv::Rect whole(0, 0, frame.cols, frame.rows);
   for (auto& r : out) {
-    if (r.area_px > static_cast<double>(frame.total()) / 9) continue;
+    if (r.area_px > static_cast<double>(frame.total()) / 16) continue;
     const double half = 1.2 * r.diameter_px + 16;
     const cv::Rect box =
         cv::Rect(static_cast<int>(std::floor(r.p_I.x() - half)),
@@ -326,6 +326,10 @@ MotionScene FindMotion(FrameSource& source, const cv::Mat& background, const Mot
     // Paths not seen for too long end.
     for (std::size_t a = 0; a < active.size();) {
       if (f - active[a].path.last_frame() > options.max_gap_frames) {
+        // A path of fewer than 4 regions carries no arc of its own: its pixels are not kept
+        // (memory would otherwise grow with every speck of every frame).
+        if (active[a].path.regions.size() < 4)
+          for (auto& r : active[a].path.regions) r.crop_bgr = r.crop_background = cv::Mat();
         scene.paths.push_back(std::move(active[a].path));
         active.erase(active.begin() + static_cast<std::ptrdiff_t>(a));
       } else {

@@ -88,9 +88,10 @@ struct MotionRegion {
   double likeness = 0.0;         ///< the mean likeness over it (8-bit units)
   Eigen::Vector3d rgb{0, 0, 0};  ///< its mean colour
   bool touches_border = false;
-  /// The full-size frame around it (twice its bounding box, clipped to the frame) and the
-  /// background's pixels there, kept for the sub-pixel measurement; empty for a region larger
-  /// than a third of the frame.
+  /// The full-size frame around it (1.2 of its diameter plus 16 px on each side of its
+  /// centroid, clipped to the frame) and the background's pixels there, kept for the sub-pixel
+  /// measurement; empty for a region larger than a sixteenth of the frame, and dropped from a
+  /// path that ends with fewer than 4 regions.
   cv::Rect crop;
   cv::Mat crop_bgr, crop_background;
 };

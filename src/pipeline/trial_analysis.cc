@@ -226,8 +226,16 @@ tracking::SilhouetteTrack TrackByMotion(const TrialSpec& spec, tracking::FrameSo
   } else {
     background = tracking::MedianBackground(tracked, mo.motion);
   }
-  MovingBody m = FindMovingBody(tracking::FindMotion(tracked, background, mo.motion, progress),
-                                spec.fps, frames_named, mo);
+  tracking::MotionScene scene;
+  try {
+    scene = tracking::FindMotion(tracked, background, mo.motion, progress);
+  } catch (const std::runtime_error& e) {
+    if (spec.body.background.empty()) throw;
+    // A frame the background does not fit: the background named too.
+    throw std::runtime_error(std::string(e.what()) + " (body.background " +
+                             (spec.dir / spec.body.background).string() + ")");
+  }
+  MovingBody m = FindMovingBody(std::move(scene), spec.fps, frames_named, mo);
   if (!m.found) throw std::runtime_error(m.message);
   for (auto& w : m.warnings) warnings.push_back(std::move(w));
   return std::move(m.track);

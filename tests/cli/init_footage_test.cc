@@ -99,6 +99,20 @@ TEST(InitFootageTest, ARoomClipsBouncesAreFoundAndMeasuredWithoutOptions) {
   int measured = 0;
   for (const auto& k : m["impacts"]) measured += k["e"].is_number() ? 1 : 0;
   EXPECT_EQ(measured, matched) << "an impact measured where the renderer has no bounce";
+
+  // The background beside trial.json cut short, or of another size: track stops naming it.
+  const fs::path bad = kOut / "room_trial_bad_background";
+  fs::remove_all(bad);
+  fs::copy(trial, bad);
+  { std::ofstream(bad / "background.png", std::ios::binary) << "x"; }
+  const auto cut = RunHoofimpact("track " + bad.string());
+  EXPECT_NE(cut.exit_code, 0);
+  EXPECT_NE(cut.err.find((bad / "background.png").string()), std::string::npos) << cut.err;
+  cv::imwrite((bad / "background.png").string(), cv::Mat(20, 30, CV_8UC3, cv::Scalar(0, 0, 0)));
+  const auto small = RunHoofimpact("track " + bad.string());
+  EXPECT_NE(small.exit_code, 0);
+  EXPECT_NE(small.err.find((bad / "background.png").string()), std::string::npos) << small.err;
+  EXPECT_NE(small.err.find("frame 0"), std::string::npos) << small.err;
 }
 
 // Nothing moves: refused, naming the clip and what failed; the sheet is still written.
