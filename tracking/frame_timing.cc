@@ -316,11 +316,52 @@ ImageDifferences DifferenceFrames(FrameSource& source, int max_grid_pixels) {
 
 std::vector<bool> FindRepeats(const ImageDifferences& d, double fraction) {
   std::vector<bool> repeat(d.mean_abs_difference.size(), false);
+  double limit = fraction * d.noise_mean_abs_difference;
+  if (!(limit > 0)) {
+    std::vector<double> D;
+    for (std::size_t i = 1; i < repeat.size(); ++i)
+      if (std::isfinite(d.mean_abs_difference[i])) D.push_back(d.mean_abs_difference[i]);
+    limit = D.size() >= 4 ? 0.1 * fraction * Quantile(D, 0.75) : 0.0;
+  }
   for (std::size_t i = 1; i < repeat.size(); ++i) {
     const double D = d.mean_abs_difference[i];
-    repeat[i] = D == 0.0 || D < fraction * d.noise_mean_abs_difference;
+    repeat[i] = D == 0.0 || D < limit;
   }
   return repeat;
+}
+
+HeldImageEvidence HeldImageFromMotion(const std::vector<std::optional<Eigen::Vector2d>>& p,
+                                      const std::vector<bool>& repeat) {
+  HeldImageEvidence e;
+  const std::size_t n = std::min(p.size(), repeat.size());
+  const auto sample = [&](std::size_t i) { return i < n && !repeat[i] && p[i].has_value(); };
+  std::vector<double> ratios;
+  for (std::size_t r = 2; r + 1 < n; ++r) {
+    if (!repeat[r] || repeat[r - 1] || repeat[r + 1]) continue;
+    if (!sample(r - 2) || !sample(r - 1) || !sample(r + 1)) continue;
+    const double in = (*p[r - 1] - *p[r - 2]).norm(), out = (*p[r + 1] - *p[r - 1]).norm();
+    if (!(in > 0.5 && out > 0.5)) continue;  // the body hardly moves: no evidence
+    ratios.push_back(std::log2(out / in));
+  }
+  e.runs = static_cast<int>(ratios.size());
+  if (ratios.empty()) return e;
+  e.log2_step_ratio = Quantile(ratios, 0.5);
+  if (e.runs >= 3 && e.log2_step_ratio < -0.5) e.held = HeldImage::kLast;
+  return e;
+}
+
+std::vector<bool> SampleAtLastCopy(const std::vector<bool>& repeat) {
+  std::vector<bool> out = repeat;
+  for (std::size_t i = 1; i < repeat.size(); ++i) {
+    if (!repeat[i] || repeat[i - 1]) continue;
+    std::size_t last = i;
+    while (last + 1 < repeat.size() && repeat[last + 1]) ++last;
+    out[i - 1] = true;  // the run's first frame: shown early
+    out[last] = false;  // the run's last frame: the capture at its own time
+  }
+  // The clip's last frame, unless a copy, may be shown early with its copy cut off.
+  if (out.size() > 1 && !repeat.back()) out.back() = true;
+  return out;
 }
 
 std::optional<std::vector<int>> SlotsFromStamps(const std::vector<double>& stamps_s, double fps) {
@@ -430,17 +471,38 @@ FrameTiming AnalyzeFrameTiming(const ImageDifferences& differences, double fps,
   FrameTiming t = UniformTiming(n, fps);
   t.differences = differences;
   t.repeat = FindRepeats(t.differences, options.repeat_fraction_of_noise);
-  for (int i = 0; i < n; ++i)
-    if (t.repeat[static_cast<std::size_t>(i)]) t.repeated_frames.push_back(i);
+  int repeats = 0;
+  for (bool r : t.repeat) repeats += r ? 1 : 0;
   {
     std::ostringstream os;
-    os << t.repeated_frames.size() << " of " << n
+    os << repeats << " of " << n
        << " frames repeat the previous image (mean absolute difference 0, or under "
        << options.repeat_fraction_of_noise << " of the noise-only difference of two captures, "
        << t.differences.noise_mean_abs_difference
-       << " of full scale); they are not samples of the motion";
+       << " of full scale, or where that is 0 under a tenth of that fraction of the upper quartile "
+          "of the frames' differences); they are not samples of the motion";
     t.notes.push_back(os.str());
   }
+  if (repeats > 0) {
+    const HeldImageEvidence held = HeldImageFromMotion(p, t.repeat);
+    std::ostringstream os;
+    if (held.held == HeldImage::kLast) {
+      t.held = HeldImage::kLast;
+      t.repeat = SampleAtLastCopy(t.repeat);
+      os << "each repeated image is shown early, in place of a capture left out (a frame-rate "
+            "conversion): the body moves 2^"
+         << held.log2_step_ratio
+         << " as far from it to the next sample as to it from the one before (median of "
+         << held.runs << " repeats), so its last copy is the sample";
+    } else {
+      os << "each repeated image is the capture of its first copy (the step after a copy over the "
+            "step before it: 2^"
+         << held.log2_step_ratio << ", median of " << held.runs << " repeats)";
+    }
+    t.notes.push_back(os.str());
+  }
+  for (int i = 0; i < n; ++i)
+    if (t.repeat[static_cast<std::size_t>(i)]) t.repeated_frames.push_back(i);
   std::optional<std::vector<int>> slots;
   if (stamps_s && static_cast<int>(stamps_s->size()) == n) {
     slots = SlotsFromStamps(*stamps_s, fps);

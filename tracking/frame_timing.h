@@ -80,20 +80,52 @@ struct ImageDifferences {
 ImageDifferences DifferenceFrames(FrameSource& source, int max_grid_pixels = 16384);
 
 /// Which frames repeat the previous one: a difference of exactly 0, or below `fraction` of the
-/// clip's noise-only difference. Frame 0 never does.
+/// clip's noise-only difference. Where that is 0 (a compressed clip whose encoder copies the
+/// still background exactly, so that most pixels agree to the bit), below a tenth of `fraction`
+/// of the upper quartile of the clip's differences instead: a re-encoded copy differs in a few
+/// blocks, a new capture wherever the body moved. Frame 0 never does.
 std::vector<bool> FindRepeats(const ImageDifferences& d, double fraction);
+
+/// Which frame of a run of repeated images shows it at its own capture time: the first (a
+/// frame grabber re-sending its last buffer: the copies come late) or the last (a frame-rate
+/// conversion that shows a capture early, in place of one it left out, and then again).
+enum class HeldImage { kFirst, kLast };
+
+/// How HeldImageFromMotion decided.
+struct HeldImageEvidence {
+  HeldImage held = HeldImage::kFirst;
+  int runs = 0;  ///< single repeats with a moving sample before and after, the evidence
+  /// The median over those runs of log2(step out / step in), where the step in is from the
+  /// sample before the image to it and the step out from it to the sample after its copy: +1
+  /// when the copy comes late (the step out spans two periods), -1 when the image is early.
+  double log2_step_ratio = 0.0;
+};
+
+/// Decides HeldImage from the motion `p` (per frame, nullopt where not found) at the repeats
+/// `repeat` (FindRepeats): kLast where at least 3 runs give a median log2 ratio below -0.5,
+/// kFirst otherwise (the copy late, the model of a camera that re-sends its buffer).
+HeldImageEvidence HeldImageFromMotion(const std::vector<std::optional<Eigen::Vector2d>>& p,
+                                      const std::vector<bool>& repeat);
+
+/// `repeat` with each run's sample moved to its last frame: the frame before a run becomes a
+/// repeat (its image is shown again in time), the run's last frame the sample. The clip's last
+/// frame, unless it is a copy, is no sample either: it may be shown early, its copy cut off.
+std::vector<bool> SampleAtLastCopy(const std::vector<bool>& repeat);
 
 /// The timing of a clip.
 struct FrameTiming {
   TimingSource source = TimingSource::kFrameIndex;
   double fps = 0.0;
-  std::vector<int> slot;              ///< per frame: its capture slot (slot 0 is frame 0's)
-  std::vector<double> t_s;            ///< per frame: slot / fps (s)
-  std::vector<bool> repeat;           ///< per frame: it repeats the previous image (not a sample)
-  std::vector<int> repeated_frames;   ///< indices of the frames that repeat the previous one
-  std::vector<int> dropped_captures;  ///< slots no frame of the file holds (not repeats)
-  ImageDifferences differences;       ///< empty when the images were not compared
-  std::vector<std::string> notes;     ///< how it was decided, for people
+  std::vector<int> slot;    ///< per frame: its capture slot (slot 0 is frame 0's)
+  std::vector<double> t_s;  ///< per frame: slot / fps (s)
+  /// per frame: it is a copy of an image that another frame shows at its capture time (not a
+  /// sample): the later copies, or where `held` is kLast the earlier ones
+  std::vector<bool> repeat;
+  std::vector<int> repeated_frames;    ///< indices of the frames `repeat` marks
+  HeldImage held = HeldImage::kFirst;  ///< which copy of a repeated image is the sample
+  std::vector<int> dropped_captures;   ///< slots no frame of the file holds (not repeats)
+  ImageDifferences differences;        ///< empty when the images were not compared
+  std::vector<std::string> notes;      ///< how it was decided, for people
 
   int frame_count() const { return static_cast<int>(slot.size()); }
 };
@@ -115,7 +147,8 @@ std::vector<int> SlotsFromMotion(const std::vector<std::optional<Eigen::Vector2d
                                  const std::vector<bool>& repeat, const Eigen::Vector2d& down,
                                  const FrameTimingOptions& options);
 
-/// The whole analysis: repeats from the images of `source` (read once more), slots from
+/// The whole analysis: repeats from the images of `source` (read once more), which copy of each
+/// is the sample from the motion `p` (HeldImageFromMotion), slots from
 /// `stamps_s` when given (one per frame), else from the motion `p` (as SlotsFromMotion) when
 /// options.drops_from_motion, else frame i at slot i.
 FrameTiming AnalyzeFrameTiming(FrameSource& source, double fps,

@@ -7,6 +7,9 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "tracking/frame_differences.h"
+#include "tracking/frame_timing.h"
+
 namespace hoof::tracking {
 namespace {
 
@@ -278,6 +281,7 @@ MotionScene FindMotion(FrameSource& source, const cv::Mat& background, const Mot
              cv::INTER_AREA);
   std::vector<Active> active;
   std::vector<double> noises;
+  FrameDifferencer differencer(FrameTimingOptions{}.max_grid_pixels);
   for (int f = 0; f < source.count(); ++f) {
     const cv::Mat frame = ToBgr8(source.ReadColour(f), source.Describe(f));
     if (frame.size() != background.size())
@@ -285,6 +289,7 @@ MotionScene FindMotion(FrameSource& source, const cv::Mat& background, const Mot
                                std::to_string(frame.rows) + " px, but the background is " +
                                std::to_string(background.cols) + " x " +
                                std::to_string(background.rows));
+    differencer.Add(ToGrey(frame, source.Describe(f)), source.Describe(f));
     double noise = 0;
     std::vector<MotionRegion> regions =
         RegionsOf(frame, background, small_background, f, options, noise);
@@ -343,6 +348,7 @@ MotionScene FindMotion(FrameSource& source, const cv::Mat& background, const Mot
       scene.paths.begin(), scene.paths.end(),
       [](const MotionPath& a, const MotionPath& b) { return a.regions.size() > b.regions.size(); });
   scene.noise = MedianOf(noises);
+  scene.repeat = FindRepeats(differencer.Finish(), FrameTimingOptions{}.repeat_fraction_of_noise);
   return scene;
 }
 
@@ -418,8 +424,27 @@ SilhouetteTrack MeasureBallPath(const MotionPath& path, int frame_count,
     const Eigen::Vector2d offset(r.crop.x, r.crop.y);
     SilhouetteObservation o = MeasureSilhouetteNear(L, so, Polarity::kBrightOnDark, r.p_I - offset,
                                                     previous, 0.35 * diameter + 3);
-    if (!o.found) {
-      out.status = "the ball's edge was not fitted (" + o.status + ")";
+    // An edge fit that fails, or that lies a quarter of the ball off the region or a third off
+    // its size, has taken the edge of something else (a net behind the ball, its own stripes
+    // smeared by motion blur): the region's centroid, the centre at mid-exposure, stands in.
+    const bool agrees = o.found && (o.p_I + offset - r.p_I).norm() <= 0.25 * diameter &&
+                        o.diameter_px >= 0.75 * diameter && o.diameter_px <= 1.33 * diameter;
+    if (!agrees) {
+      if (r.touches_border) {  // cut by the frame's edge: its centroid is not the ball's either
+        out.status = "the ball's edge was not fitted (" + (o.found ? "off its region" : o.status) +
+                     ") and its region is cut by the frame's edge";
+        continue;
+      }
+      SilhouetteObservation c;
+      c.found = true;
+      c.status = "the region's centroid (the edge fit " +
+                 (o.found ? std::string("lies off the region") : o.status) + ")";
+      c.p_I = r.p_I;
+      const double sd = 0.05 * diameter;  // a blob's outline wanders by a few per cent of it
+      c.cov_p_I = Eigen::Matrix2d::Identity() * sd * sd;
+      c.diameter_px = diameter;
+      c.diameter_se_px = 0.1 * diameter;
+      out = c;
       continue;
     }
     // Across the motion, where the ball moves more than a tenth of its size between frames:

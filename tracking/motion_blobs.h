@@ -115,21 +115,29 @@ struct MotionScene {
   int width = 0, height = 0;
   double noise = 0.0;             ///< the median over frames of the likeness's robust noise s.d.
   std::vector<MotionPath> paths;  ///< the longest first
+  /// Per frame: its image repeats the previous frame's (tracking/frame_timing.h, FindRepeats);
+  /// which copy is the sample of the motion is each path's to tell (HeldImageFromMotion).
+  std::vector<bool> repeat;
 };
 
 /// Finds the regions of every frame of `source` that differ from `background` and links them
 /// into paths (nearest to the prediction from the path's last two regions, within the size
-/// and distance gates of `options`). Reads each frame once, in order; `progress(frame)` is
-/// called after each. Throws std::runtime_error naming a frame that cannot be read or whose
-/// size differs from the background's.
+/// and distance gates of `options`), and compares each frame's image with the one before for
+/// repeats. Reads each frame once, in order; `progress(frame)` is called after each. Throws
+/// std::runtime_error naming a frame that cannot be read or whose size differs from the
+/// background's.
 MotionScene FindMotion(FrameSource& source, const cv::Mat& background,
                        const MotionOptions& options = {},
                        const std::function<void(int)>& progress = {});
 
 /// Measures a ball along `path` to sub-pixel accuracy: in each region's crop, the circle fitted
 /// to the edge of its likeness (MeasureSilhouetteNear, bright on dark), near the region's
-/// centroid. One observation per frame of the clip (`frame_count`); frames outside the path,
-/// or where the fit fails, are not found (their status says why).
+/// centroid. Where that fit fails, or lies a quarter of the ball's diameter off the region's
+/// centroid or a third off its size (an edge of something else: a net behind it, its stripes
+/// smeared by motion blur), the region's centroid stands in, with a standard deviation of 5 %
+/// of the diameter (its status says so). One observation per frame of the clip
+/// (`frame_count`); frames outside the path, or cut by the frame's edge where the fit fails,
+/// are not found (their status says why).
 SilhouetteTrack MeasureBallPath(const MotionPath& path, int frame_count,
                                 const SilhouetteOptions& options = {});
 

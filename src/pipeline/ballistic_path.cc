@@ -6,9 +6,24 @@
 
 #include <Eigen/QR>
 
+#include "tracking/frame_timing.h"
+
 namespace hoof::pipeline::ballistic {
 
-Positions PositionsOf(const tracking::MotionPath& path) {
+std::vector<bool> CopiesOn(const tracking::MotionPath& path, const std::vector<bool>& repeat,
+                           int frame_count) {
+  std::vector<bool> rep = repeat;
+  rep.resize(static_cast<std::size_t>(std::max(0, frame_count)), false);
+  std::vector<std::optional<Eigen::Vector2d>> p(rep.size());
+  for (const auto& r : path.regions)
+    if (r.frame >= 0 && r.frame < frame_count && !r.touches_border)
+      p[static_cast<std::size_t>(r.frame)] = r.p_I;
+  if (tracking::HeldImageFromMotion(p, rep).held == tracking::HeldImage::kLast)
+    return tracking::SampleAtLastCopy(rep);
+  return rep;
+}
+
+Positions PositionsOf(const tracking::MotionPath& path, const std::vector<bool>& copy) {
   const auto& r = path.regions;
   std::size_t lo = 0, hi = r.empty() ? 0 : r.size() - 1;
   const double still = 0.1 * path.MedianDiameter();
@@ -27,6 +42,9 @@ Positions PositionsOf(const tracking::MotionPath& path) {
   out.size.assign(out.p.size(), core::kNaN);
   for (const auto& k : kept.regions) {
     if (k.touches_border) continue;  // cut by the frame's edge: its centroid is not the ball's
+    if (k.frame >= 0 && static_cast<std::size_t>(k.frame) < copy.size() &&
+        copy[static_cast<std::size_t>(k.frame)])
+      continue;
     out.p[static_cast<std::size_t>(k.frame - out.first)] = k.p_I;
     out.size[static_cast<std::size_t>(k.frame - out.first)] = k.diameter_px;
   }

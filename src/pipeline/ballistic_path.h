@@ -27,7 +27,14 @@ struct Positions {
 /// the frames at its start and end where it holds still (moving less than a tenth of its size
 /// from one region to the next): a hand holding the ball before it lets go, a ball come to
 /// rest. A release from rest would otherwise look like a contact to the arc fit.
-Positions PositionsOf(const tracking::MotionPath& path);
+/// Frames in `copy` (per clip frame; shorter or empty: none) are no samples.
+Positions PositionsOf(const tracking::MotionPath& path, const std::vector<bool>& copy = {});
+
+/// Per clip frame: its image is a copy that another frame shows at its capture time, and so no
+/// sample of `path`'s motion. From the scene's repeats, with the path's own motion deciding
+/// whether a repeated image belongs to its first or its last copy (HeldImageFromMotion).
+std::vector<bool> CopiesOn(const tracking::MotionPath& path, const std::vector<bool>& repeat,
+                           int frame_count);
 
 /// The joint arc fit of positions in image px: W is x right, y up (px), times frame / fps. A
 /// position equal to the one before (a repeated image) is no sample.

@@ -17,6 +17,7 @@ namespace {
 
 using ballistic::ArcStats;
 using ballistic::Ballistic;
+using ballistic::CopiesOn;
 using ballistic::FitArcs;
 using ballistic::Positions;
 using ballistic::PositionsOf;
@@ -251,9 +252,11 @@ MovingBody FindMovingBody(tracking::MotionScene scene, double fps, const std::st
     c.likeness = p.MedianLikeness();
     c.rgb = p.MedianRgb();
     const double limit = RmsLimit(p, options);
-    const ArcStats st = c.regions >= options.min_frames
-                            ? Ballistic(PositionsOf(p), fps, limit, options.min_frames)
-                            : ArcStats{};
+    const ArcStats st =
+        c.regions >= options.min_frames
+            ? Ballistic(PositionsOf(p, CopiesOn(p, out.scene.repeat, out.scene.frame_count)), fps,
+                        limit, options.min_frames)
+            : ArcStats{};
 
     Judge(c, st, options, limit);
     out.candidates.push_back(c);
@@ -329,7 +332,9 @@ MovingBody FindMovingBody(tracking::MotionScene scene, double fps, const std::st
     const auto joined = Union(path, paths[static_cast<std::size_t>(c.path)]);
     if (!joined) continue;
     const double rms_limit = RmsLimit(*joined, options);
-    const ArcStats st = Ballistic(PositionsOf(*joined), fps, rms_limit, options.min_frames);
+    const ArcStats st =
+        Ballistic(PositionsOf(*joined, CopiesOn(*joined, out.scene.repeat, out.scene.frame_count)),
+                  fps, rms_limit, options.min_frames);
     if (!st.fitted || st.on_arcs <= body_stats.on_arcs ||
         st.arc_fraction < options.min_arc_fraction || !(st.rms <= rms_limit))
       continue;
@@ -344,6 +349,7 @@ MovingBody FindMovingBody(tracking::MotionScene scene, double fps, const std::st
   // left out; the arc fit of the measured centres below, and track's, judge the frames after).
   const tracking::MotionPath flight = Trimmed(path, body_stats.first_arc_frame, path.last_frame());
   out.path = flight;
+  out.copies = CopiesOn(flight, out.scene.repeat, out.scene.frame_count);
   out.rgb = flight.MedianRgb();
   out.round = IsRound(flight);
   out.track = tracking::MeasureBallPath(flight, out.scene.frame_count, options.silhouette);
@@ -363,7 +369,7 @@ MovingBody FindMovingBody(tracking::MotionScene scene, double fps, const std::st
   int found = 0;
   for (int f = flight.first_frame(); f <= flight.last_frame(); ++f) {
     const auto& o = out.track.frames[static_cast<std::size_t>(f)];
-    if (!o.found) continue;
+    if (!o.found || out.copies[static_cast<std::size_t>(f)]) continue;
     const auto i = static_cast<std::size_t>(f - measured.first);
     measured.p[i] = o.p_I;
     measured.cov[i] = o.cov_p_I;

@@ -99,8 +99,11 @@ struct MovingBody {
   std::vector<MovingCandidate> candidates;  ///< every path tested, the body first
   tracking::MotionPath path;                ///< the body's regions (pieces joined)
   tracking::SilhouetteTrack track;          ///< the ball's sub-pixel centre, one per frame
-  Eigen::Vector3d rgb{0, 0, 0};             ///< the body's median colour
-  double diameter_px = 0.0;                 ///< its median fitted diameter
+  /// Per frame: a copy of an image another frame shows at its capture time (no sample of the
+  /// motion; ballistic::CopiesOn); empty when no body was found.
+  std::vector<bool> copies;
+  Eigen::Vector3d rgb{0, 0, 0};  ///< the body's median colour
+  double diameter_px = 0.0;      ///< its median fitted diameter
   /// The body's shape from its regions: a ball (a disc) or an elongated outline.
   bool round = true;
   /// Its arcs on the measured centres (px in W: x right, y up; times from the frame rate).

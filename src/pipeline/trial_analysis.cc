@@ -169,8 +169,12 @@ void FindFrameTiming(const TrialSpec& spec, tracking::FrameSource& source,
   };
   if (!t.repeated_frames.empty()) {
     out.flags.push_back("repeated_frames");
-    out.warnings.push_back("frames " + list(t.repeated_frames) +
-                           " repeat the previous image; they are left out of the motion");
+    out.warnings.push_back(
+        "frames " + list(t.repeated_frames) +
+        (t.held == tracking::HeldImage::kLast
+             ? " show the next frame's image early (a frame-rate conversion); they are left out "
+               "of the motion"
+             : " repeat the previous image; they are left out of the motion"));
   }
   if (!t.dropped_captures.empty()) {
     out.flags.push_back("dropped_captures");

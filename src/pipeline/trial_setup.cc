@@ -385,9 +385,12 @@ bool SetUpByMotion(tracking::FrameSource& source, const TrialSetupOptions& optio
   c_px.clear();
   travel = 0;
   std::optional<Eigen::Vector2d> first_seen;
-  for (const auto& o : s.track.frames) {
-    c_px.push_back(o.found ? std::optional<Eigen::Vector2d>(o.p_I) : std::nullopt);
-    if (!o.found) continue;
+  for (std::size_t f = 0; f < s.track.frames.size(); ++f) {
+    const auto& o = s.track.frames[f];
+    // A frame whose image another frame shows at its capture time is no sample of the motion.
+    const bool sample = o.found && !(f < moving->copies.size() && moving->copies[f]);
+    c_px.push_back(sample ? std::optional<Eigen::Vector2d>(o.p_I) : std::nullopt);
+    if (!sample) continue;
     if (!first_seen) first_seen = o.p_I;
     travel = std::max(travel, (o.p_I - *first_seen).norm());
   }
@@ -521,15 +524,35 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
   // The body: white dots on black patches (a marked specimen), else a silhouette.
   std::vector<std::optional<Eigen::Vector2d>> c_px;
   double travel = 0;
-  if (SetUpMarkers(*source, options, s, c_px, travel)) {
+  // A high-speed camera's clip: the body moves little between frames against a plain
+  // background, and the clip is often too short in time for gravity to bend its path
+  // measurably, which finding it by its motion needs.
+  const bool high_speed =
+      s.clip_kind == "camera_file" || s.fps >= kHighSpeedFps || s.count / s.fps < kMinMotionClip_s;
+  bool marked = false;
+  {
+    const TrialSetup before = s;
+    if (SetUpMarkers(*source, options, s, c_px, travel)) {
+      marked = true;
+      // White dots that stay where they are (on a frame or the surface) are not the body when
+      // it was not said to be marked, in a clip where what moves can be found by its motion.
+      if (options.body == "auto" && !high_speed && !(travel > 4 * s.marker_dot_radius_px)) {
+        std::ostringstream os;
+        os << s.marker_dots_px.size() << " white dots in the first frame move at most "
+           << std::lround(travel) << " px: they are not the body (--body markers if they are)";
+        s = before;
+        s.warnings.push_back(os.str());
+        c_px.clear();
+        travel = 0;
+        marked = false;
+      }
+    }
+  }
+  if (marked) {
     s.found_by = "markers";
   } else if (options.body == "outline") {
     travel = SetUpSilhouette(*source, "outline", named, s, c_px);
-  } else if (s.clip_kind == "camera_file" || s.fps >= kHighSpeedFps ||
-             s.count / s.fps < kMinMotionClip_s) {
-    // A high-speed camera's clip: the body moves little between frames against a plain
-    // background, and the clip is often too short in time for gravity to bend its path
-    // measurably, which finding it by its motion needs.
+  } else if (high_speed) {
     travel = SetUpSilhouette(*source, options.body == "ball" ? "ball" : "", named, s, c_px);
   } else if (!SetUpByMotion(*source, options, named, s, c_px, travel)) {
     // Nothing ballistic moves against the clip's background, or what does is elongated: the

@@ -1,7 +1,8 @@
 // `hoofimpact init` then `hoofimpact track`, with no options, on everyday footage rendered with
 // known truth (`hoofimpact synth footage`): a room with clutter on the shelves, a hand that lets
 // the ball go, the ball's shadow, a camera rolled a little, H.264. The ball is found by its
-// motion, and each bounce measured is held against the renderer's e. Then the clips that hold
+// motion, and each bounce measured is held against the renderer's e; white dots that stay where
+// they are are not taken for a marked body. Then the clips that hold
 // nothing to measure (nothing moves, only a hand moves) are refused naming the clip, with the
 // contact sheet still written; a ball that never lands is set up and track says it has no
 // impact.
@@ -13,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "support/run_command.h"
 
@@ -113,6 +115,45 @@ TEST(InitFootageTest, ARoomClipsBouncesAreFoundAndMeasuredWithoutOptions) {
   EXPECT_NE(small.exit_code, 0);
   EXPECT_NE(small.err.find((bad / "background.png").string()), std::string::npos) << small.err;
   EXPECT_NE(small.err.find("frame 0"), std::string::npos) << small.err;
+}
+
+// White dots on black patches that stay where they are (a fixture on the wall): init does not
+// take them for a marked body when it was not told so, says why, and finds the ball by its
+// motion; told `--body markers`, it takes them and refuses them as a body that never moves.
+TEST(InitFootageTest, StillWhiteDotsAreNotTakenForTheBody) {
+  const fs::path clip = kOut / "dots";
+  Render(clip, "--duration-s 1.6 --seed 5 --codec png");
+  int frames = 0;
+  for (const auto& entry : fs::directory_iterator(clip / "frames")) {
+    cv::Mat f = cv::imread(entry.path().string(), cv::IMREAD_COLOR);
+    ASSERT_FALSE(f.empty()) << entry.path();
+    for (int k = 0; k < 2; ++k) {
+      const cv::Point c(30 + 28 * k, 40);
+      cv::rectangle(f, cv::Rect(c.x - 10, c.y - 10, 21, 21), cv::Scalar(0, 0, 0), cv::FILLED);
+      cv::circle(f, c, 5, cv::Scalar(255, 255, 255), cv::FILLED, cv::LINE_AA);
+    }
+    ASSERT_TRUE(cv::imwrite(entry.path().string(), f));
+    ++frames;
+  }
+  ASSERT_GT(frames, 30);
+  const fs::path trial = kOut / "dots_trial";
+  fs::remove_all(trial);
+  const auto r = RunHoofimpact("init " + (clip / "frames").string() + " -o " + trial.string() +
+                               " --fps 30" + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j["results"]["found_by"], "motion");
+  EXPECT_EQ(j["results"]["body_shape"], "ball");
+  bool said = false;
+  for (const auto& w : j["warnings"])
+    said |= w.get<std::string>().find("not the body") != std::string::npos;
+  EXPECT_TRUE(said) << j["warnings"].dump();
+  const fs::path marked = kOut / "dots_marked";
+  fs::remove_all(marked);
+  const auto m = RunHoofimpact("init " + (clip / "frames").string() + " -o " + marked.string() +
+                               " --fps 30" + " --body markers --json");
+  EXPECT_NE(m.exit_code, 0);
+  EXPECT_NE(m.err.find("the marked body never moves"), std::string::npos) << m.err;
 }
 
 // Nothing moves: refused, naming the clip and what failed; the sheet is still written.

@@ -3,7 +3,8 @@
 // on parabolas with e = 0.75, its shadow sliding on the floor, a hand that holds the ball and
 // leaves, and camera noise. The ball's path is the body; the others are refused with their
 // reasons; its centre is measured to a fraction of a pixel; gravity's direction comes from its
-// arcs; a ball that leaves the view and comes back is joined; clips with nothing ballistic are
+// arcs; a ball that leaves the view and comes back is joined; a clip that shows captures early
+// (a frame-rate conversion) is timed by their last copies; clips with nothing ballistic are
 // refused naming the frames.
 #include <cmath>
 #include <random>
@@ -202,6 +203,26 @@ TEST(MovingBodyTest, TheBouncingBallIsTheBodyAndItsShadowAndTheHandAreNot) {
     EXPECT_GE(t_after + 1e-9, sc.bounces[k]);
     EXPECT_LT(t_after - sc.bounces[k], 1.0 / kFps + 1e-9);
   }
+}
+
+// A frame-rate conversion that leaves one capture in three out and shows the next one in its
+// place and then again (captures 0, 2, 2, 3, 5, 5, ...): timed by frame index, the first copy
+// would put the ball where it is a period later. Its last copy is the sample.
+TEST(MovingBodyTest, AClipThatShowsCapturesEarlyIsTimedByTheirLastCopies) {
+  Scene sc = Draw(60, true, false, false, {0.0, 1.0});
+  Scene clip;
+  for (int j = 0; j < 60; ++j) {
+    const int slot = j % 3 == 1 ? j + 1 : j;  // j % 3 == 2: the same capture as frame j - 1
+    clip.source.frames.push_back(sc.source.frames[static_cast<std::size_t>(slot)].clone());
+  }
+  const MovingBody m = Find(clip);
+  ASSERT_TRUE(m.found) << m.message;
+  ASSERT_EQ(m.copies.size(), 60u);
+  for (std::size_t j = 1; j < 60; ++j) EXPECT_EQ(m.copies[j], j % 3 == 1) << "frame " << j;
+  // Every bounce, and gravity as drawn (1600 px/s^2): timed by their first copies the samples
+  // are no parabola at all, and no path is ballistic.
+  EXPECT_EQ(m.arcs.contacts.size(), sc.bounces.size());
+  EXPECT_NEAR(m.arcs.a_norm, 1600.0, 3 * m.arcs.a_norm_se + 2.0);
 }
 
 TEST(MovingBodyTest, ARolledCameraGivesGravitysDirectionFromTheArcs) {

@@ -1,7 +1,8 @@
 // The frame-timing detector (tracking/frame_timing.h) on frames and tracks made here with
 // known repeats and drops: repeats found from the images (exact copies and copies within a
-// tenth of the sensor noise, under flicker), slots from time stamps, and dropped captures from
-// a bouncing body's track sampled at whole slots.
+// tenth of the sensor noise, under flicker, and a compressed clip's re-encoded copies), which
+// copy of a repeated image is the sample from the motion, slots from time stamps, and dropped
+// captures from a bouncing body's track sampled at whole slots.
 #include "tracking/frame_timing.h"
 
 #include <atomic>
@@ -103,6 +104,26 @@ TEST(FrameTimingTest, ANoiseFreeClipTakesOnlyExactCopiesAsRepeats) {
   for (int i = 0; i < 8; ++i) EXPECT_EQ(repeat[static_cast<std::size_t>(i)], i == 5) << i;
 }
 
+// An H.264 clip: the encoder copies the still background to the bit, so two captures agree in
+// most pixels and the noise-only difference reads 0; a repeated image re-encoded differs only
+// in a few blocks. It is found against the frames' own differences.
+TEST(FrameTimingTest, ACompressedClipsReEncodedCopiesAreRepeats) {
+  std::mt19937_64 rng(1);
+  std::vector<cv::Mat> frames;
+  for (int i = 0; i < 12; ++i) frames.push_back(Frame(i, 0.0, 1.0, rng));
+  for (int copy : {4, 9}) {
+    frames[static_cast<std::size_t>(copy)] = frames[static_cast<std::size_t>(copy - 1)].clone();
+    // One 8 x 8 block coded again, 3 DN off.
+    frames[static_cast<std::size_t>(copy)](cv::Rect(40, 40, 8, 8)) += cv::Scalar(3);
+  }
+  MemorySource source(frames);
+  const ImageDifferences d = DifferenceFrames(source);
+  EXPECT_EQ(d.noise_mean_abs_difference, 0.0);
+  const auto repeat = FindRepeats(d, 0.5);
+  for (int i = 0; i < 12; ++i)
+    EXPECT_EQ(repeat[static_cast<std::size_t>(i)], i == 4 || i == 9) << i;
+}
+
 TEST(FrameTimingTest, SlotsFromStampsShowAGapAndRejectStampsThatGoBack) {
   const double fps = 1000;
   const auto slots = SlotsFromStamps({0.0, 0.001, 0.002, 0.004, 0.0050000001, 0.008}, fps);
@@ -168,6 +189,63 @@ TEST(FrameTimingTest, DroppedCapturesAreFoundFromABouncingTrack) {
   const auto none =
       SlotsFromMotion(clean, std::vector<bool>(25, false), Eigen::Vector2d(0, -1), options);
   for (int s = 0; s <= 24; ++s) EXPECT_EQ(none[static_cast<std::size_t>(s)], s);
+}
+
+/// Frames of a bouncing ball (Ball) shown at capture slots `slot`, one per frame; a frame whose
+/// slot equals the one before or after it shows that capture's image again.
+struct Shown {
+  std::vector<std::optional<Eigen::Vector2d>> p;
+  ImageDifferences d;
+};
+Shown ShownAt(const std::vector<int>& slot, std::mt19937_64& rng) {
+  std::normal_distribution<double> n(0, 0.3);
+  Shown out;
+  for (std::size_t i = 0; i < slot.size(); ++i) {
+    const bool copy = i > 0 && slot[i] == slot[i - 1];
+    out.p.emplace_back(copy ? *out.p.back() : Ball(slot[i]) + Eigen::Vector2d(n(rng), n(rng)));
+    out.d.mean_abs_difference.push_back(i == 0 ? std::nan("") : copy ? 0.0 : 0.01);
+  }
+  out.d.noise_mean_abs_difference = 0.0;
+  return out;
+}
+
+// A frame-rate conversion that leaves one capture in three out and shows the next one in its
+// place and again (captures 0, 2, 2, 3, 5, 5, ...: the body steps two periods into the
+// repeated image and one out of it) has its repeated images early: the last copy is the sample.
+// A camera that re-sends its buffer in place of a lost capture (0, 1, 1, 3, 4, 4, ...) has them
+// late: the first copy is.
+TEST(FrameTimingTest, WhichCopyOfARepeatedImageIsTheSampleIsToldByTheMotion) {
+  std::mt19937_64 rng(8);
+  std::vector<int> early, late;
+  for (int k = 0; k < 8; ++k) {
+    early.insert(early.end(), {3 * k, 3 * k + 2, 3 * k + 2});
+    late.insert(late.end(), {3 * k, 3 * k + 1, 3 * k + 1});
+  }
+  for (const auto& [slot, held] :
+       {std::pair{early, HeldImage::kLast}, std::pair{late, HeldImage::kFirst}}) {
+    const Shown shown = ShownAt(slot, rng);
+    const FrameTiming t = AnalyzeFrameTiming(shown.d, 1.0, std::nullopt, shown.p,
+                                             Eigen::Vector2d(0, -1), FrameTimingOptions{});
+    EXPECT_EQ(t.held, held);
+    // Every sample left is shown at its own capture's time (frame index = slot, one per
+    // period), and one frame of each repeated image is left out.
+    int samples = 0;
+    for (std::size_t i = 0; i < slot.size(); ++i) {
+      if (t.repeat[i]) continue;
+      ++samples;
+      EXPECT_EQ(t.t_s[i], slot[i])
+          << "frame " << i << (held == HeldImage::kLast ? " (early)" : " (late)");
+    }
+    EXPECT_EQ(samples, 16);
+  }
+  // Where the body does not move between the copies and the samples round them there is no
+  // evidence: the camera's model (the first copy) holds.
+  std::vector<std::optional<Eigen::Vector2d>> still(early.size(), Eigen::Vector2d(5, 5));
+  std::vector<bool> repeat(early.size(), false);
+  for (std::size_t i = 1; i < early.size(); ++i) repeat[i] = early[i] == early[i - 1];
+  const HeldImageEvidence none = HeldImageFromMotion(still, repeat);
+  EXPECT_EQ(none.held, HeldImage::kFirst);
+  EXPECT_EQ(none.runs, 0);
 }
 
 // `track` compares the images while the tracker reads them (tracking/frame_differences.h):
