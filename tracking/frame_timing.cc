@@ -322,6 +322,13 @@ std::vector<bool> FindRepeats(const ImageDifferences& d, double fraction) {
     for (std::size_t i = 1; i < repeat.size(); ++i)
       if (std::isfinite(d.mean_abs_difference[i])) D.push_back(d.mean_abs_difference[i]);
     limit = D.size() >= 4 ? 0.1 * fraction * Quantile(D, 0.75) : 0.0;
+    // Only where the copies stand apart, the smallest difference above the limit at least 3
+    // times the largest below it: a small body in a large still frame changes it so little
+    // that copies and new captures overlap (its positions must tell them apart instead).
+    double below = 0.0, above = std::numeric_limits<double>::infinity();
+    for (double x : D)
+      (x < limit ? below : above) = x < limit ? std::max(below, x) : std::min(above, x);
+    if (!(above >= 3 * below)) limit = 0.0;
   }
   for (std::size_t i = 1; i < repeat.size(); ++i) {
     const double D = d.mean_abs_difference[i];

@@ -82,8 +82,10 @@ ImageDifferences DifferenceFrames(FrameSource& source, int max_grid_pixels = 163
 /// Which frames repeat the previous one: a difference of exactly 0, or below `fraction` of the
 /// clip's noise-only difference. Where that is 0 (a compressed clip whose encoder copies the
 /// still background exactly, so that most pixels agree to the bit), below a tenth of `fraction`
-/// of the upper quartile of the clip's differences instead: a re-encoded copy differs in a few
-/// blocks, a new capture wherever the body moved. Frame 0 never does.
+/// of the upper quartile of the clip's differences instead (a re-encoded copy differs in a few
+/// blocks, a new capture wherever the body moved), where those below stand apart from the rest
+/// (the smallest above at least 3 times the largest below); otherwise only exact copies. Frame
+/// 0 never does.
 std::vector<bool> FindRepeats(const ImageDifferences& d, double fraction);
 
 /// Which frame of a run of repeated images shows it at its own capture time: the first (a

@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include <Eigen/Eigenvalues>
 #include <opencv2/imgproc.hpp>
 
 #include "tracking/frame_differences.h"
@@ -427,8 +428,14 @@ SilhouetteTrack MeasureBallPath(const MotionPath& path, int frame_count,
     // An edge fit that fails, or that lies a quarter of the ball off the region or a third off
     // its size, has taken the edge of something else (a net behind the ball, its own stripes
     // smeared by motion blur): the region's centroid, the centre at mid-exposure, stands in.
-    const bool agrees = o.found && (o.p_I + offset - r.p_I).norm() <= 0.25 * diameter &&
-                        o.diameter_px >= 0.75 * diameter && o.diameter_px <= 1.33 * diameter;
+    // The ball's size across its smear is the region's narrowest width (a disc of diameter D
+    // has second moments D^2 / 16; blur adds only along the motion).
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> moments(r.moments);
+    const double across =
+        r.moments.trace() > 0 ? 4 * std::sqrt(std::max(0.0, moments.eigenvalues()(0))) : diameter;
+    const double ball = std::min(diameter, across);
+    const bool agrees = o.found && (o.p_I + offset - r.p_I).norm() <= 0.25 * ball &&
+                        o.diameter_px >= 0.75 * ball && o.diameter_px <= 1.33 * diameter;
     if (!agrees) {
       if (r.touches_border) {  // cut by the frame's edge: its centroid is not the ball's either
         out.status = "the ball's edge was not fitted (" + (o.found ? "off its region" : o.status) +

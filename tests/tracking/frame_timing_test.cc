@@ -122,6 +122,23 @@ TEST(FrameTimingTest, ACompressedClipsReEncodedCopiesAreRepeats) {
   const auto repeat = FindRepeats(d, 0.5);
   for (int i = 0; i < 12; ++i)
     EXPECT_EQ(repeat[static_cast<std::size_t>(i)], i == 4 || i == 9) << i;
+  // A still scene, every other frame coded again in more blocks or by more (as where a small
+  // body moves in a large frame): differences of 20, 60, 150, 900, 1500 and 2100 (block x DN)
+  // do not fall apart into copies and new captures, and none is taken for a repeat.
+  const cv::Mat base = Frame(0, 0.0, 1.0, rng);
+  std::vector<cv::Mat> recoded{base};
+  const std::vector<std::pair<int, int>> recode{{5, 4},   {15, 4},  {50, 3},
+                                                {30, 30}, {50, 30}, {70, 30}};
+  for (const auto& [blocks, dn] : recode) {
+    recoded.push_back(base.clone());
+    for (int b = 0; b < blocks; ++b)  // of the frame's 15 x 12
+      recoded.back()(cv::Rect(8 * (b % 15), 8 * (b / 15), 8, 8)) += cv::Scalar(dn);
+    recoded.push_back(base.clone());
+  }
+  recoded.pop_back();
+  MemorySource still(recoded);
+  const auto none = FindRepeats(DifferenceFrames(still), 0.5);
+  for (int i = 0; i < 12; ++i) EXPECT_FALSE(none[static_cast<std::size_t>(i)]) << i;
 }
 
 TEST(FrameTimingTest, SlotsFromStampsShowAGapAndRejectStampsThatGoBack) {
