@@ -326,8 +326,12 @@ std::vector<bool> FindRepeats(const ImageDifferences& d, double fraction) {
     // times the largest below it: a small body in a large still frame changes it so little
     // that copies and new captures overlap (its positions must tell them apart instead).
     double below = 0.0, above = std::numeric_limits<double>::infinity();
-    for (double x : D)
-      (x < limit ? below : above) = x < limit ? std::max(below, x) : std::min(above, x);
+    for (double x : D) {
+      if (x < limit)
+        below = std::max(below, x);
+      else
+        above = std::min(above, x);
+    }
     if (!(above >= 3 * below)) limit = 0.0;
   }
   for (std::size_t i = 1; i < repeat.size(); ++i) {

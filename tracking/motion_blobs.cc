@@ -290,7 +290,14 @@ MotionScene FindMotion(FrameSource& source, const cv::Mat& background, const Mot
                                std::to_string(frame.rows) + " px, but the background is " +
                                std::to_string(background.cols) + " x " +
                                std::to_string(background.rows));
-    differencer.Add(ToGrey(frame, source.Describe(f)), source.Describe(f));
+    {
+      // The repeats are judged on a grid of the frame at the working size, its pixels as they
+      // are (an exact copy still differs by exactly 0), not on the whole frame made grey.
+      cv::Mat sampled, grey;
+      cv::resize(frame, sampled, small_background.size(), 0, 0, cv::INTER_NEAREST);
+      cv::cvtColor(sampled, grey, cv::COLOR_BGR2GRAY);
+      differencer.Add(grey, source.Describe(f));
+    }
     double noise = 0;
     std::vector<MotionRegion> regions =
         RegionsOf(frame, background, small_background, f, options, noise);
