@@ -274,11 +274,13 @@ cv::Mat VideoSource::ReadColour(int index) {
   if (index < 0 || index >= count_)
     throw std::out_of_range("frame " + std::to_string(index) + " is outside the video");
   if (index < next_) Open();
+  // The frames before the one asked for are decoded (a video's frames depend on those before)
+  // but not converted to BGR.
+  for (; next_ < index; ++next_)
+    if (!capture_->grab()) throw std::runtime_error(Describe(next_) + ": cannot be decoded");
   cv::Mat frame;
-  while (next_ <= index) {
-    if (!capture_->read(frame)) throw std::runtime_error(Describe(next_) + ": cannot be decoded");
-    ++next_;
-  }
+  if (!capture_->read(frame)) throw std::runtime_error(Describe(next_) + ": cannot be decoded");
+  ++next_;
   if (info_.rotation_deg == 0) return frame;
   cv::Mat upright;
   cv::rotate(frame, upright,

@@ -31,10 +31,15 @@ inline constexpr double kShadowGainMin = 0.45, kShadowGainMax = 1.15;
 
 /// Settings of the motion regions.
 struct MotionOptions {
-  /// The background is the median of up to this many frames spread evenly over the clip; >= 3.
+  /// The background is the median of up to this many frames spread evenly over the clip; in
+  /// [3, 255].
   int background_frames = 41;
   /// Regions are found on frames scaled down to at most this width (px); >= 64.
   int work_width_px = 480;
+  /// When > 0, FindMotion keeps every frame, grey and scaled to at most this many px on its
+  /// longer side (ThumbnailSize), in MotionScene::thumbnails, for pictures of the clip that would
+  /// otherwise read it again; only while they take at most 64 MiB in all (else none).
+  int thumbnail_px = 0;
   /// A pixel differs from the background when its likeness exceeds this many robust noise
   /// standard deviations of the frame's likeness (and `min_likeness`); > 0.
   double noise_sigmas = 6.0;
@@ -118,14 +123,21 @@ struct MotionScene {
   /// Per frame: its image repeats the previous frame's (tracking/frame_timing.h, FindRepeats);
   /// which copy is the sample of the motion is each path's to tell (HeldImageFromMotion).
   std::vector<bool> repeat;
+  /// Per frame, when MotionOptions::thumbnail_px asked for them: the frame, 8-bit grey, of
+  /// ThumbnailSize(its size, thumbnail_px); else empty.
+  std::vector<cv::Mat> thumbnails;
 };
+
+/// The size of a thumbnail of a `full`-size frame at most `longest_px` on its longer side (the
+/// frame's own size where it is smaller), each side at least 1 px.
+cv::Size ThumbnailSize(const cv::Size& full, int longest_px);
 
 /// Finds the regions of every frame of `source` that differ from `background` and links them
 /// into paths (nearest to the prediction from the path's last two regions, within the size
 /// and distance gates of `options`), and compares each frame's image with the one before for
-/// repeats. Reads each frame once, in order; `progress(frame)` is called after each. Throws
-/// std::runtime_error naming a frame that cannot be read or whose size differs from the
-/// background's.
+/// repeats. Reads each frame once, in order, a frame ahead on a thread of its own (ReadAhead);
+/// `progress(frame)` is called after each. Throws std::runtime_error naming a frame that cannot be
+/// read or whose size differs from the background's.
 MotionScene FindMotion(FrameSource& source, const cv::Mat& background,
                        const MotionOptions& options = {},
                        const std::function<void(int)>& progress = {});

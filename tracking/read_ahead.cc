@@ -2,7 +2,8 @@
 
 namespace hoof::tracking {
 
-ReadAhead::ReadAhead(FrameSource& source, int depth) : source_(source), depth_(depth) {
+ReadAhead::ReadAhead(FrameSource& source, int depth, bool colour)
+    : source_(source), depth_(depth), colour_(colour) {
   thread_ = std::thread([this] { Run(); });
 }
 
@@ -39,7 +40,7 @@ void ReadAhead::Run() {
     done.clear();  // the caller's finished frames, released on this thread
     cv::Mat frame;
     try {
-      frame = source_.Read(i);
+      frame = colour_ ? source_.ReadColour(i) : source_.Read(i);
     } catch (...) {
       std::lock_guard lock(mutex_);
       error_ = std::current_exception();

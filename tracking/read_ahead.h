@@ -27,8 +27,9 @@ namespace hoof::tracking {
 /// unsynchronised access to its count.
 class ReadAhead {
  public:
-  /// Starts reading `source` from frame 0; `depth` >= 1.
-  ReadAhead(FrameSource& source, int depth);
+  /// Starts reading `source` from frame 0; `depth` >= 1. The frames are `source.Read`'s (grey),
+  /// or with `colour` its ReadColour's.
+  ReadAhead(FrameSource& source, int depth, bool colour = false);
   /// Stops the reader and waits for it.
   ~ReadAhead();
   ReadAhead(const ReadAhead&) = delete;
@@ -42,6 +43,7 @@ class ReadAhead {
 
   FrameSource& source_;
   const int depth_;
+  const bool colour_;
   std::mutex mutex_;
   std::condition_variable changed_;
   std::deque<cv::Mat> ready_;      // read, not yet taken

@@ -12,6 +12,7 @@
 #include "pipeline/trial_setup.h"
 #include "tracking/camera_file.h"
 #include "tracking/frame_source.h"
+#include "tracking/motion_blobs.h"
 
 // init's contact sheet (docs/init.md, "Output"): what SetUpTrial found, drawn on the frames.
 namespace hoof::pipeline {
@@ -113,16 +114,26 @@ std::vector<std::pair<std::string, std::string>> TrialFiles(const TrialSetup& s)
 }
 
 cv::Mat ContactSheet(const TrialSetup& s) {
+  // The frames as the motion finder kept them in init's pass over the clip, else read again.
+  const std::vector<cv::Mat>* kept = nullptr;
+  if (s.moving && static_cast<int>(s.moving->scene.thumbnails.size()) == s.count && s.count > 0) {
+    const cv::Size full(s.moving->scene.width, s.moving->scene.height);
+    if (s.moving->scene.thumbnails.front().size() ==
+        tracking::ThumbnailSize(full, kContactSheetTilePx))
+      kept = &s.moving->scene.thumbnails;
+  }
   std::unique_ptr<tracking::FrameSource> source;
   const fs::path clip_abs = fs::absolute(s.clip).lexically_normal();
-  if (s.clip_kind == "frames")
+  if (kept)
+    source = nullptr;
+  else if (s.clip_kind == "frames")
     source = std::make_unique<tracking::ImageSequenceSource>(
         clip_abs, fs::path(s.frames_reference).filename().string(), s.first, s.count);
   else if (s.clip_kind == "camera_file")
     source = tracking::OpenCameraFile(clip_abs);
   else
     source = std::make_unique<tracking::VideoSource>(clip_abs);
-  const int n = source->count();
+  const int n = kept ? s.count : source->count();
   // The frames shown: each impact with the frames before and after it, then spread evenly.
   std::vector<int> shown;
   for (int f : s.impact_frames)
@@ -135,10 +146,11 @@ cv::Mat ContactSheet(const TrialSetup& s) {
     if (std::find(shown.begin(), shown.end(), g) == shown.end()) shown.push_back(g);
   }
   std::sort(shown.begin(), shown.end());
-  const cv::Mat first = tracking::ToGrey(source->Read(0), source->Describe(0));
-  const double zoom = std::min(1.0, 320.0 / std::max(first.cols, first.rows));
-  const int tw = std::max(1, static_cast<int>(first.cols * zoom));
-  const int th = std::max(1, static_cast<int>(first.rows * zoom));
+  const cv::Size full =
+      kept ? cv::Size(s.moving->scene.width, s.moving->scene.height) : source->Read(0).size();
+  const cv::Size tile_size = tracking::ThumbnailSize(full, kContactSheetTilePx);
+  const double zoom = static_cast<double>(tile_size.width) / full.width;
+  const int tw = tile_size.width, th = tile_size.height;
   const int cols = 4, label_h = 18;
   const int rows = static_cast<int>((shown.size() + cols - 1) / cols);
   std::vector<std::string> caption;
@@ -168,7 +180,8 @@ cv::Mat ContactSheet(const TrialSetup& s) {
   cv::Mat sheet(rows * (th + label_h) + caption_h, sheet_w, CV_8UC3, cv::Scalar(32, 32, 32));
   for (std::size_t i = 0; i < shown.size(); ++i) {
     const int f = shown[i];
-    cv::Mat grey = tracking::ToGrey(source->Read(f), source->Describe(f));
+    cv::Mat grey = kept ? (*kept)[static_cast<std::size_t>(f)]
+                        : tracking::ToGrey(source->Read(f), source->Describe(f));
     const auto [lo, hi] = tracking::FrameLevels(grey);
     cv::Mat g8;
     grey.convertTo(g8, CV_8U, 255.0 / std::max(1e-9, hi - lo),
@@ -179,7 +192,7 @@ cv::Mat ContactSheet(const TrialSetup& s) {
     auto P = [&](const Eigen::Vector2d& p) { return cv::Point2d(p.x() * zoom, p.y() * zoom); };
     if (s.surface_line) {
       const auto& l = *s.surface_line;
-      const double reach = 2.0 * (first.cols + first.rows);
+      const double reach = 2.0 * (full.width + full.height);
       cv::line(tile, P(l.point_I - reach * l.direction_I), P(l.point_I + reach * l.direction_I),
                cv::Scalar(0, 0, 255), 1, cv::LINE_AA);
     }

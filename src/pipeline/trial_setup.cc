@@ -368,6 +368,7 @@ bool SetUpByMotion(tracking::FrameSource& source, const TrialSetupOptions& optio
       throw std::runtime_error(std::string("--color: ") + e.what());
     }
   }
+  mo.motion.thumbnail_px = kContactSheetTilePx;  // the contact sheet's frames, kept
   const cv::Mat background = tracking::MedianBackground(source, mo.motion);
   auto moving = std::make_shared<MovingBody>(
       FindMovingBody(tracking::FindMotion(source, background, mo.motion), s.fps, named, mo));

@@ -128,9 +128,13 @@ std::vector<std::pair<std::string, std::string>> TrialFiles(const TrialSetup& se
 /// The body found, in words: "markers (2 white dots)" or "ball (dark_on_bright)".
 std::string BodyText(const TrialSetup& setup);
 
+/// The contact sheet's frames are at most this many px on their longer side.
+inline constexpr int kContactSheetTilePx = 320;
+
 /// A contact sheet of the setup (src/pipeline/contact_sheet.cc): up to 12 frames (the impacts and
 /// their neighbours first, then frames spread over the clip) with the body's outline, the surface
-/// line and the impact frames marked, and a caption of what was found. 8-bit BGR.
+/// line and the impact frames marked, and a caption of what was found. 8-bit BGR. The frames
+/// are the motion finder's thumbnails where it kept them, else read from the clip again.
 cv::Mat ContactSheet(const TrialSetup& setup);
 
 /// `image` as PNG bytes.

@@ -306,6 +306,36 @@ TEST(MotionBlobsTest, TheMedianBackgroundIsTheSceneWithoutTheMovingBall) {
   EXPECT_LT(worst, 12);
 }
 
+// The background is the median at every pixel and channel: the element at sorted index m / 2
+// of the m frames it takes, checked against std::nth_element on random bytes (odd and even m,
+// a width whose bytes do not fill the blocks the median works in, and values at 0 and 255).
+TEST(MotionBlobsTest, TheMedianBackgroundIsTheMedianOfEveryPixel) {
+  for (const int m : {41, 6, 3}) {
+    ColourSource source;
+    std::mt19937 rng(static_cast<unsigned>(m));
+    std::uniform_int_distribution<int> level(0, 255);
+    for (int f = 0; f < m; ++f) {
+      cv::Mat img(7, 203, CV_8UC3);
+      for (auto it = img.begin<cv::Vec3b>(); it != img.end<cv::Vec3b>(); ++it)
+        for (int c = 0; c < 3; ++c) (*it)[c] = static_cast<std::uint8_t>(level(rng));
+      source.frames.push_back(img);
+    }
+    source.frames[0].row(0).setTo(cv::Scalar(255, 255, 255));
+    source.frames[1 % m].row(1).setTo(cv::Scalar(0, 0, 0));
+    const cv::Mat background = hoof::tracking::MedianBackground(source);
+    ASSERT_EQ(background.type(), CV_8UC3);
+    int wrong = 0;
+    for (int y = 0; y < 7; ++y)
+      for (int x = 0; x < 3 * 203; ++x) {
+        std::vector<std::uint8_t> v;
+        for (const auto& f : source.frames) v.push_back(f.ptr<std::uint8_t>(y)[x]);
+        std::nth_element(v.begin(), v.begin() + m / 2, v.end());
+        wrong += background.ptr<std::uint8_t>(y)[x] != v[static_cast<std::size_t>(m / 2)] ? 1 : 0;
+      }
+    EXPECT_EQ(wrong, 0) << m << " frames";
+  }
+}
+
 // A ball smeared by motion blur to four times its length, with stripes across it, before a
 // plain wall: where the edge fit has no circle to take, the region's centroid, the centre at
 // mid-exposure, stands in.
