@@ -20,6 +20,7 @@
 #include <opencv2/core.hpp>
 
 #include "tracking/frame_source.h"
+#include "tracking/frame_timing.h"
 #include "tracking/silhouette_tracker.h"
 
 namespace hoof::tracking {
@@ -40,6 +41,8 @@ struct MotionOptions {
   /// longer side (ThumbnailSize), in MotionScene::thumbnails, for pictures of the clip that would
   /// otherwise read it again; only while they take at most 64 MiB in all (else none).
   int thumbnail_px = 0;
+  /// The grid of the comparison of each frame with the one before (FrameDifferencer); >= 1.
+  int timing_grid_pixels = FrameTimingOptions{}.max_grid_pixels;
   /// A pixel differs from the background when its likeness exceeds this many robust noise
   /// standard deviations of the frame's likeness (and `min_likeness`); > 0.
   double noise_sigmas = 6.0;
@@ -123,6 +126,9 @@ struct MotionScene {
   /// Per frame: its image repeats the previous frame's (tracking/frame_timing.h, FindRepeats);
   /// which copy is the sample of the motion is each path's to tell (HeldImageFromMotion).
   std::vector<bool> repeat;
+  /// The comparison of each frame with the one before, made while reading (the frame timing's:
+  /// tracking/frame_timing.h), on the frames at the working size, their pixels as they are.
+  ImageDifferences differences;
   /// Per frame, when MotionOptions::thumbnail_px asked for them: the frame, 8-bit grey, of
   /// ThumbnailSize(its size, thumbnail_px); else empty.
   std::vector<cv::Mat> thumbnails;

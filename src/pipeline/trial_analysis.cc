@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
 #include <memory>
 #include <sstream>
 
@@ -30,9 +31,9 @@ double Median(std::vector<double> v) {
 }
 
 /// Surface angle from the first frame, in the trial's convention (descending toward +x).
-void CheckSurface(const TrialSpec& spec, const cv::Mat& first, const tracking::ImageToWorld& cam,
-                  const TrialAnalysisOptions& options, TrialAnalysis& out) {
-  const auto line = tracking::FindSurfaceLine(first);
+void CheckSurface(const TrialSpec& spec, const std::optional<tracking::ImageLine>& line,
+                  const tracking::ImageToWorld& cam, const TrialAnalysisOptions& options,
+                  TrialAnalysis& out) {
   if (!line) {
     out.warnings.push_back(
         "no surface line found in the first frame; the surface angle is "
@@ -209,13 +210,18 @@ std::vector<std::optional<Eigen::Vector2d>> BySlot(
 
 /// A ball found by its motion (body.find "motion"): the background init wrote (or the clip's
 /// median, made here), what moves against it, and the ballistic path, chosen with the colour
-/// and size trial.json gives as cues. Throws naming the frames when no ball is found.
+/// and size trial.json gives as cues, and the comparison of each frame with the one before
+/// (`compared`, on a grid of `timing_grid_pixels`). Throws naming the frames when no ball is
+/// found.
 tracking::SilhouetteTrack TrackByMotion(const TrialSpec& spec, tracking::FrameSource& tracked,
                                         const tracking::SilhouetteOptions& so,
                                         const std::string& frames_named,
                                         const std::function<void(int)>& progress,
-                                        std::vector<std::string>& warnings) {
+                                        std::vector<std::string>& warnings,
+                                        std::optional<tracking::ImageDifferences>& compared,
+                                        int timing_grid_pixels) {
   MovingBodyOptions mo;
+  mo.motion.timing_grid_pixels = timing_grid_pixels;
   mo.rgb = spec.body.rgb;
   mo.diameter_px = spec.body.diameter_px;
   mo.silhouette = so;
@@ -239,6 +245,9 @@ tracking::SilhouetteTrack TrackByMotion(const TrialSpec& spec, tracking::FrameSo
     throw std::runtime_error(std::string(e.what()) + " (body.background " +
                              (spec.dir / spec.body.background).string() + ")");
   }
+  // The frames were compared as the motion finder read them, in order from frame 0.
+  if (scene.differences.mean_abs_difference.size() == static_cast<std::size_t>(tracked.count()))
+    compared = scene.differences;
   MovingBody m = FindMovingBody(std::move(scene), spec.fps, frames_named, mo);
   if (!m.found) throw std::runtime_error(m.message);
   for (auto& w : m.warnings) warnings.push_back(std::move(w));
@@ -260,10 +269,13 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
   so.gravity_I = spec.camera.gravity_image;
   const std::string frames_named =
       source.Describe(0) + " .. " + source.Describe(source.count() - 1);
+  std::optional<tracking::ImageDifferences> compared;
   if (spec.body.by_motion())
-    out.silhouette = TrackByMotion(spec, tracked, so, frames_named, progress, out.warnings);
+    out.silhouette = TrackByMotion(spec, tracked, so, frames_named, progress, out.warnings,
+                                   compared, options.timing.max_grid_pixels);
   else
     out.silhouette = tracking::TrackSilhouette(tracked, so, progress);
+  if (!compared) compared = tracked.Differences();
   for (const auto& w : out.silhouette.warnings) out.warnings.push_back(w);
 
   // The centre (a ball's) or area centroid (an outline's, taken as C) in undistorted px, and
@@ -272,8 +284,7 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
   const tracking::ImageToWorld lens = TrialCamera(spec, 1.0);
   for (const auto& o : out.silhouette.frames)
     c_px.push_back(o.found ? std::optional<Eigen::Vector2d>(lens.Undistort(o.p_I)) : std::nullopt);
-  FindFrameTiming(spec, source, tracked.Differences(), options, c_px, spec.camera.gravity_image,
-                  out);
+  FindFrameTiming(spec, source, compared, options, c_px, spec.camera.gravity_image, out);
 
   // An outline's E from its round end's arc (pipeline/round_end.h), as an offset from the area
   // centroid in B measured over frames spread through the clip.
@@ -309,6 +320,11 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
     }
     return p;
   };
+
+  // The surface line in the first frame, found on a thread of its own while the scale is
+  // fitted (nothing reads the clip meanwhile).
+  std::future<std::optional<tracking::ImageLine>> surface_line = std::async(
+      std::launch::async, [first = source.Read(0)] { return tracking::FindSurfaceLine(first); });
 
   // The scale: stated, or a ball's known diameter over its fitted diameter.
   if (spec.body.is_ball()) {
@@ -373,7 +389,7 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
     body.end_radius_m = 0.5 * out.body_diameter_px * pose_scale;
 
   const tracking::ImageToWorld cam = TrialCamera(spec, pose_scale);
-  CheckSurface(spec, source.Read(0), cam, options, out);
+  CheckSurface(spec, surface_line.get(), cam, options, out);
   std::vector<std::optional<Eigen::Vector2d>> centres;
   for (int f = 0; f < out.silhouette.frame_count(); ++f) {
     const auto& o = out.silhouette.frames[static_cast<std::size_t>(f)];
@@ -566,8 +582,10 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
     if (UsesCalibrationImage(spec)) out.calibration_scale = MeasureCalibrationScale(spec);
     // The trackers read the clip through this, which compares each frame with the one before
     // for the frame timing as it passes (one read of the clip, not two).
-    tracking::DifferencingSource tracked(*source, options.timing.max_grid_pixels,
-                                         options.timing.enabled);
+    // A body found by its motion: the motion finder compares the frames itself.
+    tracking::DifferencingSource tracked(
+        *source, options.timing.max_grid_pixels,
+        options.timing.enabled && !(spec.body.is_silhouette() && spec.body.by_motion()));
     if (spec.body.is_silhouette()) {
       std::vector<kinematics::PoseSample> samples;
       core::SpecimenParameters body = spec.specimen;
@@ -684,7 +702,7 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
         throw std::runtime_error(spec.dir.string() + ": " + out.gravity_scale->message);
     }
     const tracking::ImageToWorld cam = TrialCamera(spec, out.m_per_px_used);
-    CheckSurface(spec, source->Read(0), cam, options, out);
+    CheckSurface(spec, tracking::FindSurfaceLine(source->Read(0)), cam, options, out);
 
     std::vector<kinematics::PoseSample> samples;
     for (int f = 0; f < out.tracks.frame_count(); ++f) {
