@@ -167,8 +167,8 @@ void RegisterInit(CLI::App& app, RunState& state) {
   cmd->add_option("--surface", args->options.surface, "The surface's name in trial.json")
       ->capture_default_str();
   cmd->add_option("--specimen", args->options.specimen,
-                  "The specimen id of an outline or a marked body (its marker layout), copied "
-                  "from study.json into the trial");
+                  "The specimen id of an outline, a marked body (its marker layout) or a ball (its "
+                  "diameter gives the scale), copied from study.json into the trial");
   cmd->add_option("--study", args->options.study_json,
                   "study.json that defines --specimen (default: the one beside the trial folder)");
   AddCalibrationOptions(cmd, args->calibration);

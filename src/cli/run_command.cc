@@ -154,7 +154,7 @@ class RunPrinter : public study::StudyJobObserver {
                 << ")";
     else
       std::cout << "no prediction intervals (" << s.predictions.message << ")";
-    std::cout << "; largest residual over the 20 frames after impact: ";
+    std::cout << "; largest residual over the flight after impact (20 frames at most): ";
     if (s.worst_marker_px > 0)  // a study of bodies without markers has none
       std::cout << format::Number(s.worst_marker_px) << " px of a marker, ";
     std::cout << format::Number(s.worst_centre_px) << " px of the centre of mass\n";

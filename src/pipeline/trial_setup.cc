@@ -657,6 +657,30 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
       outline_end_radius_m = outline_specimen["end_radius_m"].get<double>();
   }
 
+  // A ball's specimen (study.json): a ball, whose diameter gives the scale where --diameter-m
+  // gives none, and must agree with it where it does.
+  json ball_specimen;
+  double diameter_m = options.diameter_m;
+  if (s.shape == "ball" && !options.specimen.empty()) {
+    ball_specimen = SpecimenOfStudy(options, trial_abs);
+    const std::string what = "specimen \"" + options.specimen + "\" (--specimen)";
+    if (!ball_specimen.is_object() || !ball_specimen.contains("shape") ||
+        ball_specimen["shape"] != "ball")
+      throw std::runtime_error(named + ": the body found is a ball, but study.json's " + what +
+                               " is not one (it has no \"shape\": \"ball\")");
+    if (!ball_specimen.contains("diameter_m") || !ball_specimen["diameter_m"].is_number() ||
+        !(ball_specimen["diameter_m"].get<double>() > 0))
+      throw std::runtime_error("study.json's " + what + " gives no positive diameter_m");
+    const double d = ball_specimen["diameter_m"].get<double>();
+    if (diameter_m > 0 && std::abs(diameter_m - d) > 1e-9 * d) {
+      std::ostringstream os;
+      os << "--diameter-m " << diameter_m << " disagrees with study.json's " << what
+         << ", whose diameter_m is " << d;
+      throw std::runtime_error(os.str());
+    }
+    diameter_m = d;
+  }
+
   // Impacts and the scale from gravity: one fit.
   kinematics::GravityScaleOptions go;
   go.gravity_m_s2 = options.gravity_m_s2;
@@ -681,11 +705,11 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
     s.m_per_px = options.m_per_px;
     s.m_per_px_se = 0;
     CheckCaptureRate(s, s.m_per_px, 0.0);
-  } else if (options.diameter_m > 0) {
+  } else if (diameter_m > 0) {
     if (s.shape != "ball")
       throw std::runtime_error("--diameter-m: the body found in " + named + " is not a ball");
     s.scale_from = "body_diameter";
-    s.m_per_px = options.diameter_m / s.body_diameter_px;
+    s.m_per_px = diameter_m / s.body_diameter_px;
     CheckCaptureRate(s, s.m_per_px, 0.01);
   } else if (s.shape == "markers" && layout_m_per_px > 0) {
     s.scale_from = "markers";
@@ -746,7 +770,7 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
     json body = {{"model", "silhouette"},
                  {"shape", s.shape},
                  {"polarity", tracking::PolarityName(s.track.polarity)}};
-    if (s.shape == "ball" && options.diameter_m > 0) body["diameter_m"] = options.diameter_m;
+    if (s.shape == "ball" && diameter_m > 0) body["diameter_m"] = diameter_m;
     if (s.found_by == "motion") {
       body["find"] = "motion";
       body["background"] = kBackgroundFile;
@@ -755,6 +779,10 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
       body["diameter_px"] = std::round(s.body_diameter_px * 100) / 100;
     }
     t["body"] = body;
+  }
+  if (!ball_specimen.is_null()) {
+    t["specimen"] = options.specimen;
+    t["specimen_parameters"] = ball_specimen;
   }
   if (s.shape == "outline") {
     if (!options.specimen.empty()) {

@@ -43,8 +43,9 @@ struct TrialSetupOptions {
   double m_per_px = 0.0;            ///< a known scale (> 0: stated in trial.json)
   double fps = 0.0;                 ///< frame rate, for clips that do not record one (> 0)
   std::string surface = "unknown";  ///< trial.json's surface (free text)
-  /// A specimen for an outline or a marked body: its study.json and id; copied into the trial
-  /// as specimen_parameters (a marked body's layout, markers_B_m, comes from it).
+  /// A specimen for an outline, a marked body or a ball: its study.json and id; copied into the
+  /// trial as specimen_parameters (a marked body's layout, markers_B_m, comes from it; a ball's
+  /// must be one, and its diameter_m gives the scale as diameter_m does).
   std::filesystem::path study_json;
   std::string specimen;
   double gravity_m_s2 = core::kStandardGravity_m_s2;

@@ -51,8 +51,13 @@ void SummarizeComparison(StudyJobSummary& s) {
       s.worst_z = z;
       s.worst_z_id = s.trials[i].spec.id;
     }
+    // The frames after impact, 20 at most, and none beyond the flight its fit used: at a
+    // video's rate 20 frames reach past the next bounce, which the simulation does not hold.
     const int first_after = static_cast<int>(std::ceil(c.t_touch_s * s.trials[i].spec.fps));
-    for (int f = first_after; f < first_after + 20 && f < static_cast<int>(c.frames.size()); ++f) {
+    const int flight_end = s.trials[i].impact.after.last_frame;
+    const int end = std::min({first_after + 20, static_cast<int>(c.frames.size()),
+                              flight_end >= first_after ? flight_end + 1 : first_after + 20});
+    for (int f = first_after; f < end; ++f) {
       const auto& frame = c.frames[static_cast<std::size_t>(f)];
       for (double r : frame.marker_residual_px)
         if (std::isfinite(r)) s.worst_marker_px = std::max(s.worst_marker_px, r);

@@ -5,7 +5,8 @@
 // they are are not taken for a marked body. Then the clips that hold
 // nothing to measure (nothing moves, only a hand moves) are refused naming the clip, with the
 // contact sheet still written; a ball that never lands is set up and track says it has no
-// impact.
+// impact; a ball named by its study.json specimen takes its scale from it, and `run` compares
+// the study of it with the simulation.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -208,6 +209,74 @@ TEST(InitFootageTest, ABallThatNeverLandsHasNoImpact) {
   const auto t = RunHoofimpact("track " + trial.string());
   EXPECT_EQ(t.exit_code, 4) << t.err << t.out;
   EXPECT_NE((t.out + t.err).find("no impact"), std::string::npos) << t.out << t.err;
+}
+
+// A ball named by its study.json specimen: init takes its scale from the specimen's diameter
+// and writes the trial as that specimen's, refusing a specimen that is not a ball or a diameter
+// that disagrees; `run` on the study folder then measures the clip, simulates its flight after
+// impact from the fitted contact law and compares the two. The comparison stops where that
+// flight does: 20 frames at 30 fps reach the next bounce, which the simulation does not hold.
+TEST(InitFootageTest, ABallsSpecimenGivesItsScaleAndRunComparesTheStudy) {
+  const fs::path clip = kOut / "specimen_clip";
+  Render(clip, "--duration-s 1.6 --seed 3");
+  const json truth = ReadJson(clip / "truth.json");
+  const double diameter_m = truth["ball"]["diameter_m"].get<double>();
+  const fs::path study = kOut / "ball_study";
+  fs::remove_all(study);
+  fs::create_directories(study);
+  {
+    json s = {{"format", "hoofimpact-study/1"},
+              {"specimens",
+               {{"red", {{"shape", "ball"}, {"diameter_m", diameter_m}, {"mass_kg", 0.057}}},
+                {"hoof",
+                 {{"mass_kg", 0.05},
+                  {"inertia_kg_m2", 2e-5},
+                  {"end_radius_m", 0.01},
+                  {"d_EC_m", 0.02},
+                  {"markers_B_m", {{"M1", {0.006, 0.0}}, {"M2", {0.024, 0.0}}}}}}}}};
+    std::ofstream(study / "study.json") << s.dump(2);
+  }
+  const std::string init = "init " + (clip / "clip.mp4").string() + " -o " +
+                           (study / "bounce").string() + " --specimen ";
+  const auto not_ball = RunHoofimpact(init + "hoof");
+  EXPECT_EQ(not_ball.exit_code, 1) << not_ball.err;
+  EXPECT_NE(not_ball.err.find("\"hoof\""), std::string::npos) << not_ball.err;
+  EXPECT_NE(not_ball.err.find("not one"), std::string::npos) << not_ball.err;
+  const auto disagree = RunHoofimpact(init + "red --diameter-m " + std::to_string(2 * diameter_m));
+  EXPECT_EQ(disagree.exit_code, 1) << disagree.err;
+  EXPECT_NE(disagree.err.find("--diameter-m"), std::string::npos) << disagree.err;
+
+  const auto r = RunHoofimpact(init + "red --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const json setup = json::parse(r.out)["results"];
+  const json trial = ReadJson(study / "bounce" / "trial.json");
+  EXPECT_EQ(trial["specimen"], "red");
+  EXPECT_EQ(trial["camera"]["scale_from"], "body_diameter");
+  EXPECT_DOUBLE_EQ(trial["body"]["diameter_m"].get<double>(), diameter_m);
+  // The scale: the specimen's diameter over the ball's apparent one, which the renderer's
+  // scale at the ball gives within the apparent diameter's 25 %.
+  EXPECT_NEAR(setup["m_per_px"].get<double>(), diameter_m / setup["body_diameter_px"].get<double>(),
+              1e-12);
+  EXPECT_NEAR(setup["m_per_px"].get<double>(), truth["scale"]["m_per_px"].get<double>(),
+              0.25 * truth["scale"]["m_per_px"].get<double>());
+
+  const fs::path out = kOut / "ball_study_run";
+  fs::remove_all(out);
+  const auto run = RunHoofimpact("run " + study.string() + " -o " + out.string() + " --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err << run.out;
+  const json j = json::parse(run.out)["results"];
+  EXPECT_EQ(j["measured"], 1);
+  EXPECT_EQ(j["compared"], 1);
+  EXPECT_TRUE(fs::exists(out / "report.html"));
+  // The first bounce's rebound height (px), from the renderer's rebound speed and gravity at
+  // its scale: a comparison that ran past the next bounce would find the simulated ball below
+  // the floor, beyond it; within the flight the residual is what the scale from the apparent
+  // diameter leaves in gravity's curve (21 px here).
+  const double v_up = truth["bounces"][0]["v_after_px_s"][1].get<double>();
+  const double g_px =
+      truth["physics"]["g_m_s2"].get<double>() / truth["scale"]["m_per_px"].get<double>();
+  ASSERT_TRUE(j["worst_centre_px"].is_number()) << run.out;
+  EXPECT_LT(j["worst_centre_px"].get<double>(), 0.5 * v_up * v_up / (2 * g_px)) << run.out;
 }
 
 }  // namespace
