@@ -526,10 +526,11 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
   std::vector<std::optional<Eigen::Vector2d>> c_px;
   double travel = 0;
   // A high-speed camera's clip: the body moves little between frames against a plain
-  // background, and the clip is often too short in time for gravity to bend its path
-  // measurably, which finding it by its motion needs.
-  const bool high_speed =
-      s.clip_kind == "camera_file" || s.fps >= kHighSpeedFps || s.count / s.fps < kMinMotionClip_s;
+  // background. A clip shorter than kMinMotionClip_s may be too short in time for gravity to
+  // bend its path measurably, which finding it by its motion needs: its body is looked for by
+  // its motion first (a slow-motion phone clip of a throw), and by its shape where that fails.
+  const bool high_speed = s.clip_kind == "camera_file" || s.fps >= kHighSpeedFps;
+  const bool short_clip = s.count / s.fps < kMinMotionClip_s;
   bool marked = false;
   {
     const TrialSetup before = s;
@@ -566,7 +567,8 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
     bool untested = true;
     for (const auto& c : m.candidates)
       untested &= c.verdict == CandidateVerdict::kStill || c.verdict == CandidateVerdict::kTooShort;
-    if (!outline && !untested) throw SetupRefused(m.message, std::make_shared<TrialSetup>(s));
+    if (!outline && !untested && !short_clip)
+      throw SetupRefused(m.message, std::make_shared<TrialSetup>(s));
     bool shape_found = true;
     try {
       travel = SetUpSilhouette(*source,
@@ -575,10 +577,10 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
                                                         : "",
                                named, s, c_px);
     } catch (const std::runtime_error&) {
-      if (outline) throw;
+      if (outline || short_clip) throw;
       shape_found = false;
     }
-    if (!outline && (!shape_found || !ShapeTrackHolds(s) || travel < 0.5)) {
+    if (!outline && !short_clip && (!shape_found || !ShapeTrackHolds(s) || travel < 0.5)) {
       // What the silhouette found is not a body that moves: the motion's verdicts say why.
       s.shape.clear();
       s.track = tracking::SilhouetteTrack{};

@@ -28,11 +28,12 @@ namespace hoof::pipeline {
 /// clip's median: tracking/motion_blobs.h), which track then reads instead of making it again.
 inline constexpr const char* kBackgroundFile = "background.png";
 
-/// Camera files, clips at kHighSpeedFps or more, and clips shorter than kMinMotionClip_s (s)
-/// are taken as a high-speed camera's: their body is found by its silhouette, not by its motion.
-/// There the body moves little between frames (so much of it stays in the clip's median) and
-/// gravity may not bend its path measurably (0.2 s bends a free fall by 0.2 m); a phone's
-/// slow-motion clip (240 captures a second, 1 s or more) is found by its motion.
+/// Camera files and clips at kHighSpeedFps or more are taken as a high-speed camera's: their
+/// body is found by its silhouette, not by its motion. There the body moves little between
+/// frames (so much of it stays in the clip's median). In a clip shorter than kMinMotionClip_s
+/// (s) gravity may not bend the path measurably (0.2 s bends a free fall by 0.2 m): its body
+/// is looked for by its motion first (a phone's slow-motion clip of a throw, 240 captures a
+/// second for a tenth of a second), and by its silhouette where that finds no ball.
 inline constexpr double kHighSpeedFps = 400.0;
 inline constexpr double kMinMotionClip_s = 0.2;
 
