@@ -63,11 +63,12 @@ MassGaps MassGapsOf(const StudyComparison& comparison) {
 
 std::string MassGaps::Text() const {
   if (without_mass == 0) return "";
-  std::string s = std::to_string(without_mass) +
-                  " trial(s) of a ball of unknown mass (no ball specimen in study.json): their "
-                  "velocities, e and mu_eff are compared, as none depends on the mass; their "
-                  "kinetic energies and the contact law's k and b need the mass and are not "
-                  "given";
+  std::string s =
+      std::to_string(without_mass) +
+      " trial(s) of a ball of unknown mass (no ball specimen with a mass_kg in study.json): their "
+      "velocities, e and mu_eff are compared, as none depends on the mass; their "
+      "kinetic energies and the contact law's k and b need the mass and are not "
+      "given";
   if (inertia_assumed > 0)
     s += "; " + std::to_string(inertia_assumed) +
          " of them simulated as a solid sphere (I = 2/5 m R^2), which only the tangential "

@@ -174,11 +174,13 @@ TEST(RunCommandTest, ABallOfUnknownMassRunsAndSaysWhatNeedsTheMass) {
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   EXPECT_NE(r.out.find("8 measured, 0 failed"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("k and b need the mass (not given)"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("8 trial(s) of a ball of unknown mass (no ball specimen in study.json): "
-                       "their velocities, e and mu_eff are compared, as none depends on the mass; "
-                       "their kinetic energies and the contact law's k and b need the mass and "
-                       "are not given"),
-            std::string::npos)
+  EXPECT_NE(
+      r.out.find(
+          "8 trial(s) of a ball of unknown mass (no ball specimen with a mass_kg in study.json): "
+          "their velocities, e and mu_eff are compared, as none depends on the mass; "
+          "their kinetic energies and the contact law's k and b need the mass and "
+          "are not given"),
+      std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("8 trial(s) compared"), std::string::npos) << r.out;
   const fs::path h5 = base / "out" / "study.h5";
