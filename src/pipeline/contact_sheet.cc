@@ -104,6 +104,16 @@ cv::Mat MotionPanel(const TrialSetup& s, int width) {
   return panel;
 }
 
+/// The setup's clip, opened again.
+std::unique_ptr<tracking::FrameSource> OpenClip(const TrialSetup& s) {
+  const fs::path clip_abs = fs::absolute(s.clip).lexically_normal();
+  if (s.clip_kind == "frames")
+    return std::make_unique<tracking::ImageSequenceSource>(
+        clip_abs, fs::path(s.frames_reference).filename().string(), s.first, s.count);
+  if (s.clip_kind == "camera_file") return tracking::OpenCameraFile(clip_abs);
+  return std::make_unique<tracking::VideoSource>(clip_abs);
+}
+
 }  // namespace
 
 std::vector<std::pair<std::string, std::string>> TrialFiles(const TrialSetup& s) {
@@ -122,17 +132,7 @@ cv::Mat ContactSheet(const TrialSetup& s) {
         tracking::ThumbnailSize(full, kContactSheetTilePx))
       kept = &s.moving->scene.thumbnails;
   }
-  std::unique_ptr<tracking::FrameSource> source;
-  const fs::path clip_abs = fs::absolute(s.clip).lexically_normal();
-  if (kept)
-    source = nullptr;
-  else if (s.clip_kind == "frames")
-    source = std::make_unique<tracking::ImageSequenceSource>(
-        clip_abs, fs::path(s.frames_reference).filename().string(), s.first, s.count);
-  else if (s.clip_kind == "camera_file")
-    source = tracking::OpenCameraFile(clip_abs);
-  else
-    source = std::make_unique<tracking::VideoSource>(clip_abs);
+  const std::unique_ptr<tracking::FrameSource> source = kept ? nullptr : OpenClip(s);
   const int n = kept ? s.count : source->count();
   // The frames shown: each impact with the frames before and after it, then spread evenly.
   std::vector<int> shown;

@@ -115,11 +115,17 @@ std::vector<tracking::Dot> MarkerDots(const cv::Mat& grey) {
   return alike;
 }
 
-/// study.json's specimen `options.specimen` (the study beside the trial folder unless
-/// `options.study_json`). Throws naming the file for an unreadable study or an unknown id.
+/// The study.json that defines `options.specimen`: the one beside the trial folder unless
+/// `options.study_json`.
+fs::path StudyFileOf(const TrialSetupOptions& options, const fs::path& trial_abs) {
+  return options.study_json.empty() ? trial_abs.parent_path() / "study.json"
+                                    : fs::path(options.study_json);
+}
+
+/// study.json's specimen `options.specimen` (StudyFileOf). Throws naming the file for an
+/// unreadable study or an unknown id.
 json SpecimenOfStudy(const TrialSetupOptions& options, const fs::path& trial_abs) {
-  const fs::path study_file = options.study_json.empty() ? trial_abs.parent_path() / "study.json"
-                                                         : fs::path(options.study_json);
+  const fs::path study_file = StudyFileOf(options, trial_abs);
   std::ifstream in(study_file);
   if (!in) throw std::runtime_error(study_file.string() + ": cannot be read");
   json study;
@@ -217,6 +223,33 @@ void MarkedSpecimen(const TrialSetupOptions& options, const fs::path& trial_abs,
   }
   layout_m_per_px = ScaleOfLayout(specimen["markers_B_m"], s.marker_dots_px, what);
   s.marker_layout_known = true;
+}
+
+/// A ball's specimen: study.json's `--specimen`, which must be a ball with a positive
+/// diameter_m; that diameter into `diameter_m`, where --diameter-m (`diameter_m` > 0 on entry)
+/// must agree with it. Throws naming study.json and the specimen otherwise.
+json BallSpecimen(const TrialSetupOptions& options, const fs::path& trial_abs,
+                  const std::string& named, double& diameter_m) {
+  json specimen = SpecimenOfStudy(options, trial_abs);
+  const std::string what = StudyFileOf(options, trial_abs).string() + ": specimen \"" +
+                           options.specimen + "\" (--specimen)";
+  if (!specimen.is_object() || !specimen.contains("shape") || specimen["shape"] != "ball")
+    throw std::runtime_error(what +
+                             " is not a ball (it has no \"shape\": \"ball\"), but the "
+                             "body found in " +
+                             named + " is one");
+  if (!specimen.contains("diameter_m") || !specimen["diameter_m"].is_number() ||
+      !(specimen["diameter_m"].get<double>() > 0))
+    throw std::runtime_error(what + " gives no positive diameter_m");
+  const double d = specimen["diameter_m"].get<double>();
+  if (diameter_m > 0 && std::abs(diameter_m - d) > 1e-9 * d) {
+    std::ostringstream os;
+    os << "--diameter-m " << diameter_m << " disagrees with " << what << ", whose diameter_m is "
+       << d;
+    throw std::runtime_error(os.str());
+  }
+  diameter_m = d;
+  return specimen;
 }
 
 /// A two-marker layout's spacing cannot be checked against the dots (one distance only): where
@@ -659,29 +692,11 @@ TrialSetup SetUpTrial(const fs::path& clip, const fs::path& trial_dir,
       outline_end_radius_m = outline_specimen["end_radius_m"].get<double>();
   }
 
-  // A ball's specimen (study.json): a ball, whose diameter gives the scale where --diameter-m
-  // gives none, and must agree with it where it does.
-  json ball_specimen;
+  // A ball's specimen, whose diameter gives the scale as --diameter-m does.
   double diameter_m = options.diameter_m;
-  if (s.shape == "ball" && !options.specimen.empty()) {
-    ball_specimen = SpecimenOfStudy(options, trial_abs);
-    const std::string what = "specimen \"" + options.specimen + "\" (--specimen)";
-    if (!ball_specimen.is_object() || !ball_specimen.contains("shape") ||
-        ball_specimen["shape"] != "ball")
-      throw std::runtime_error(named + ": the body found is a ball, but study.json's " + what +
-                               " is not one (it has no \"shape\": \"ball\")");
-    if (!ball_specimen.contains("diameter_m") || !ball_specimen["diameter_m"].is_number() ||
-        !(ball_specimen["diameter_m"].get<double>() > 0))
-      throw std::runtime_error("study.json's " + what + " gives no positive diameter_m");
-    const double d = ball_specimen["diameter_m"].get<double>();
-    if (diameter_m > 0 && std::abs(diameter_m - d) > 1e-9 * d) {
-      std::ostringstream os;
-      os << "--diameter-m " << diameter_m << " disagrees with study.json's " << what
-         << ", whose diameter_m is " << d;
-      throw std::runtime_error(os.str());
-    }
-    diameter_m = d;
-  }
+  const json ball_specimen = s.shape == "ball" && !options.specimen.empty()
+                                 ? BallSpecimen(options, trial_abs, named, diameter_m)
+                                 : json();
 
   // Impacts and the scale from gravity: one fit.
   kinematics::GravityScaleOptions go;

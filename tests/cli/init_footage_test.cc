@@ -267,10 +267,12 @@ TEST(InitFootageTest, ABallsSpecimenGivesItsScaleAndRunComparesTheStudy) {
   const auto not_ball = RunHoofimpact(init + "hoof");
   EXPECT_EQ(not_ball.exit_code, 1) << not_ball.err;
   EXPECT_NE(not_ball.err.find("\"hoof\""), std::string::npos) << not_ball.err;
-  EXPECT_NE(not_ball.err.find("not one"), std::string::npos) << not_ball.err;
+  EXPECT_NE(not_ball.err.find("is not a ball"), std::string::npos) << not_ball.err;
+  EXPECT_NE(not_ball.err.find((study / "study.json").string()), std::string::npos) << not_ball.err;
   const auto disagree = RunHoofimpact(init + "red --diameter-m " + std::to_string(2 * diameter_m));
   EXPECT_EQ(disagree.exit_code, 1) << disagree.err;
   EXPECT_NE(disagree.err.find("--diameter-m"), std::string::npos) << disagree.err;
+  EXPECT_NE(disagree.err.find("\"red\""), std::string::npos) << disagree.err;
 
   const auto r = RunHoofimpact(init + "red --json");
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;

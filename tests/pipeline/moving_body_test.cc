@@ -336,6 +336,40 @@ TEST(MotionBlobsTest, TheMedianBackgroundIsTheMedianOfEveryPixel) {
   }
 }
 
+// The thumbnails the motion finder keeps for the contact sheet are the clip's frames, in order,
+// grey and at ThumbnailSize: each within a level or two of the frame made grey and scaled
+// directly, and further from every other frame (the ball moves). None without thumbnail_px.
+TEST(MotionBlobsTest, TheKeptThumbnailsAreTheFramesInOrder) {
+  Scene sc = Draw(12, true, true, false, {0.0, 1.0});
+  const cv::Mat background = hoof::tracking::MedianBackground(sc.source);
+  EXPECT_TRUE(hoof::tracking::FindMotion(sc.source, background).thumbnails.empty());
+  hoof::tracking::MotionOptions options;
+  options.thumbnail_px = 160;
+  const auto scene = hoof::tracking::FindMotion(sc.source, background, options);
+  ASSERT_EQ(scene.thumbnails.size(), sc.source.frames.size());
+  const cv::Size size = hoof::tracking::ThumbnailSize({kW, kH}, 160);
+  EXPECT_EQ(size, cv::Size(160, 120));
+  std::vector<cv::Mat> direct;
+  for (const cv::Mat& frame : sc.source.frames) {
+    cv::Mat grey, small;
+    cv::cvtColor(frame, grey, cv::COLOR_BGR2GRAY);
+    cv::resize(grey, small, size, 0, 0, cv::INTER_AREA);
+    direct.push_back(small);
+  }
+  for (std::size_t f = 0; f < direct.size(); ++f) {
+    const cv::Mat& t = scene.thumbnails[f];
+    ASSERT_EQ(t.size(), size);
+    ASSERT_EQ(t.type(), CV_8UC1);
+    const double own = cv::norm(t, direct[f], cv::NORM_L1) / static_cast<double>(t.total());
+    EXPECT_LT(own, 2.0) << "frame " << f;
+    for (std::size_t g = 0; g < direct.size(); ++g) {
+      if (g == f) continue;
+      EXPECT_LT(cv::norm(t, direct[f], cv::NORM_INF), cv::norm(t, direct[g], cv::NORM_INF))
+          << "frame " << f << " against frame " << g;
+    }
+  }
+}
+
 // A ball smeared by motion blur to four times its length, with stripes across it, before a
 // plain wall: where the edge fit has no circle to take, the region's centroid, the centre at
 // mid-exposure, stands in.
