@@ -22,17 +22,20 @@ double Wrap(double a) {
   return a - std::numbers::pi;
 }
 
-/// Robust noise s.d. from horizontal neighbour differences: 1.4826 MAD / sqrt(2).
+/// Robust noise s.d. from horizontal second differences, x[k-1] - 2 x[k] + x[k+1], which a
+/// brightness gradient (a small ball's shading changes by several levels per pixel) leaves at 0
+/// and white noise of s.d. s gives an s.d. of sqrt(6) s: 1.4826 MAD / sqrt(6).
 double NeighbourNoise(const cv::Mat& f) {
   std::vector<double> d;
   for (int y = 0; y < f.rows; ++y) {
     const float* row = f.ptr<float>(y);
-    for (int x = 0; x + 1 < f.cols; ++x) d.push_back(std::abs(row[x + 1] - row[x]));
+    for (int x = 1; x + 1 < f.cols; ++x)
+      d.push_back(std::abs(row[x - 1] - 2 * row[x] + row[x + 1]));
   }
   if (d.empty()) return 0.0;
   auto mid = d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2);
   std::nth_element(d.begin(), mid, d.end());
-  return 1.4826 * *mid / std::sqrt(2.0);
+  return 1.4826 * *mid / std::sqrt(6.0);
 }
 
 /// Takes out of one ring (weighted samples) its mean and first harmonic along the ring.
@@ -101,6 +104,9 @@ void BallSpinOptions::Validate() const {
   if (!(min_texture_to_noise > 0))
     throw std::invalid_argument("spin: min_texture_to_noise must be > 0");
   if (min_pairs < 1) throw std::invalid_argument("spin: min_pairs must be >= 1");
+  if (min_static_faces < 2) throw std::invalid_argument("spin: min_static_faces must be >= 2");
+  if (!(alias_margin >= 0 && alias_margin < 1))
+    throw std::invalid_argument("spin: alias_margin must be in [0, 1)");
 }
 
 BallFace SampleBallFace(const cv::Mat& grey, const Eigen::Vector2d& centre_I, double radius_px,
@@ -204,15 +210,35 @@ ArcSpin FitArcSpin(const std::vector<BallFace>& faces, const std::vector<double>
   options.Validate();
   if (faces.size() != t_s.size()) throw std::invalid_argument("spin: one time per face is needed");
   ArcSpin out;
+  // What stays where it is in the image from frame to frame (the shading that the ring's first
+  // harmonic does not hold: the light's terminator, the camera's gamma) is the mean of the
+  // arc's faces, the texture turning under it. It is taken out of each face, so that it does
+  // not pull every pair's correlation toward no turn.
+  std::vector<BallFace> turning = faces;
+  int textured = 0;
+  for (const auto& f : faces) textured += f.textured && f.texture.size == faces[0].texture.size;
+  if (textured >= options.min_static_faces) {
+    cv::Mat sum = cv::Mat::zeros(faces[0].texture.size(), CV_32F), count = sum.clone();
+    for (const auto& f : faces) {
+      if (!f.textured || f.texture.size != faces[0].texture.size) continue;
+      sum += f.texture.mul(f.weight);
+      count += f.weight;
+    }
+    cv::Mat mean;
+    cv::divide(sum, cv::max(count, 1.0f), mean);
+    for (auto& f : turning)
+      if (f.textured && f.texture.size == faces[0].texture.size)
+        f.texture = (f.texture - mean).mul(f.weight);
+  }
   struct Pair {
     double dt;
     std::vector<double> c;
   };
   std::vector<Pair> pairs;
-  for (std::size_t i = 0; i + 1 < faces.size(); ++i) {
+  for (std::size_t i = 0; i + 1 < turning.size(); ++i) {
     const double dt = t_s[i + 1] - t_s[i];
-    if (!(dt > 0) || !faces[i].textured || !faces[i + 1].textured) continue;
-    pairs.push_back({dt, FaceCorrelation(faces[i], faces[i + 1])});
+    if (!(dt > 0) || !turning[i].textured || !turning[i + 1].textured) continue;
+    pairs.push_back({dt, FaceCorrelation(turning[i], turning[i + 1])});
   }
   out.pairs = static_cast<int>(pairs.size());
   if (out.pairs < options.min_pairs) {
@@ -238,13 +264,23 @@ ArcSpin FitArcSpin(const std::vector<BallFace>& faces, const std::vector<double>
     for (const auto& p : pairs) s += At(p.c, w * p.dt * n / kTwoPi);
     return s;
   };
-  double w_best = 0, s_best = -1e300;
+  std::vector<double> rates, scores;
   for (double w = -w_max; w <= w_max; w += step) {
-    const double s = score(w);
-    if (s > s_best) {
-      s_best = s;
-      w_best = w;
-    }
+    rates.push_back(w);
+    scores.push_back(score(w));
+  }
+  const double s_best = *std::max_element(scores.begin(), scores.end());
+  // A pattern that repeats around the ball (a cross every quarter turn) scores as well at each
+  // of its aliases: of the peaks within options.alias_margin of the best, the slowest is
+  // taken, the pattern turning by less than half its period between frames.
+  double w_best = 0;
+  bool chosen = false;
+  for (std::size_t i = 0; i < rates.size(); ++i) {
+    const bool peak = (i == 0 || scores[i] >= scores[i - 1]) &&
+                      (i + 1 == rates.size() || scores[i] >= scores[i + 1]);
+    if (!peak || scores[i] < s_best - options.alias_margin * std::abs(s_best)) continue;
+    if (!chosen || std::abs(rates[i]) < std::abs(w_best)) w_best = rates[i];
+    chosen = true;
   }
   // Each pair's own peak nearest the rate found; the rate through them by least squares.
   std::vector<double> turns;

@@ -38,8 +38,15 @@ struct BallSpinOptions {
   /// A face counts as textured when its texture's standard deviation (after the shading is
   /// taken out) exceeds this many times the frame noise; > 0.
   double min_texture_to_noise = 4.0;
-  /// Fewest frame pairs an arc's spin is fitted to; >= 1.
-  int min_pairs = 2;
+  /// Fewest frame pairs an arc's spin is fitted to: with fewer, the aliases of a repeating
+  /// pattern and the shading that stays put are not told apart from the turn; >= 1.
+  int min_pairs = 5;
+  /// The mean of an arc's faces, what does not turn with the ball, is taken out of each before
+  /// they are compared where the arc has at least this many textured faces; >= 2.
+  int min_static_faces = 4;
+  /// Of the spins whose summed correlation lies within this fraction of the best one's (the
+  /// aliases of a pattern that repeats around the ball), the slowest is taken; in [0, 1).
+  double alias_margin = 0.1;
   /// Throws std::invalid_argument naming the field.
   void Validate() const;
 };

@@ -533,6 +533,12 @@ SilhouetteTrack MeasureBallPath(const MotionPath& path, int frame_count,
       const double w = WidthAcross(L, o.p_I, n, o.diameter_px);
       if (std::isfinite(w) && w > 0.5 * o.diameter_px && w < 1.2 * o.diameter_px) o.diameter_px = w;
     }
+    if (options.sample_faces) {
+      cv::Mat grey;
+      cv::cvtColor(r.crop_bgr, grey, cv::COLOR_BGR2GRAY);
+      o.face = SampleBallFace(grey, o.p_I, 0.5 * o.diameter_px, 0.0, options.spin);
+      o.face->centre_I += offset;
+    }
     o.p_I += offset;
     out = o;
   }

@@ -545,6 +545,7 @@ void SilhouetteOptions::Validate() const {
     throw std::invalid_argument("silhouette gravity_I must be a non-zero direction");
   if (!(read_ahead_frames >= 0))
     throw std::invalid_argument("silhouette read_ahead_frames must be >= 0");
+  spin.Validate();
 }
 
 std::pair<double, double> FrameLevels(const cv::Mat& grey) {
@@ -684,6 +685,8 @@ SilhouetteTrack TrackSilhouette(FrameSource& source, const SilhouetteOptions& op
     if (obs.found) {
       if (found_frames == 0) first_found = i;
       ++found_frames;
+      if (options.sample_faces && options.shape == SilhouetteShape::kBall)
+        obs.face = SampleBallFace(grey, obs.p_I, 0.5 * obs.diameter_px, 0.0, options.spin);
     }
     track.frames.push_back(obs);
     if (progress) progress(i);

@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include "tracking/ball_spin.h"
 #include "tracking/frame_source.h"
 
 namespace hoof::tracking {
@@ -60,6 +61,10 @@ struct SilhouetteOptions {
   /// reads on the calling thread. The track is the same whatever the value: the frames are
   /// measured one after the other, in order, on the calling thread. >= 0.
   int read_ahead_frames = 2;
+  /// Ball: sample its face in every frame where its edge is fitted (SilhouetteObservation::face),
+  /// from which its spin is measured (tracking/ball_spin.h).
+  bool sample_faces = false;
+  BallSpinOptions spin;  ///< how the faces are sampled
 
   /// Throws std::invalid_argument naming the field.
   void Validate() const;
@@ -84,6 +89,9 @@ struct SilhouetteObservation {
   double rms_residual_px = 0.0;            ///< ball: of the inliers about the circle
   double contrast = 0.0;                   ///< body minus surround level (frame units, signed)
   double noise = 0.0;                      ///< noise s.d. near the edge (frame units)
+  /// Ball, with SilhouetteOptions::sample_faces: its face about the fitted centre, in frame
+  /// coordinates; not sampled where the centre stands in for a failed edge fit.
+  std::optional<BallFace> face;
 };
 
 /// A sequence's silhouette track.

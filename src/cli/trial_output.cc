@@ -124,7 +124,9 @@ nlohmann::json LimitsJson(const kinematics::ImpactLimits& L) {
           {"depth_corrected", L.depth_corrected},
           {"e_depth_shift", JsonNumber(L.e_depth_shift)},
           {"meeting_gap_m", JsonNumber(L.meeting_gap_m)},
-          {"meeting_gap_se_m", JsonNumber(L.meeting_gap_se_m)}};
+          {"meeting_gap_se_m", JsonNumber(L.meeting_gap_se_m)},
+          {"spin_before", L.spin_before},
+          {"spin_after", L.spin_after}};
 }
 
 /// The joint arc fit (kinematics/flight_arcs.h): gravity's fitted acceleration and direction,
@@ -328,6 +330,8 @@ std::string LimitsText(const kinematics::ImpactLimits& L) {
   if (std::isfinite(L.e_depth_shift))
     os << "; depth motion: e " << (L.depth_corrected ? "corrected by " : "would move by ")
        << format::Number(L.e_depth_shift, format::Kind::kCoefficient);
+  if (!L.spin_before.empty() || !L.spin_after.empty())
+    os << "; spin before " << L.spin_before << ", after " << L.spin_after;
   return os.str();
 }
 
@@ -350,8 +354,11 @@ std::string ImpactsText(const pipeline::TrialAnalysis& r) {
        << format::Number(k.v_SC_before.y(), Kind::kMeasured) << " -> "
        << format::Number(k.v_SC_after.y(), Kind::kMeasured) << " m/s, e "
        << format::WithError(k.e, k.e_se, Kind::kCoefficient) << ", mu_eff "
-       << format::WithError(k.mu_eff, k.mu_eff_se, Kind::kCoefficient) << "; "
-       << LimitsText(k.limits) << "\n";
+       << format::WithError(k.mu_eff, k.mu_eff_se, Kind::kCoefficient);
+    if (std::isfinite(k.w_before_rad_s) || std::isfinite(k.w_after_rad_s))
+      os << ", w " << format::WithError(k.w_before_rad_s, k.w_before_se_rad_s) << " -> "
+         << format::WithError(k.w_after_rad_s, k.w_after_se_rad_s) << " rad/s";
+    os << "; " << LimitsText(k.limits) << "\n";
   }
   return os.str();
 }
@@ -379,6 +386,9 @@ std::string TrialText(const pipeline::TrialAnalysis& r) {
        << vec(k.v_SC_after_se, Kind::kError) << "\n";
     os << "  w before/after  " << format::WithError(k.w_before_rad_s, k.w_before_se_rad_s) << " / "
        << format::WithError(k.w_after_rad_s, k.w_after_se_rad_s) << " rad/s\n";
+    if (!k.limits.spin_before.empty() || !k.limits.spin_after.empty())
+      os << "  spin    before " << k.limits.spin_before << "; after " << k.limits.spin_after
+         << "\n";
     os << "  e       " << format::WithError(k.e, k.e_se, Kind::kCoefficient) << "  (95 % "
        << format::Interval(k.e_ci_low, k.e_ci_high, Kind::kCoefficient) << ")\n";
     os << "  mu_eff  " << format::WithError(k.mu_eff, k.mu_eff_se, Kind::kCoefficient) << "  (95 % "

@@ -90,6 +90,9 @@ struct ImpactLimits {
   /// How far apart the two arcs are along the surface where they meet (0 for an instantaneous
   /// impact), and its standard error (m).
   double meeting_gap_m = core::kNaN, meeting_gap_se_m = core::kNaN;
+  /// A ball's spin on each side: how it was measured from its texture, or why it was not
+  /// (pipeline/impact_spin.h); empty for a body whose angle is tracked.
+  std::string spin_before, spin_after;
 };
 
 /// Everything measured about one impact. Vectors in S are [along the surface, normal].

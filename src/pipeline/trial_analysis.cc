@@ -12,6 +12,7 @@
 #include "core/frames.h"
 #include "kinematics/gravity_scale.h"
 #include "pipeline/calibration_scale.h"
+#include "pipeline/impact_spin.h"
 #include "pipeline/moving_body.h"
 #include "pipeline/round_end.h"
 #include "pipeline/trial_impacts.h"
@@ -267,6 +268,7 @@ void AnalyzeSilhouette(const TrialSpec& spec, tracking::FrameSource& source,
       spec.body.is_ball() ? tracking::SilhouetteShape::kBall : tracking::SilhouetteShape::kOutline;
   so.polarity = PolarityOf(spec.body.polarity);
   so.gravity_I = spec.camera.gravity_image;
+  so.sample_faces = spec.body.is_ball();
   const std::string frames_named =
       source.Describe(0) + " .. " + source.Describe(source.count() - 1);
   std::optional<tracking::ImageDifferences> compared;
@@ -499,6 +501,24 @@ void ForEachImpact(TrialAnalysis& out, F f) {
   for (auto& k : out.impacts) f(k);
 }
 
+/// The sign that carries a turn in the image (x toward y) into W: that of the determinant of
+/// `cam`'s local Jacobian where the body is first found (-1 for an upright camera, whose image
+/// y points down).
+double ImageSense(const tracking::ImageToWorld& cam, const tracking::SilhouetteTrack& track) {
+  Eigen::Vector2d p_I(0, 0);
+  for (const auto& o : track.frames)
+    if (o.found) {
+      p_I = o.p_I;
+      break;
+    }
+  Eigen::Matrix2d J;
+  J.col(0) =
+      cam.ToWorld(p_I + Eigen::Vector2d(0.5, 0)) - cam.ToWorld(p_I - Eigen::Vector2d(0.5, 0));
+  J.col(1) =
+      cam.ToWorld(p_I + Eigen::Vector2d(0, 0.5)) - cam.ToWorld(p_I - Eigen::Vector2d(0, 0.5));
+  return J(0, 0) * J(1, 1) - J(0, 1) * J(1, 0) < 0 ? -1.0 : 1.0;
+}
+
 /// The scale's relative standard error into every measured impact's velocities and energies
 /// (kinematics/gravity_scale.h); e and mu_eff are scale-free.
 void AddScaleUncertaintyToImpacts(const TrialSpec& spec, const core::SpecimenParameters& body,
@@ -607,15 +627,22 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
                       out.gravity_scale->message + ")";
         });
       }
+      if (spec.body.is_ball()) {
+        // A ball has no markers: its w is what its texture shows turning, where it has one,
+        // and NaN where not (e and mu_eff come from the centre's velocities, the contact
+        // point's velocity taken as the centre's).
+        const double sense = ImageSense(TrialCamera(spec, 1.0), out.silhouette);
+        ForEachImpact(out, [&](kinematics::ImpactKinematics& k) {
+          if (!k.success) return;
+          k.w_before_rad_s = k.w_after_rad_s = k.w_before_se_rad_s = k.w_after_se_rad_s =
+              core::kNaN;
+          MeasureImpactSpin(out.silhouette, samples, sense, body.inertia_kg_m2,
+                            options.silhouette.spin, k);
+        });
+      }
       AddScaleUncertaintyToImpacts(spec, body, out);
       for (const auto& w : out.impact.warnings) out.warnings.push_back(w);
       for (const auto& f : out.impact.flags) out.flags.push_back(f);
-      if (spec.body.is_ball() && out.impact.success) {
-        // A ball's rotation is not seen: w is not measured (e and mu_eff come from the
-        // centre's velocities, the contact point's velocity taken as the centre's).
-        auto& k = out.impact;
-        k.w_before_rad_s = k.w_after_rad_s = k.w_before_se_rad_s = k.w_after_se_rad_s = core::kNaN;
-      }
       out.no_impact = out.impact.no_impact;
       if (!out.impact.success)
         out.error = (spec.dir / "trial.json").string() + ": " + out.impact.message;
