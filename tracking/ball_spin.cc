@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <sstream>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -107,6 +108,8 @@ void BallSpinOptions::Validate() const {
   if (min_static_faces < 2) throw std::invalid_argument("spin: min_static_faces must be >= 2");
   if (!(alias_margin >= 0 && alias_margin < 1))
     throw std::invalid_argument("spin: alias_margin must be in [0, 1)");
+  if (!(min_mean_peak >= 0 && min_mean_peak < 1))
+    throw std::invalid_argument("spin: min_mean_peak must be in [0, 1)");
 }
 
 BallFace SampleBallFace(const cv::Mat& grey, const Eigen::Vector2d& centre_I, double radius_px,
@@ -309,6 +312,13 @@ ArcSpin FitArcSpin(const std::vector<BallFace>& faces, const std::vector<double>
   out.w_I_rad_s = w_best;
   out.w_se_rad_s = std::sqrt(std::max(s2, floor_turn * floor_turn) / den);
   out.mean_peak = peak / static_cast<double>(pairs.size());
+  if (out.mean_peak < options.min_mean_peak) {
+    std::ostringstream os;
+    os << "its faces, turned by the best spin, correlate at " << out.mean_peak << " on average ("
+       << options.min_mean_peak << " needed): what changes between frames is not a texture turning";
+    out.why = os.str();
+    return out;
+  }
   out.measured = true;
   return out;
 }

@@ -47,6 +47,10 @@ struct BallSpinOptions {
   /// Of the spins whose summed correlation lies within this fraction of the best one's (the
   /// aliases of a pattern that repeats around the ball), the slowest is taken; in [0, 1).
   double alias_margin = 0.1;
+  /// The arc's spin is measured only where its faces, turned by it, correlate at least this
+  /// well on average (normalised, after the mean face is taken out): below it what differs
+  /// between frames is noise and compression, not a texture turning; in [0, 1).
+  double min_mean_peak = 0.3;
   /// Throws std::invalid_argument naming the field.
   void Validate() const;
 };
@@ -96,13 +100,15 @@ struct ArcSpin {
 };
 
 /// The constant spin that best explains the turns between consecutive faces of one arc:
-/// `faces[i]` taken at `t_s[i]` (increasing). Pairs whose faces are both textured take part.
-/// The spin is searched over every rate that turns the ball by less than half a turn between
-/// the closest frames (the sum of the pairs' correlations at the turn each rate predicts),
-/// refined, and its standard error taken from the scatter of the pairs' own best turns about
-/// it (each pair's error at least a sample's rounding, 2 pi / angles / sqrt 12, so that pairs
-/// that agree exactly do not claim an error of 0). Not measured with fewer than
-/// options.min_pairs such pairs.
+/// `faces[i]` taken at `t_s[i]` (increasing). Pairs whose faces are both textured take part,
+/// with the arc's mean face taken out of each (options.min_static_faces). The spin is searched
+/// over every rate that turns the ball by less than half a turn between the closest frames (the
+/// sum of the pairs' correlations at the turn each rate predicts; of the aliases within
+/// options.alias_margin of the best, the slowest), refined, and its standard error taken from
+/// the scatter of the pairs' own best turns about it (each pair's error at least a sample's
+/// rounding, 2 pi / angles / sqrt 12, so that pairs that agree exactly do not claim an error of
+/// 0). Not measured with fewer than options.min_pairs such pairs, or where the turned faces
+/// correlate below options.min_mean_peak on average.
 ArcSpin FitArcSpin(const std::vector<BallFace>& faces, const std::vector<double>& t_s,
                    const BallSpinOptions& options = {});
 

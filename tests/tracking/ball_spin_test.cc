@@ -19,8 +19,10 @@ enum class Pattern { kPlain, kCross, kStripes };
 /// sense): a base level with a shading gradient from the upper left and a specular highlight
 /// (neither turns with the ball), and the pattern (which does). Each pixel is the mean of 4 x 4
 /// sub-samples; Gaussian noise of s.d. `noise` (unit levels) is added. 8-bit.
+/// `fixed` adds shading that stays put in the image and that a ring's first harmonic does not
+/// hold: a second harmonic around the centre (as a light's terminator or a camera's gamma).
 cv::Mat DrawBall(int w, int h, Eigen::Vector2d c, double r, double turn_I, Pattern pattern,
-                 double noise, std::mt19937_64& rng) {
+                 double noise, std::mt19937_64& rng, double fixed = 0.0) {
   std::normal_distribution<double> n01(0.0, 1.0);
   cv::Mat img(h, w, CV_8U);
   const double cs = std::cos(turn_I), sn = std::sin(turn_I);
@@ -37,6 +39,7 @@ cv::Mat DrawBall(int w, int h, Eigen::Vector2d c, double r, double turn_I, Patte
           // The pattern in the ball's own frame: the point turned back by the ball's turn.
           const double u = cs * px + sn * py, v = -sn * px + cs * py;
           double level = 0.55 - 0.15 * (px + py) / r;  // lit from the upper left
+          level += fixed * (px * px - py * py) / (r * r);
           if (pattern == Pattern::kCross && (std::abs(u) < 0.12 * r || std::abs(v) < 0.12 * r))
             level -= 0.3;
           if (pattern == Pattern::kStripes && std::cos(3 * kPi * u / r) > 0.3) level -= 0.3;
@@ -98,6 +101,45 @@ TEST(BallSpinTest, AnArcsSpinIsTheSpinDrawn) {
   }
 }
 
+// Shading that stays where it is in the image, beyond what a ring's first harmonic holds, would
+// pull every pair's turn toward none; it is the arc's mean face, and is taken out.
+TEST(BallSpinTest, ShadingThatStaysPutDoesNotSlowTheSpin) {
+  std::mt19937_64 rng(5);
+  const double fps = 60, w_I = 12.0;
+  std::vector<BallFace> faces;
+  std::vector<double> t;
+  for (int i = 0; i < 12; ++i) {
+    const Eigen::Vector2d c(45 + 2.5 * i, 50 + 0.8 * i);
+    faces.push_back(SampleBallFace(
+        DrawBall(110, 100, c, 18, 0.1 + w_I * i / fps, Pattern::kStripes, 0.01, rng, 0.3), c, 18,
+        0.0));
+    t.push_back(i / fps);
+  }
+  const ArcSpin s = FitArcSpin(faces, t);
+  ASSERT_TRUE(s.measured) << s.why;
+  EXPECT_NEAR(s.w_I_rad_s, w_I, 0.05 * w_I) << "drawn " << w_I << " rad/s";
+}
+
+// Faces that hold only noise, let through as textured by a low threshold: the turns that best
+// correlate them correlate poorly, and no spin is reported.
+TEST(BallSpinTest, NoiseIsNotTakenForATurningTexture) {
+  std::mt19937_64 rng(13);
+  BallSpinOptions o;
+  o.min_texture_to_noise = 0.01;
+  std::vector<BallFace> faces;
+  std::vector<double> t;
+  for (int i = 0; i < 10; ++i) {
+    const Eigen::Vector2d c(50 + 2.0 * i, 50);
+    faces.push_back(
+        SampleBallFace(DrawBall(110, 100, c, 20, 0.0, Pattern::kPlain, 0.03, rng), c, 20, 0.0, o));
+    ASSERT_TRUE(faces.back().textured);
+    t.push_back(i / 30.0);
+  }
+  const ArcSpin s = FitArcSpin(faces, t, o);
+  EXPECT_FALSE(s.measured) << s.w_I_rad_s << " rad/s, mean correlation " << s.mean_peak;
+  EXPECT_NE(s.why.find("not a texture turning"), std::string::npos) << s.why;
+}
+
 TEST(BallSpinTest, APlainBallShowsNoSpin) {
   std::mt19937_64 rng(11);
   std::vector<BallFace> faces;
@@ -120,6 +162,15 @@ TEST(BallSpinTest, BadOptionsNameTheField) {
   EXPECT_THROW(o.Validate(), std::invalid_argument);
   o = {};
   o.inner_fraction = 0.9;
+  EXPECT_THROW(o.Validate(), std::invalid_argument);
+  o = {};
+  o.min_static_faces = 1;
+  EXPECT_THROW(o.Validate(), std::invalid_argument);
+  o = {};
+  o.alias_margin = 1.0;
+  EXPECT_THROW(o.Validate(), std::invalid_argument);
+  o = {};
+  o.min_mean_peak = -0.1;
   EXPECT_THROW(o.Validate(), std::invalid_argument);
 }
 
