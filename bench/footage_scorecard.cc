@@ -40,7 +40,7 @@ using namespace hoof;
 namespace {
 
 /// What the room holds.
-enum class Scene { kPlain, kRoom, kTable, kThrown };
+enum class Scene { kPlain, kRoom, kTable, kThrown, kSpun };
 const char* Name(Scene s) {
   switch (s) {
     case Scene::kPlain:
@@ -51,6 +51,8 @@ const char* Name(Scene s) {
       return "table";  // clutter, a hand, a table whose front edge is not where it bounces
     case Scene::kThrown:
       return "thrown";  // clutter, a hand that throws it sideways with spin: mu_eff
+    case Scene::kSpun:
+      return "spun";  // thrown so, a striped ball, a 2 ms exposure: its spin from its stripes
   }
   return "?";
 }
@@ -117,6 +119,13 @@ synth::FootageSpec SpecOf(const Cell& c, int seed, int width, int height) {
       s.launch.x_m = -0.25;
       s.ball.texture = synth::BallTexture::kCross;
       break;
+    case Scene::kSpun:
+      s.launch.v_W_m_s = Eigen::Vector3d(0.6, 0.4, 0.0);
+      s.launch.w_W_rad_s = Eigen::Vector3d(0.0, 0.0, -15.0);
+      s.launch.x_m = -0.25;
+      s.ball.texture = synth::BallTexture::kStripes;
+      s.timing.exposure_s = 0.002;
+      break;
   }
   return s;
 }
@@ -125,6 +134,10 @@ synth::FootageSpec SpecOf(const Cell& c, int seed, int width, int height) {
 struct BounceScore {
   bool measurable = false, found = false;
   double e_truth = NAN, e = NAN, e_se = NAN, mu_truth = NAN, mu = NAN;
+  /// The spin about the camera's axis in the trial's W sense (counterclockwise as shown),
+  /// before and after; the truth is known where the ball is textured.
+  bool textured = false;
+  double w_truth[2] = {NAN, NAN}, w[2] = {NAN, NAN};
 };
 
 struct ClipScore {
@@ -160,6 +173,11 @@ ClipScore ScoreClip(const Cell& c, int seed, const fs::path& dir, int width, int
                    WholeCaptures(truth, b[i].world.t_s, after) >= min_arc_frames;
     s.e_truth = b[i].world.e;
     s.mu_truth = b[i].world.mu_eff;
+    // A turn about the camera's +z (x toward y in the image) is clockwise as shown: the trial's
+    // W, whose y points up the image, has the opposite sense.
+    s.textured = c.scene == Scene::kThrown || c.scene == Scene::kSpun;
+    s.w_truth[0] = -(truth.R_CW * b[i].world.w_before_rad_s).z();
+    s.w_truth[1] = -(truth.R_CW * b[i].world.w_after_rad_s).z();
     out.bounces.push_back(s);
   }
   const fs::path trial = clip_dir / "trial";
@@ -194,6 +212,8 @@ ClipScore ScoreClip(const Cell& c, int seed, const fs::path& dir, int width, int
       out.bounces[best].e = k.e;
       out.bounces[best].e_se = k.e_se;
       out.bounces[best].mu = k.mu_eff;
+      out.bounces[best].w[0] = k.w_before_rad_s;
+      out.bounces[best].w[1] = k.w_after_rad_s;
     }
   } catch (const std::exception& e) {
     out.error = e.what();
@@ -235,7 +255,7 @@ ClipScore ScoreEmpty(synth::FootageScenario scenario, int seed, const fs::path& 
 int main(int argc, char** argv) {
   CLI::App app{"Scorecard of init + track on rendered everyday footage"};
   int seeds = 10, jobs = 0, width = 640, height = 360, min_arc_frames = 3;
-  double e_tol = 0.02;
+  double e_tol = 0.02, w_tol = 0.2;
   std::string dir = (fs::temp_directory_path() / "hoofimpact-footage-scorecard").string();
   std::string only;
   bool keep = false;
@@ -244,6 +264,7 @@ int main(int argc, char** argv) {
   app.add_option("--width-px", width, "Frame width")->check(CLI::Range(64, 4096));
   app.add_option("--height-px", height, "Frame height")->check(CLI::Range(64, 4096));
   app.add_option("--e-tol", e_tol, "e counts as right within this of the truth");
+  app.add_option("--w-tol", w_tol, "A spin counts as right within this fraction of the truth");
   app.add_option("--min-arc-frames", min_arc_frames,
                  "A bounce counts when both its flights show the ball whole in this many captures");
   app.add_option("--dir", dir, "Where clips are rendered");
@@ -252,7 +273,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   std::vector<Cell> cells;
-  for (Scene scene : {Scene::kPlain, Scene::kRoom, Scene::kTable, Scene::kThrown})
+  for (Scene scene : {Scene::kPlain, Scene::kRoom, Scene::kTable, Scene::kThrown, Scene::kSpun})
     for (const Timing& timing : Timings())
       for (synth::FootageCodec codec : {synth::FootageCodec::kPng, synth::FootageCodec::kH264})
         for (const Camera& camera : {Camera{"level", 4.0, 1.5}, Camera{"tilted", 18.0, 9.0}}) {
@@ -285,6 +306,7 @@ int main(int argc, char** argv) {
   struct Tally {
     int measurable = 0, found = 0, e_ok = 0, invented = 0, clips = 0, failed = 0;
     int mu_n = 0, mu_ok = 0, within_2se = 0;
+    int spin_n = 0, spin_measured = 0, spin_ok = 0;
     double worst = 0;
     std::string worst_clip;
   };
@@ -309,6 +331,13 @@ int main(int argc, char** argv) {
           ++t->mu_n;
           if (std::abs(b.mu - b.mu_truth) < 0.05) ++t->mu_ok;
         }
+        for (int side = 0; side < 2 && b.textured; ++side) {
+          ++t->spin_n;
+          if (!std::isfinite(b.w[side])) continue;
+          ++t->spin_measured;
+          if (std::abs(b.w[side] - b.w_truth[side]) < w_tol * std::abs(b.w_truth[side]))
+            ++t->spin_ok;
+        }
         if (err > t->worst) {
           t->worst = err;
           t->worst_clip = key + " seed " + std::to_string(work[i].seed);
@@ -319,16 +348,16 @@ int main(int argc, char** argv) {
   const auto pct = [](int a, int b) { return b > 0 ? 100.0 * a / b : NAN; };
   std::printf(
       "| cell | clips | clips failed | bounces measurable | found | e within %.2f | e within "
-      "2 s.e. | mu_eff within 0.05 | invented | worst e error |\n|---|--:|--:|--:|--:|--:|--:|--:|"
-      "--:|---|\n",
-      e_tol);
+      "2 s.e. | mu_eff within 0.05 | spin measured | spin within %.0f %% | invented | worst e "
+      "error |\n|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|---|\n",
+      e_tol, 100 * w_tol);
   const auto row = [&](const std::string& name, const Tally& t) {
     std::printf(
-        "| %s | %d | %d | %d | %d (%.1f %%) | %d (%.1f %%) | %.1f %% | %d / %d | %d | %.4f (%s) "
-        "|\n",
+        "| %s | %d | %d | %d | %d (%.1f %%) | %d (%.1f %%) | %.1f %% | %d / %d | %d / %d | %d | %d "
+        "| %.4f (%s) |\n",
         name.c_str(), t.clips, t.failed, t.measurable, t.found, pct(t.found, t.measurable), t.e_ok,
-        pct(t.e_ok, t.found), pct(t.within_2se, t.found), t.mu_ok, t.mu_n, t.invented, t.worst,
-        t.worst_clip.c_str());
+        pct(t.e_ok, t.found), pct(t.within_2se, t.found), t.mu_ok, t.mu_n, t.spin_measured,
+        t.spin_n, t.spin_ok, t.invented, t.worst, t.worst_clip.c_str());
   };
   for (const auto& [key, t] : by_cell) row(key, t);
   row("all", all);
