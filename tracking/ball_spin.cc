@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
@@ -314,8 +315,9 @@ ArcSpin FitArcSpin(const std::vector<BallFace>& faces, const std::vector<double>
   out.mean_peak = peak / static_cast<double>(pairs.size());
   if (out.mean_peak < options.min_mean_peak) {
     std::ostringstream os;
-    os << "its faces, turned by the best spin, correlate at " << out.mean_peak << " on average ("
-       << options.min_mean_peak << " needed): what changes between frames is not a texture turning";
+    os << std::setprecision(2) << "its faces, turned by the best spin, correlate at "
+       << out.mean_peak << " on average (" << options.min_mean_peak
+       << " needed): what changes between frames is not a texture turning";
     out.why = os.str();
     return out;
   }

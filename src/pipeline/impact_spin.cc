@@ -28,7 +28,6 @@ SideSpin FlightSpin(const tracking::SilhouetteTrack& track,
   std::vector<tracking::BallFace> faces;
   std::vector<double> t_s;
   int sampled = 0;
-  std::string why;
   const int last =
       std::min({fit.last_frame, track.frame_count() - 1, static_cast<int>(samples.size()) - 1});
   for (int f = fit.first_frame; f <= last; ++f) {
@@ -36,7 +35,6 @@ SideSpin FlightSpin(const tracking::SilhouetteTrack& track,
     const auto& s = samples[static_cast<std::size_t>(f)];
     if (!o.found || !s.valid || left_out.count(f) || !o.face) continue;
     ++sampled;
-    if (!o.face->textured && why.empty()) why = o.face->why;
     faces.push_back(*o.face);
     t_s.push_back(s.t_s);
   }
@@ -48,10 +46,7 @@ SideSpin FlightSpin(const tracking::SilhouetteTrack& track,
        << ")";
   } else {
     os << "not measured: " << out.spin.why;
-    if (sampled == 0)
-      os << " (no frame of the flight has a fitted edge to sample the face about)";
-    else if (!why.empty())
-      os << " (" << why << ")";
+    if (sampled == 0) os << " (no frame of the flight has a fitted edge to sample the face about)";
   }
   out.note = os.str();
   return out;
