@@ -106,6 +106,7 @@ void BallSpinOptions::Validate() const {
   if (!(min_texture_to_noise > 0))
     throw std::invalid_argument("spin: min_texture_to_noise must be > 0");
   if (min_pairs < 1) throw std::invalid_argument("spin: min_pairs must be >= 1");
+  if (!(min_radius_px >= 3)) throw std::invalid_argument("spin: min_radius_px must be >= 3");
   if (min_static_faces < 2) throw std::invalid_argument("spin: min_static_faces must be >= 2");
   if (!(alias_margin >= 0 && alias_margin < 1))
     throw std::invalid_argument("spin: alias_margin must be in [0, 1)");
@@ -121,8 +122,11 @@ BallFace SampleBallFace(const cv::Mat& grey, const Eigen::Vector2d& centre_I, do
   face.radius_px = radius_px;
   face.texture = cv::Mat::zeros(options.rings, options.angles, CV_32F);
   face.weight = cv::Mat::zeros(options.rings, options.angles, CV_32F);
-  if (!(radius_px >= 3) || !centre_I.allFinite()) {
-    face.why = "the ball is too small to show its texture";
+  if (!(radius_px >= options.min_radius_px) || !centre_I.allFinite()) {
+    std::ostringstream os;
+    os << std::setprecision(3) << "the ball is too small to show its texture (" << 2 * radius_px
+       << " px across, " << 2 * options.min_radius_px << " needed)";
+    face.why = os.str();
     return face;
   }
   // The window of the frame that holds the ball, as unit floats.

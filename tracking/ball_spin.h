@@ -30,6 +30,10 @@ struct BallSpinOptions {
   /// 0 <= inner < outer <= 1.
   double inner_fraction = 0.2, outer_fraction = 0.8;
   int rings = 8;  ///< rings between them; in [1, 64]
+  /// A ball of a smaller radius (px) is not sampled: its rings lie less than a pixel apart,
+  /// and on rendered clips at 640 x 360 (a 20 px ball) the spins that passed the other tests
+  /// followed its smeared outline, not its paint; >= 3.
+  double min_radius_px = 12.0;
   /// Samples around each ring; a power of two in [16, 1024] (the correlation is circular).
   int angles = 128;
   /// Pixels of the face brighter than this quantile of it are left out: a specular highlight

@@ -140,6 +140,22 @@ TEST(BallSpinTest, NoiseIsNotTakenForATurningTexture) {
   EXPECT_NE(s.why.find("not a texture turning"), std::string::npos) << s.why;
 }
 
+// A ball under 24 px across is not sampled, however clear its pattern: its rings would lie
+// less than a pixel apart.
+TEST(BallSpinTest, ABallTooSmallIsNotSampled) {
+  std::mt19937_64 rng(17);
+  const Eigen::Vector2d c(40, 40);
+  const BallFace face =
+      SampleBallFace(DrawBall(80, 80, c, 10, 0.3, Pattern::kCross, 0.01, rng), c, 10, 0.0);
+  EXPECT_FALSE(face.textured);
+  EXPECT_NE(face.why.find("too small"), std::string::npos) << face.why;
+  BallSpinOptions o;
+  o.min_radius_px = 8;
+  EXPECT_TRUE(
+      SampleBallFace(DrawBall(80, 80, c, 10, 0.3, Pattern::kCross, 0.01, rng), c, 10, 0.0, o)
+          .textured);
+}
+
 TEST(BallSpinTest, APlainBallShowsNoSpin) {
   std::mt19937_64 rng(11);
   std::vector<BallFace> faces;
