@@ -120,8 +120,8 @@ BallFace SampleBallFace(const cv::Mat& grey, const Eigen::Vector2d& centre_I, do
   BallFace face;
   face.centre_I = centre_I;
   face.radius_px = radius_px;
-  face.texture = cv::Mat::zeros(options.rings, options.angles, CV_32F);
-  face.weight = cv::Mat::zeros(options.rings, options.angles, CV_32F);
+  face.texture = cv::Mat(options.rings, options.angles, CV_32F, cv::Scalar::all(0));
+  face.weight = cv::Mat(options.rings, options.angles, CV_32F, cv::Scalar::all(0));
   if (!(radius_px >= options.min_radius_px) || !centre_I.allFinite()) {
     std::ostringstream os;
     os << std::setprecision(3) << "the ball is too small to show its texture (" << 2 * radius_px
@@ -226,7 +226,7 @@ ArcSpin FitArcSpin(const std::vector<BallFace>& faces, const std::vector<double>
   int textured = 0;
   for (const auto& f : faces) textured += f.textured && f.texture.size == faces[0].texture.size;
   if (textured >= options.min_static_faces) {
-    cv::Mat sum = cv::Mat::zeros(faces[0].texture.size(), CV_32F), count = sum.clone();
+    cv::Mat sum(faces[0].texture.size(), CV_32F, cv::Scalar::all(0)), count = sum.clone();
     for (const auto& f : faces) {
       if (!f.textured || f.texture.size != faces[0].texture.size) continue;
       sum += f.texture.mul(f.weight);

@@ -349,7 +349,7 @@ CalibrationScale MeasureRuler(const cv::Mat& image, const Eigen::Vector2d& from_
   // The period from the spectrum's peak (Hann window, zero padded 8 times), refined by a
   // parabola through the log magnitudes of the peak and its neighbours.
   const int nfft = cv::getOptimalDFTSize(8 * m);
-  cv::Mat in = cv::Mat::zeros(1, nfft, CV_64F);
+  cv::Mat in(1, nfft, CV_64F, cv::Scalar::all(0));
   double dm = 0;
   for (double x : d) dm += x / m;
   for (int i = 0; i < m; ++i)

@@ -247,7 +247,7 @@ void BestRingContrast(const cv::Mat& search, const DotDetectorOptions& options, 
 /// The local maxima of `best` (over 5 x 5), strongest first, in full-resolution coordinates.
 std::vector<Peak> Peaks(const cv::Mat& best, double to_full, double offset) {
   cv::Mat dilated;
-  cv::dilate(best, dilated, cv::Mat::ones(5, 5, CV_8U));
+  cv::dilate(best, dilated, cv::Mat(5, 5, CV_8U, cv::Scalar::all(1)));
   std::vector<Peak> peaks;
   for (int y = 0; y < best.rows; ++y)
     for (int x = 0; x < best.cols; ++x) {

@@ -116,7 +116,7 @@ cv::Rect FrameRenderer::Composite(int j, cv::Mat& ideal) const {
   cv::Rect roi;
   for (const BodyPose& p : poses) roi |= PoseBounds(Drawn(p));
   if (roi.area() == 0) return roi;
-  cv::Mat acc = cv::Mat::zeros(roi.size(), CV_32FC2);
+  cv::Mat acc(roi.size(), CV_32FC2, cv::Scalar::all(0));
   for (const BodyPose& p : poses) AccumulatePose(Drawn(p), roi, acc);
   const float inv_n = 1.0f / static_cast<float>(poses.size());
   for (int r = 0; r < roi.height; ++r) {

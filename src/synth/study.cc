@@ -123,8 +123,10 @@ StudyResult RenderStudy(const StudyDesign& design, const SpecimenGeometry& geome
   threads = std::min(core::ResolveJobs(threads), std::max(total, 1));
   const int cv_threads = cv::getNumThreads();
   cv::setNumThreads(threads > 1 ? 1 : cv_threads);  // parallel across trials, not inside
-  // OpenCV makes the operation object of cv::Mat::zeros lazily, unsynchronised (a data race
-  // ThreadSanitizer found between two rendering threads): make it here, before the threads.
+  // OpenCV makes the operation object of cv::Mat::zeros, ones and eye lazily, unsynchronised (a
+  // data race ThreadSanitizer finds between two threads). The project's own code makes its
+  // matrices with cv::Mat(size, type, cv::Scalar) instead; this makes the object before the
+  // threads, for OpenCV's own uses inside the calls the renderer makes.
   (void)cv::Mat(cv::Mat::zeros(1, 1, CV_32FC2));
   int done = 0;
   std::mutex mutex;
