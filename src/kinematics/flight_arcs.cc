@@ -945,7 +945,12 @@ Fit Segment(State& st, const ArcOptions& o) {
     State trial = st;
     const Fit f = Settle(trial, o, a, f2, anchor, anchor_z, detected);
     if (!f.ok) continue;
-    const double cost = f.ssr / f2 + o.outlier_chi2 * (n - f.rows / 2.0) + std::log(n) * f.params;
+    // The noise of the fit: the third differences' where the arcs fit within it, else the
+    // fit's own (a drift along the flights that the third differences do not see), at the
+    // price of the log of its ratio per coordinate (the profile likelihood's).
+    const double f2_fit = std::max(f2, f.ssr / std::max(f.rows - f.params, 1));
+    const double cost = f.ssr / f2_fit + f.rows * std::log(f2_fit / f2) +
+                        o.outlier_chi2 * (n - f.rows / 2.0) + std::log(n) * f.params;
     if (cost < best_cost) {
       best_cost = cost;
       best = std::move(trial);
@@ -1298,19 +1303,54 @@ FlightArcs FitFlightArcs(const std::vector<PoseSample>& poses, double d_EC_m,
   if (static_cast<int>(st.s.size()) < options.min_arc_frames + 1)
     return too_few("the joint arc fit needs " + std::to_string(options.min_arc_frames + 1) +
                    " or more frames with a position (found " + std::to_string(st.s.size()) + ")");
-  // The segmentation of a body moving in depth on its positions at the reference depth; the
-  // fit is then made on the positions as given, and DepthCorrection below corrects them arc by
-  // arc where asked.
-  State seg = st;
-  Fit f;
-  if (options.principal_point_W && PreCorrectDepth(seg, *options.principal_point_W)) {
-    f = Segment(seg, options);
-    for (std::size_t j = 0; j < st.s.size(); ++j) seg.s[j] = st.s[j];
-    st = std::move(seg);
-    if (f.ok) f = JointFit(st, options.min_arc_frames);
-  } else {
-    f = Segment(st, options);
+  // The segmentation is found on up to four versions of the samples: corrected to the
+  // reference depth (a body moving in depth, where its sizes say so) or as given, each weighted
+  // by the covariances or with equal weights. A tracker's covariances leave out the errors that
+  // change slowly along a flight (a blurred ball's centre moves toward the light by about a
+  // pixel per 1000 px/s of motion): where they are small, such a drift can stop an arc at its
+  // apex, and where the blur shrinks a ball's apparent size it reads as motion in depth. The
+  // version whose arcs take the most samples is kept (the first of those equal, in the order
+  // above). The fit is then made on the positions as given, with their weights, and
+  // DepthCorrection below corrects them arc by arc where asked.
+  std::vector<State> versions;
+  {
+    State depth = st;
+    if (options.principal_point_W && PreCorrectDepth(depth, *options.principal_point_W))
+      versions.push_back(std::move(depth));
   }
+  versions.push_back(st);
+  if (out.weighted) {
+    const std::size_t given = versions.size();
+    for (std::size_t v = 0; v < given; ++v) {
+      State equal = versions[v];
+      for (auto& s : equal.s) {
+        s.cov = Eigen::Matrix2d::Identity();
+        s.W = Eigen::Matrix2d::Identity();
+      }
+      versions.push_back(std::move(equal));
+    }
+  }
+  Fit f;
+  State chosen = st;
+  int most_rows = -1;
+  for (std::size_t v = 0; v < versions.size(); ++v) {
+    State& seg = versions[v];
+    const Fit sf = Segment(seg, options);
+    if (v == 0) {  // where none is fitted, the first says why (its roles and contacts)
+      chosen = seg;
+      for (std::size_t j = 0; j < st.s.size(); ++j) chosen.s[j] = st.s[j];
+    }
+    if (!sf.ok || sf.rows <= most_rows) continue;
+    // The roles and contacts found, on the samples as given.
+    State fitted = std::move(seg);
+    for (std::size_t j = 0; j < st.s.size(); ++j) fitted.s[j] = st.s[j];
+    const Fit ff = JointFit(fitted, options.min_arc_frames);
+    if (!ff.ok) continue;
+    most_rows = sf.rows;
+    f = ff;
+    chosen = std::move(fitted);
+  }
+  st = std::move(chosen);
   if (!f.ok) {
     std::ostringstream os;
     os << "the joint arc fit found no flight arc of " << options.min_arc_frames

@@ -1,5 +1,6 @@
 #include "pipeline/trial_impacts.h"
 
+#include <algorithm>
 #include <string>
 
 #include "core/frames.h"
@@ -73,9 +74,15 @@ void MeasureTrialImpacts(const std::vector<kinematics::PoseSample>& samples, dou
       kinematics::MeasureArcImpacts(samples, surface_angle_deg, body, options);
   // The arcs take gravity's direction from the data: where it does not show (arcs too short
   // in time for gravity to bend them, as at 8000 fps), the windows' known g is better.
+  // Nor are they taken where they measure fewer impacts than the windows did.
+  const auto measured = [](const std::vector<kinematics::ImpactKinematics>& impacts) {
+    return std::count_if(impacts.begin(), impacts.end(),
+                         [](const kinematics::ImpactKinematics& k) { return k.success; });
+  };
   if (options.method == KinematicsMethod::kAuto &&
       (arcs.impacts.empty() || arcs.arcs.status != kinematics::ArcFitStatus::kFitted ||
-       !(arcs.arcs.roll_se_deg <= options.arcs.max_roll_se_deg)))
+       !(arcs.arcs.roll_se_deg <= options.arcs.max_roll_se_deg) ||
+       measured(arcs.impacts) < measured(out.impacts)))
     return;
   out.warnings.resize(warnings);
   out.flags.resize(flags);
