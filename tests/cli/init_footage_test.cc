@@ -8,7 +8,8 @@
 // impact; a slow-motion clip shorter than 0.2 s is searched by its motion too; a ball named by
 // its study.json specimen takes its scale from it, and `run` compares
 // the study of it with the simulation; a striped ball's spin is measured from its stripes, and
-// a plain ball's is not.
+// a plain ball's is not; every bounce of a plain ball is measured at 60 fps with a full-period
+// exposure and in slow motion.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
