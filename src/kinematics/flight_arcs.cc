@@ -1306,8 +1306,8 @@ FlightArcs FitFlightArcs(const std::vector<PoseSample>& poses, double d_EC_m,
   // The segmentation is found on up to four versions of the samples: corrected to the
   // reference depth (a body moving in depth, where its sizes say so) or as given, each weighted
   // by the covariances or with equal weights. A tracker's covariances leave out the errors that
-  // change slowly along a flight (a blurred ball's centre moves toward the light by about a
-  // pixel per 1000 px/s of motion): where they are small, such a drift can stop an arc at its
+  // change slowly along a flight (a blurred ball's centre moves toward the light, by 0.2 px at
+  // rest to 2 px at 1200 px/s): where they are small, such a drift can stop an arc at its
   // apex, and where the blur shrinks a ball's apparent size it reads as motion in depth. The
   // version whose arcs take the most samples is kept (the first of those equal, in the order
   // above). The fit is then made on the positions as given, with their weights, and
