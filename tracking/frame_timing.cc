@@ -215,6 +215,12 @@ void FrameTimingOptions::Validate() const {
     throw std::invalid_argument("frame timing drop_significance must be > 0");
   if (!(position_noise_floor_px > 0))
     throw std::invalid_argument("frame timing position_noise_floor_px must be > 0");
+  if (!(repeat_step_ratio > 0 && repeat_step_ratio < 1))
+    throw std::invalid_argument("frame timing repeat_step_ratio must be in (0, 1)");
+  if (!(repeat_min_motion_px > 0))
+    throw std::invalid_argument("frame timing repeat_min_motion_px must be > 0");
+  if (!(repeat_motion_fraction > 0 && repeat_motion_fraction < 1))
+    throw std::invalid_argument("frame timing repeat_motion_fraction must be in (0, 1)");
 }
 
 std::string TimingSourceName(TimingSource source) {
@@ -338,6 +344,34 @@ std::vector<bool> FindRepeats(const ImageDifferences& d, double fraction) {
     const double D = d.mean_abs_difference[i];
     repeat[i] = D == 0.0 || D < limit;
   }
+  return repeat;
+}
+
+std::vector<bool> RepeatsFromMotion(const std::vector<std::optional<Eigen::Vector2d>>& p,
+                                    const FrameTimingOptions& options, int* candidates,
+                                    int* moving) {
+  const std::size_t n = p.size();
+  std::vector<bool> repeat(n, false);
+  // step[i]: the body's move from frame i - 1 to frame i (NaN where either is not found).
+  std::vector<double> step(n, std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t i = 1; i < n; ++i)
+    if (p[i] && p[i - 1]) step[i] = (*p[i] - *p[i - 1]).norm();
+  int found = 0, moves = 0;
+  for (std::size_t i = 1; i < n; ++i) {
+    if (!std::isfinite(step[i])) continue;
+    double around = 0.0;  // the larger of the steps into frame i - 1 and out of frame i
+    if (std::isfinite(step[i - 1])) around = step[i - 1];
+    if (i + 1 < n && std::isfinite(step[i + 1])) around = std::max(around, step[i + 1]);
+    if (!(around >= options.repeat_min_motion_px)) continue;
+    ++moves;
+    if (step[i] < options.repeat_step_ratio * around) {
+      repeat[i] = true;
+      ++found;
+    }
+  }
+  if (candidates) *candidates = found;
+  if (moving) *moving = moves;
+  if (found < 4 || found < options.repeat_motion_fraction * moves) repeat.assign(n, false);
   return repeat;
 }
 
@@ -494,6 +528,42 @@ FrameTiming AnalyzeFrameTiming(const ImageDifferences& differences, double fps,
           "of the frames' differences); they are not samples of the motion";
     t.notes.push_back(os.str());
   }
+  {
+    std::vector<std::optional<Eigen::Vector2d>> q = p;
+    q.resize(static_cast<std::size_t>(n));
+    int candidates = 0, moving = 0;
+    const std::vector<bool> still = RepeatsFromMotion(q, options, &candidates, &moving);
+    int taken = 0, shown = 0;  // the motion's repeats, and those the images found too
+    for (int i = 0; i < n; ++i)
+      if (still[static_cast<std::size_t>(i)]) {
+        ++taken;
+        shown += t.repeat[static_cast<std::size_t>(i)] ? 1 : 0;
+      }
+    // Where the images found most of them, they found the copies, and the rest are the body
+    // turning at an apex: the images decide.
+    const bool from_motion = taken > 0 && 2 * shown < taken;
+    int added = 0;
+    if (from_motion)
+      for (int i = 0; i < n; ++i)
+        if (still[static_cast<std::size_t>(i)] && !t.repeat[static_cast<std::size_t>(i)]) {
+          t.repeat[static_cast<std::size_t>(i)] = true;
+          ++added;
+        }
+    repeats += added;
+    std::ostringstream os;
+    os << "the body stands still for a frame while it moves in " << candidates << " of " << moving
+       << " frames (under " << options.repeat_step_ratio << " of the step before or after, of at "
+       << "least " << options.repeat_min_motion_px << " px)";
+    if (from_motion)
+      os << ": the clip holds its images, and those frames are repeats too (" << added
+         << " more than the images show)";
+    else if (taken > 0)
+      os << ": the images show " << shown << " of them as repeats, so the images decide";
+    else
+      os << ": fewer than " << options.repeat_motion_fraction
+         << " of them, or fewer than 4, so none are taken from the motion";
+    t.notes.push_back(os.str());
+  }
   if (repeats > 0) {
     const HeldImageEvidence held = HeldImageFromMotion(p, t.repeat);
     std::ostringstream os;
@@ -514,6 +584,20 @@ FrameTiming AnalyzeFrameTiming(const ImageDifferences& differences, double fps,
   }
   for (int i = 0; i < n; ++i)
     if (t.repeat[static_cast<std::size_t>(i)]) t.repeated_frames.push_back(i);
+  // A clip that holds its images. A camera that re-sends its buffer in place of a lost capture
+  // shows its copies a period late, at the first copy's time exactly, but loses far fewer than
+  // a quarter of its captures; the steps about single copies do not tell the two apart (a
+  // screen recording's jitter shows a capture once where the next came early).
+  if (t.held == HeldImage::kFirst && n > 0 &&
+      4 * static_cast<int>(t.repeated_frames.size()) >= n) {
+    t.capture_time_sd_s = 1.0 / (fps * std::sqrt(12.0));
+    std::ostringstream os;
+    os << "the clip holds its images (" << t.repeated_frames.size() << " of " << n
+       << " frames repeat): an image was captured some time in the frame period before its first "
+          "copy, so each sample's time has an s.d. of "
+       << t.capture_time_sd_s * 1e3 << " ms, carried into its position along its motion";
+    t.notes.push_back(os.str());
+  }
   std::optional<std::vector<int>> slots;
   if (stamps_s && static_cast<int>(stamps_s->size()) == n) {
     slots = SlotsFromStamps(*stamps_s, fps);

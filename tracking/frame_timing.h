@@ -45,6 +45,14 @@ struct FrameTimingOptions {
   double drop_significance = 50.0;
   /// Smallest position noise assumed (px) when judging a dropped capture from the motion; > 0.
   double position_noise_floor_px = 0.05;
+  /// Repeats from the motion (RepeatsFromMotion): a frame whose body moved less than this
+  /// fraction of its larger neighbouring step since the frame before; in (0, 1).
+  double repeat_step_ratio = 0.1;
+  /// ... where that neighbouring step is at least this many px (the body is moving); > 0.
+  double repeat_min_motion_px = 1.0;
+  /// ... taken only where at least this fraction of the frames in which the body moves are such
+  /// frames (at least 4 of them): a clip that holds its images, not an apex; in (0, 1).
+  double repeat_motion_fraction = 0.15;
 
   /// Throws std::invalid_argument naming the field that is out of range.
   void Validate() const;
@@ -88,6 +96,20 @@ ImageDifferences DifferenceFrames(FrameSource& source, int max_grid_pixels = 163
 /// 0 never does.
 std::vector<bool> FindRepeats(const ImageDifferences& d, double fraction);
 
+/// Which frames repeat the previous one by the body's motion `p` (per frame, any unit such as
+/// px; nullopt where not found), for a clip whose copies the images cannot tell apart (a small
+/// body in a large compressed frame, where a copy coded again changes the frame as much as a
+/// new capture does): frame i when the body moved from frame i - 1 by less than
+/// `options.repeat_step_ratio` of the larger of its steps into frame i - 1 and out of frame i,
+/// and that step is at least `options.repeat_min_motion_px`. They are taken only where they
+/// are at least `options.repeat_motion_fraction` of the frames in which the body moves, and
+/// at least 4; otherwise none (a still body, or a body that turns at an apex, also stops for a
+/// frame). `candidates` and `moving`, when given, are set to those counts. AnalyzeFrameTiming
+/// adds them to the images' repeats where the images found fewer than half of them.
+std::vector<bool> RepeatsFromMotion(const std::vector<std::optional<Eigen::Vector2d>>& p,
+                                    const FrameTimingOptions& options, int* candidates = nullptr,
+                                    int* moving = nullptr);
+
 /// Which frame of a run of repeated images shows it at its own capture time: the first (a
 /// frame grabber re-sending its last buffer: the copies come late) or the last (a frame-rate
 /// conversion that shows a capture early, in place of one it left out, and then again).
@@ -120,6 +142,12 @@ struct FrameTiming {
   double fps = 0.0;
   std::vector<int> slot;    ///< per frame: its capture slot (slot 0 is frame 0's)
   std::vector<double> t_s;  ///< per frame: slot / fps (s)
+  /// The s.d. of a sample's capture time about t_s (s): 0 for a camera with a fixed period.
+  /// A clip that holds its images (a screen recording, which shows each image until the next
+  /// one comes: at least a quarter of its frames repeat, each at its first copy) shows an image
+  /// first at some time in the frame period after its capture: 1 / (fps sqrt(12)). A camera
+  /// that re-sends its buffer in place of a lost capture loses far fewer captures than that.
+  double capture_time_sd_s = 0.0;
   /// per frame: it is a copy of an image that another frame shows at its capture time (not a
   /// sample): the later copies, or where `held` is kLast the earlier ones
   std::vector<bool> repeat;

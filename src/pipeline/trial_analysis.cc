@@ -187,13 +187,30 @@ void FindFrameTiming(const TrialSpec& spec, tracking::FrameSource& source,
   }
 }
 
-/// Puts every pose sample at its capture slot's time; a repeated image is no sample.
+/// Puts every pose sample at its capture slot's time; a repeated image is no sample. Where
+/// the capture times are uncertain (t.capture_time_sd_s), each sample's covariance gets that
+/// s.d. along its motion, v v^T sd^2, with v from the samples on either side, where the
+/// covariance is known.
 void TimeSamples(const tracking::FrameTiming& t, std::vector<kinematics::PoseSample>& samples) {
   for (std::size_t f = 0; f < samples.size() && f < t.t_s.size(); ++f) {
     samples[f].t_s = t.t_s[f];
     if (t.repeat[f]) samples[f].valid = false;
     samples[f].repeated = t.repeat[f];
   }
+  const double sd = t.capture_time_sd_s;
+  if (!(sd > 0)) return;
+  std::vector<std::size_t> valid;
+  for (std::size_t f = 0; f < samples.size(); ++f)
+    if (samples[f].valid) valid.push_back(f);
+  std::vector<Eigen::Vector2d> v(valid.size(), Eigen::Vector2d::Zero());
+  for (std::size_t k = 0; k < valid.size(); ++k) {
+    const auto& a = samples[valid[k == 0 ? 0 : k - 1]];
+    const auto& b = samples[valid[k + 1 < valid.size() ? k + 1 : k]];
+    if (b.t_s > a.t_s) v[k] = (b.p_WE - a.p_WE) / (b.t_s - a.t_s);
+  }
+  for (std::size_t k = 0; k < valid.size(); ++k)  // a covariance not known stays unknown (0)
+    if (samples[valid[k]].cov_p_WE.trace() > 0)
+      samples[valid[k]].cov_p_WE += sd * sd * v[k] * v[k].transpose();
 }
 
 /// Positions indexed by capture slot (nullopt where no sample holds one).

@@ -1,10 +1,12 @@
 // The frame-timing detector (tracking/frame_timing.h) on frames and tracks made here with
 // known repeats and drops: repeats found from the images (exact copies and copies within a
 // tenth of the sensor noise, under flicker, and a compressed clip's re-encoded copies), which
-// copy of a repeated image is the sample from the motion, slots from time stamps, and dropped
-// captures from a bouncing body's track sampled at whole slots.
+// copy of a repeated image is the sample from the motion, copies coded again found from the
+// body's motion where the images cannot tell them (a screen recording), slots from time
+// stamps, and dropped captures from a bouncing body's track sampled at whole slots.
 #include "tracking/frame_timing.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <random>
@@ -263,6 +265,90 @@ TEST(FrameTimingTest, WhichCopyOfARepeatedImageIsTheSampleIsToldByTheMotion) {
   const HeldImageEvidence none = HeldImageFromMotion(still, repeat);
   EXPECT_EQ(none.held, HeldImage::kFirst);
   EXPECT_EQ(none.runs, 0);
+}
+
+/// A screen recording: captures every 2 frames with a jitter of 0.3 frames (s.d.), each frame
+/// showing the latest capture, its copies coded again (0.05 px of noise on each frame's centre)
+/// and no exact copy among them, so that the images tell no copy apart. `copy` marks the frames
+/// that show the same capture as the frame before.
+struct Recording {
+  std::vector<std::optional<Eigen::Vector2d>> p;
+  std::vector<bool> copy;
+  ImageDifferences d;
+};
+Recording ScreenRecording(int frames, std::mt19937_64& rng) {
+  std::normal_distribution<double> jitter(0, 0.3), n(0, 0.05);
+  std::vector<double> tau;  // capture times, in frames
+  for (int k = 0; 2 * k < frames + 2; ++k)
+    tau.push_back(k == 0 ? 0.0 : 2 * k + std::clamp(jitter(rng), -0.9, 0.9));
+  Recording r;
+  int shown = -1;
+  for (int i = 0; i < frames; ++i) {
+    int k = 0;
+    while (k + 1 < static_cast<int>(tau.size()) && tau[static_cast<std::size_t>(k + 1)] <= i) ++k;
+    r.copy.push_back(k == shown);
+    shown = k;
+    // Ball() is in capture periods of 2 frames.
+    r.p.emplace_back(Ball(tau[static_cast<std::size_t>(k)] / 2) + Eigen::Vector2d(n(rng), n(rng)));
+    r.d.mean_abs_difference.push_back(i == 0 ? std::nan("") : 0.01);
+  }
+  r.d.noise_mean_abs_difference = 0.0;
+  return r;
+}
+
+// A small body in a large compressed frame changes it as little as a copy coded again does, so
+// the images find no repeat; the body's own motion does: it stands still for a frame while it
+// moves. Such a clip holds its images, and each sample's time carries a period's uncertainty.
+TEST(FrameTimingTest, AScreenRecordingsCopiesAreFoundFromTheMotion) {
+  std::mt19937_64 rng(21);
+  int missed = 0, false_marks = 0, copies = 0;
+  for (int clip = 0; clip < 10; ++clip) {
+    const Recording r = ScreenRecording(44, rng);
+    const std::vector<bool> from_images = FindRepeats(r.d, 0.5);
+    ASSERT_EQ(std::count(from_images.begin(), from_images.end(), true), 0);
+    const FrameTiming t = AnalyzeFrameTiming(r.d, 60.0, std::nullopt, r.p, Eigen::Vector2d(0, 1),
+                                             FrameTimingOptions{});
+    for (std::size_t i = 1; i < r.copy.size(); ++i) {
+      copies += r.copy[i] ? 1 : 0;
+      if (r.copy[i] && !t.repeat[i]) ++missed;
+      if (!r.copy[i] && t.repeat[i]) ++false_marks;
+    }
+    EXPECT_EQ(t.held, HeldImage::kFirst);
+    EXPECT_NEAR(t.capture_time_sd_s, 1.0 / (60.0 * std::sqrt(12.0)), 1e-15) << "clip " << clip;
+  }
+  // Missed: only copies where the body hardly moves (its turn at the top, or the bounce's
+  // frames); marked wrongly: new captures in which it hardly moved.
+  EXPECT_GT(copies, 180);
+  EXPECT_LE(missed, 10) << "of " << copies << " copies";
+  EXPECT_LE(false_marks, 3);
+}
+
+// Without copies, the motion finds none: a camera sampling every frame (its apexes and
+// bounces included), and a body held still before it falls.
+TEST(FrameTimingTest, AClipWithoutCopiesHasNoneFromTheMotion) {
+  std::mt19937_64 rng(22);
+  std::normal_distribution<double> n(0, 0.05);
+  for (int clip = 0; clip < 10; ++clip) {
+    std::vector<std::optional<Eigen::Vector2d>> every, held;
+    ImageDifferences d;
+    for (int i = 0; i < 44; ++i) {
+      const double s = 0.5 * i + 0.1 * clip;
+      every.emplace_back(Ball(s) + Eigen::Vector2d(n(rng), n(rng)));
+      held.emplace_back((i < 12 ? Ball(0) : Ball(0.5 * (i - 12))) + Eigen::Vector2d(n(rng), n(rng)));
+      d.mean_abs_difference.push_back(i == 0 ? std::nan("") : 0.01);
+    }
+    for (const auto* p : {&every, &held}) {
+      int candidates = -1, moving = -1;
+      const std::vector<bool> r = RepeatsFromMotion(*p, FrameTimingOptions{}, &candidates, &moving);
+      EXPECT_EQ(std::count(r.begin(), r.end(), true), 0) << "clip " << clip;
+      EXPECT_LT(candidates, 4);
+      EXPECT_GT(moving, 25);
+      const FrameTiming t =
+          AnalyzeFrameTiming(d, 60.0, std::nullopt, *p, Eigen::Vector2d(0, 1), FrameTimingOptions{});
+      EXPECT_TRUE(t.repeated_frames.empty());
+      EXPECT_EQ(t.capture_time_sd_s, 0.0);
+    }
+  }
 }
 
 // `track` compares the images while the tracker reads them (tracking/frame_differences.h):
