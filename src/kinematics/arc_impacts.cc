@@ -217,17 +217,21 @@ double MidTime(const std::vector<PoseSample>& poses, const FlightArcs& arcs, int
 std::string Unmeasurable(const std::vector<PoseSample>& poses, const FlightArcs& arcs, int k,
                          const Eigen::VectorXd& v, double t_se) {
   std::ostringstream os;
-  const double t_lo =
-      poses[static_cast<std::size_t>(arcs.arcs[static_cast<std::size_t>(k)].last_frame)].t_s;
-  const double t_hi =
-      poses[static_cast<std::size_t>(arcs.arcs[static_cast<std::size_t>(k + 1)].first_frame)].t_s;
+  const PoseSample& before =
+      poses[static_cast<std::size_t>(arcs.arcs[static_cast<std::size_t>(k)].last_frame)];
+  const PoseSample& after =
+      poses[static_cast<std::size_t>(arcs.arcs[static_cast<std::size_t>(k + 1)].first_frame)];
+  const double t_lo = before.t_s, t_hi = after.t_s;
+  // The frames' own times are uncertain too where the clip knows its captures' times only to
+  // within a frame period (PoseSample::t_sd_s).
+  const double lo_se = std::hypot(t_se, before.t_sd_s), hi_se = std::hypot(t_se, after.t_sd_s);
   if (!v.allFinite()) {
     os << "the arcs on either side do not meet";
   } else if (!(v(kVTbS + 1) < 0 && v(kVTaS + 1) > 0)) {
     os << "the arcs on either side meet without the body coming down onto the surface and "
           "rising from it (normal velocities "
        << v(kVTbS + 1) << " and " << v(kVTaS + 1) << ")";
-  } else if (v(kT) < t_lo - 3 * t_se || v(kT) > t_hi + 3 * t_se) {
+  } else if (v(kT) < t_lo - 3 * lo_se || v(kT) > t_hi + 3 * hi_se) {
     os << "the arcs on either side meet at " << v(kT) << " s, outside the time between their "
        << "frames (" << t_lo << " to " << t_hi << " s)";
   }

@@ -26,6 +26,10 @@ struct PoseSample {
   /// The frame repeats the previous image (then `valid` is false too): no sample, counted among
   /// what limited an impact.
   bool repeated = false;
+  /// s.d. of the capture's time about t_s (s): 0 for a camera with a fixed period; a clip that
+  /// holds its images knows a capture only to within the frame period before its first copy
+  /// (tracking/frame_timing.h, FrameTiming::capture_time_sd_s).
+  double t_sd_s = 0.0;
 };
 
 }  // namespace hoof::kinematics

@@ -189,8 +189,8 @@ void FindFrameTiming(const TrialSpec& spec, tracking::FrameSource& source,
 
 /// Puts every pose sample at its capture slot's time; a repeated image is no sample. Where
 /// the capture times are uncertain (t.capture_time_sd_s), each sample's covariance gets that
-/// s.d. along its motion, v v^T sd^2, with v from the samples on either side, where the
-/// covariance is known.
+/// s.d. along its motion, v v^T sd^2, with v the faster of its steps from the sample before and
+/// to the sample after, where the covariance is known.
 void TimeSamples(const tracking::FrameTiming& t, std::vector<kinematics::PoseSample>& samples) {
   for (std::size_t f = 0; f < samples.size() && f < t.t_s.size(); ++f) {
     samples[f].t_s = t.t_s[f];
@@ -199,14 +199,22 @@ void TimeSamples(const tracking::FrameTiming& t, std::vector<kinematics::PoseSam
   }
   const double sd = t.capture_time_sd_s;
   if (!(sd > 0)) return;
+  for (auto& s : samples) s.t_sd_s = sd;
   std::vector<std::size_t> valid;
   for (std::size_t f = 0; f < samples.size(); ++f)
     if (samples[f].valid) valid.push_back(f);
   std::vector<Eigen::Vector2d> v(valid.size(), Eigen::Vector2d::Zero());
+  // The faster of the steps from the sample before and to the sample after: beside a contact
+  // the step across it (down and up again) is slow, the one within the flight is not.
+  const auto step = [&](std::size_t i, std::size_t j) -> Eigen::Vector2d {
+    const auto &a = samples[valid[i]], &b = samples[valid[j]];
+    return b.t_s > a.t_s ? Eigen::Vector2d((b.p_WE - a.p_WE) / (b.t_s - a.t_s))
+                         : Eigen::Vector2d::Zero();
+  };
   for (std::size_t k = 0; k < valid.size(); ++k) {
-    const auto& a = samples[valid[k == 0 ? 0 : k - 1]];
-    const auto& b = samples[valid[k + 1 < valid.size() ? k + 1 : k]];
-    if (b.t_s > a.t_s) v[k] = (b.p_WE - a.p_WE) / (b.t_s - a.t_s);
+    const Eigen::Vector2d in = k > 0 ? step(k - 1, k) : Eigen::Vector2d::Zero(),
+                          out = k + 1 < valid.size() ? step(k, k + 1) : Eigen::Vector2d::Zero();
+    v[k] = in.norm() > out.norm() ? in : out;
   }
   for (std::size_t k = 0; k < valid.size(); ++k)  // a covariance not known stays unknown (0)
     if (samples[valid[k]].cov_p_WE.trace() > 0)
