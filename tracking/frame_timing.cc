@@ -588,8 +588,7 @@ FrameTiming AnalyzeFrameTiming(const ImageDifferences& differences, double fps,
   // shows its copies a period late, at the first copy's time exactly, but loses far fewer than
   // a quarter of its captures; the steps about single copies do not tell the two apart (a
   // screen recording's jitter shows a capture once where the next came early).
-  if (t.held == HeldImage::kFirst && n > 0 &&
-      4 * static_cast<int>(t.repeated_frames.size()) >= n) {
+  if (t.held == HeldImage::kFirst && n > 0 && 4 * static_cast<int>(t.repeated_frames.size()) >= n) {
     t.capture_time_sd_s = 1.0 / (fps * std::sqrt(12.0));
     std::ostringstream os;
     os << "the clip holds its images (" << t.repeated_frames.size() << " of " << n

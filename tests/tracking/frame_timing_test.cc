@@ -334,7 +334,8 @@ TEST(FrameTimingTest, AClipWithoutCopiesHasNoneFromTheMotion) {
     for (int i = 0; i < 44; ++i) {
       const double s = 0.5 * i + 0.1 * clip;
       every.emplace_back(Ball(s) + Eigen::Vector2d(n(rng), n(rng)));
-      held.emplace_back((i < 12 ? Ball(0) : Ball(0.5 * (i - 12))) + Eigen::Vector2d(n(rng), n(rng)));
+      held.emplace_back((i < 12 ? Ball(0) : Ball(0.5 * (i - 12))) +
+                        Eigen::Vector2d(n(rng), n(rng)));
       d.mean_abs_difference.push_back(i == 0 ? std::nan("") : 0.01);
     }
     for (const auto* p : {&every, &held}) {
@@ -343,8 +344,8 @@ TEST(FrameTimingTest, AClipWithoutCopiesHasNoneFromTheMotion) {
       EXPECT_EQ(std::count(r.begin(), r.end(), true), 0) << "clip " << clip;
       EXPECT_LT(candidates, 4);
       EXPECT_GT(moving, 25);
-      const FrameTiming t =
-          AnalyzeFrameTiming(d, 60.0, std::nullopt, *p, Eigen::Vector2d(0, 1), FrameTimingOptions{});
+      const FrameTiming t = AnalyzeFrameTiming(d, 60.0, std::nullopt, *p, Eigen::Vector2d(0, 1),
+                                               FrameTimingOptions{});
       EXPECT_TRUE(t.repeated_frames.empty());
       EXPECT_EQ(t.capture_time_sd_s, 0.0);
     }
