@@ -375,6 +375,27 @@ std::vector<bool> RepeatsFromMotion(const std::vector<std::optional<Eigen::Vecto
   return repeat;
 }
 
+MotionRepeats AddRepeatsFromMotion(const std::vector<std::optional<Eigen::Vector2d>>& p,
+                                   const FrameTimingOptions& options, std::vector<bool>& repeat) {
+  std::vector<std::optional<Eigen::Vector2d>> q = p;
+  q.resize(repeat.size());
+  MotionRepeats m;
+  const std::vector<bool> still = RepeatsFromMotion(q, options, &m.candidates, &m.moving);
+  for (std::size_t i = 0; i < repeat.size(); ++i)
+    if (still[i]) {
+      ++m.taken;
+      m.shown += repeat[i] ? 1 : 0;
+    }
+  m.used = m.taken > 0 && 2 * m.shown < m.taken;
+  if (m.used)
+    for (std::size_t i = 0; i < repeat.size(); ++i)
+      if (still[i] && !repeat[i]) {
+        repeat[i] = true;
+        ++m.added;
+      }
+  return m;
+}
+
 HeldImageEvidence HeldImageFromMotion(const std::vector<std::optional<Eigen::Vector2d>>& p,
                                       const std::vector<bool>& repeat) {
   HeldImageEvidence e;
@@ -529,36 +550,17 @@ FrameTiming AnalyzeFrameTiming(const ImageDifferences& differences, double fps,
     t.notes.push_back(os.str());
   }
   {
-    std::vector<std::optional<Eigen::Vector2d>> q = p;
-    q.resize(static_cast<std::size_t>(n));
-    int candidates = 0, moving = 0;
-    const std::vector<bool> still = RepeatsFromMotion(q, options, &candidates, &moving);
-    int taken = 0, shown = 0;  // the motion's repeats, and those the images found too
-    for (int i = 0; i < n; ++i)
-      if (still[static_cast<std::size_t>(i)]) {
-        ++taken;
-        shown += t.repeat[static_cast<std::size_t>(i)] ? 1 : 0;
-      }
-    // Where the images found most of them, they found the copies, and the rest are the body
-    // turning at an apex: the images decide.
-    const bool from_motion = taken > 0 && 2 * shown < taken;
-    int added = 0;
-    if (from_motion)
-      for (int i = 0; i < n; ++i)
-        if (still[static_cast<std::size_t>(i)] && !t.repeat[static_cast<std::size_t>(i)]) {
-          t.repeat[static_cast<std::size_t>(i)] = true;
-          ++added;
-        }
-    repeats += added;
+    const MotionRepeats m = AddRepeatsFromMotion(p, options, t.repeat);
+    repeats += m.added;
     std::ostringstream os;
-    os << "the body stands still for a frame while it moves in " << candidates << " of " << moving
-       << " frames (under " << options.repeat_step_ratio << " of the step before or after, of at "
-       << "least " << options.repeat_min_motion_px << " px)";
-    if (from_motion)
-      os << ": the clip holds its images, and those frames are repeats too (" << added
+    os << "the body stands still for a frame while it moves in " << m.candidates << " of "
+       << m.moving << " frames (under " << options.repeat_step_ratio
+       << " of the step before or after, of at least " << options.repeat_min_motion_px << " px)";
+    if (m.used)
+      os << ": the clip holds its images, and those frames are repeats too (" << m.added
          << " more than the images show)";
-    else if (taken > 0)
-      os << ": the images show " << shown << " of them as repeats, so the images decide";
+    else if (m.taken > 0)
+      os << ": the images show " << m.shown << " of them as repeats, so the images decide";
     else
       os << ": fewer than " << options.repeat_motion_fraction
          << " of them, or fewer than 4, so none are taken from the motion";

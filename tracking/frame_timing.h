@@ -104,11 +104,27 @@ std::vector<bool> FindRepeats(const ImageDifferences& d, double fraction);
 /// and that step is at least `options.repeat_min_motion_px`. They are taken only where they
 /// are at least `options.repeat_motion_fraction` of the frames in which the body moves, and
 /// at least 4; otherwise none (a still body, or a body that turns at an apex, also stops for a
-/// frame). `candidates` and `moving`, when given, are set to those counts. AnalyzeFrameTiming
-/// adds them to the images' repeats where the images found fewer than half of them.
+/// frame). `candidates` and `moving`, when given, are set to those counts.
 std::vector<bool> RepeatsFromMotion(const std::vector<std::optional<Eigen::Vector2d>>& p,
                                     const FrameTimingOptions& options, int* candidates = nullptr,
                                     int* moving = nullptr);
+
+/// How AddRepeatsFromMotion decided.
+struct MotionRepeats {
+  int candidates = 0;  ///< frames in which the body stands still for a frame while it moves
+  int moving = 0;      ///< frames in which it moves
+  int taken = 0;       ///< RepeatsFromMotion's repeats
+  int shown = 0;       ///< of those, the ones the images found too
+  int added = 0;       ///< repeats added to the images'
+  bool used = false;   ///< the motion's repeats were added
+};
+
+/// Adds RepeatsFromMotion's repeats to `repeat` (the images', FindRepeats) where the images
+/// found fewer than half of them; where they found most, they found the copies, and the rest are
+/// the body turning at an apex, so the images decide. `p` as in RepeatsFromMotion, one per frame
+/// of `repeat` (shorter: not found).
+MotionRepeats AddRepeatsFromMotion(const std::vector<std::optional<Eigen::Vector2d>>& p,
+                                   const FrameTimingOptions& options, std::vector<bool>& repeat);
 
 /// Which frame of a run of repeated images shows it at its own capture time: the first (a
 /// frame grabber re-sending its last buffer: the copies come late) or the last (a frame-rate

@@ -20,8 +20,7 @@ std::vector<bool> CopiesOn(const tracking::MotionPath& path, const std::vector<b
       p[static_cast<std::size_t>(r.frame)] = r.p_I;
   // Copies coded again that the images could not tell from new captures: the path stands still
   // for a frame while it moves.
-  const std::vector<bool> still = tracking::RepeatsFromMotion(p, tracking::FrameTimingOptions{});
-  for (std::size_t i = 0; i < rep.size(); ++i) rep[i] = rep[i] || still[i];
+  tracking::AddRepeatsFromMotion(p, tracking::FrameTimingOptions{}, rep);
   if (tracking::HeldImageFromMotion(p, rep).held == tracking::HeldImage::kLast)
     return tracking::SampleAtLastCopy(rep);
   return rep;

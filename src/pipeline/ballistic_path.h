@@ -32,7 +32,7 @@ Positions PositionsOf(const tracking::MotionPath& path, const std::vector<bool>&
 
 /// Per clip frame: its image is a copy that another frame shows at its capture time, and so no
 /// sample of `path`'s motion. From the scene's repeats and the frames in which the path stands
-/// still for a frame while it moves (tracking::RepeatsFromMotion), with its motion deciding
+/// still for a frame while it moves (tracking::AddRepeatsFromMotion), with its motion deciding
 /// whether a repeated image belongs to its first or its last copy (HeldImageFromMotion).
 std::vector<bool> CopiesOn(const tracking::MotionPath& path, const std::vector<bool>& repeat,
                            int frame_count);

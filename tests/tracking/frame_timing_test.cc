@@ -418,6 +418,15 @@ TEST(FrameTimingTest, OptionsOutOfRangeAreRefusedByName) {
   o.drop_significance = 0;
   EXPECT_THROW(o.Validate(), std::invalid_argument);
   o = {};
+  o.repeat_step_ratio = 1.0;
+  EXPECT_THROW(o.Validate(), std::invalid_argument);
+  o = {};
+  o.repeat_min_motion_px = 0;
+  EXPECT_THROW(o.Validate(), std::invalid_argument);
+  o = {};
+  o.repeat_motion_fraction = 0;
+  EXPECT_THROW(o.Validate(), std::invalid_argument);
+  o = {};
   EXPECT_NO_THROW(o.Validate());
 }
 
