@@ -42,6 +42,11 @@ void AddAnalysisOptions(CLI::App* cmd, pipeline::TrialAnalysisOptions& options,
       "Joint arcs: correct the positions for a ball's motion in depth (from its apparent size "
       "and the principal point) where the size changes significantly; by default the shift of e "
       "it would make is only reported");
+  cmd->add_flag_callback(
+      "--no-perspective", [&options] { options.kinematics.arcs.correct_perspective = false; },
+      "Joint arcs: fit the positions as seen, without the perspective of a plane seen at a "
+      "slant (by default fitted along gravity and applied where it fits the arcs "
+      "significantly better)");
   cmd->add_flag("--scale-from-markers", options.scale_from_markers,
                 "Take the scale from the marker spacing instead of camera.m_per_px");
   cmd->add_flag_callback(
@@ -123,6 +128,7 @@ nlohmann::json LimitsJson(const kinematics::ImpactLimits& L) {
           {"depth_rate_after_per_s", JsonNumber(L.depth_rate_after_per_s)},
           {"depth_corrected", L.depth_corrected},
           {"e_depth_shift", JsonNumber(L.e_depth_shift)},
+          {"e_perspective_shift", JsonNumber(L.e_perspective_shift)},
           {"meeting_gap_m", JsonNumber(L.meeting_gap_m)},
           {"meeting_gap_se_m", JsonNumber(L.meeting_gap_se_m)},
           {"spin_before", L.spin_before},
@@ -159,6 +165,10 @@ nlohmann::json ArcsJson(const kinematics::FlightArcs& A) {
           {"dof", A.dof},
           {"depth_measured", A.depth_measured},
           {"depth_applied", A.depth_applied},
+          {"perspective_applied", A.perspective_applied},
+          {"perspective_h", JsonVector(A.perspective_h)},
+          {"perspective_depth_range", JsonNumber(A.perspective_depth_range)},
+          {"perspective_chi2_drop", JsonNumber(A.perspective_chi2_drop)},
           {"arcs", arcs},
           {"frames_left_out", left_out}};
 }
@@ -330,6 +340,9 @@ std::string LimitsText(const kinematics::ImpactLimits& L) {
   if (std::isfinite(L.e_depth_shift))
     os << "; depth motion: e " << (L.depth_corrected ? "corrected by " : "would move by ")
        << format::Number(L.e_depth_shift, format::Kind::kCoefficient);
+  if (std::isfinite(L.e_perspective_shift))
+    os << "; slanted view: e corrected by "
+       << format::Number(L.e_perspective_shift, format::Kind::kCoefficient);
   if (!L.spin_before.empty() || !L.spin_after.empty())
     os << "; spin before " << L.spin_before << ", after " << L.spin_after;
   return os.str();

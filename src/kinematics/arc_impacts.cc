@@ -437,6 +437,10 @@ ArcImpacts MeasureArcImpacts(const std::vector<PoseSample>& poses, double surfac
       const auto f = [&](const Eigen::VectorXd& qq) { return ImpactValues(c, qq, k, t_m); };
       const Eigen::VectorXd v = f(q);
       Eigen::MatrixXd cv = DeltaCovariance(f, q, cov);
+      for (const auto& xp : A.x_perspective_perturbed) {
+        const Eigen::VectorXd d = f(WithX(q, xp)) - v;
+        cv += d * d.transpose();
+      }
       for (const auto& xp : A.x_depth_perturbed) {
         const Eigen::VectorXd d = f(WithX(q, xp)) - v;
         cv += d * d.transpose();
@@ -452,6 +456,8 @@ ArcImpacts MeasureArcImpacts(const std::vector<PoseSample>& poses, double surfac
           im.warnings.push_back(os.str());
           im.flags.push_back("gravity_direction_stated");
         }
+        if (A.perspective_applied)
+          im.limits.e_perspective_shift = im.e - f(WithX(q, A.x_unrectified))(kE);
         if (A.depth_measured) {
           const double e_other = f(WithX(q, A.x_other))(kE);
           im.limits.depth_corrected = A.depth_applied;

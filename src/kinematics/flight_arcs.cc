@@ -1136,6 +1136,131 @@ bool PreCorrectDepth(State& st, const Eigen::Vector2d& c) {
   return true;
 }
 
+/// The plane's perspective (FlightArcs::perspective_*): a body that moves in one plane seen by a
+/// pinhole camera is at a depth Z with 1 / Z affine in its image offset u = p - c from the
+/// principal point, Z proportional to 1 / (1 - h . u). Its positions moved to one depth,
+/// c + u z with z = Z / Z_anchor, are then an affine image of the plane: parabolas that share
+/// one acceleration. The apparent size moves with them (size z: the size at the anchor's depth).
+/// False where some sample's 1 - h . u is below a half of the anchor's (a depth beyond twice
+/// the anchor's: no plane seen from in front of it).
+bool Rectify(const State& in, const Eigen::Vector2d& c, const Eigen::Vector2d& h,
+             const Eigen::Vector2d& anchor, State& out) {
+  out = in;
+  const double w_anchor = 1 - h.dot(anchor - c);
+  if (!(w_anchor > 0)) return false;
+  for (auto& s : out.s) {
+    const double w = 1 - h.dot(s.p - c);
+    if (!(w > 0.5 * w_anchor)) return false;
+    const double z = w_anchor / w;
+    s.p = c + (s.p - c) * z;
+    s.cov *= z * z;
+    s.W /= z;
+    s.size *= z;
+  }
+  return true;
+}
+
+/// The used samples' whitened residuals of the joint fit of `st` rectified by h, in sample
+/// order; empty where the rectification or the fit fails.
+Eigen::VectorXd RectifiedResiduals(const State& st, const Eigen::Vector2d& c,
+                                   const Eigen::Vector2d& h, const Eigen::Vector2d& anchor,
+                                   int min_arc, Fit* fit = nullptr) {
+  State r;
+  if (!Rectify(st, c, h, anchor, r)) return {};
+  Fit f = JointFit(r, min_arc);
+  if (!f.ok) return {};
+  Eigen::VectorXd out(f.rows);
+  int i = 0;
+  for (std::size_t j = 0; j < st.s.size(); ++j)
+    if (st.Used(j) && f.slot[static_cast<std::size_t>(st.arc[j])] >= 0) {
+      out.segment<2>(i) = f.res[j];
+      i += 2;
+    }
+  if (fit) *fit = std::move(f);
+  return out;
+}
+
+/// h of the plane's perspective fitted to the settled roles of `st` (its samples as given), by
+/// Levenberg-Marquardt on the joint fit's whitened residuals, with its covariance and the drop
+/// of the residuals' chi^2 it makes (in units of the fitted noise). h is fitted along "up"
+/// (the fitted acceleration's opposite) alone: a camera tilted toward the floor sees the depth
+/// change with the height, and the component across it is not told from the arcs' own
+/// parameters where the body moves mostly up and down (a fit of both put it at 25 times the
+/// camera's on rendered drops).
+struct Perspective {
+  bool fitted = false;
+  Eigen::Vector2d h{0, 0}, anchor{0, 0};
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  double chi2_drop = 0.0;
+  double depth_range = 0.0;  ///< the largest minus the smallest relative depth z of the samples
+};
+Perspective FitPerspective(const State& st, const Fit& f0, const Eigen::Vector2d& c, int min_arc) {
+  Perspective P;
+  if (!f0.ok || f0.rows - f0.params < 3) return P;
+  // The anchor: the lowest sample (along the fitted acceleration), where the contacts are.
+  const Eigen::Vector2d down = f0.x.tail<2>().normalized(), up = -down;
+  double lowest = -std::numeric_limits<double>::infinity(), reach = 0;
+  for (std::size_t j = 0; j < st.s.size(); ++j) {
+    if (!st.Used(j)) continue;
+    reach = std::max(reach, std::abs((st.s[j].p - c).dot(up)));
+    if (st.s[j].p.dot(down) > lowest) {
+      lowest = st.s[j].p.dot(down);
+      P.anchor = st.s[j].p;
+    }
+  }
+  if (!(reach > 0)) return P;
+  const auto residuals = [&](double eta) {
+    return RectifiedResiduals(st, c, eta * up, P.anchor, min_arc);
+  };
+  double eta = 0;
+  Eigen::VectorXd r = residuals(eta);
+  if (r.size() == 0) return P;
+  const double ssr0 = r.squaredNorm();
+  double ssr = ssr0, lambda = 1e-3, jtj = 0;
+  const double step = 1e-4 / reach;
+  for (int iter = 0; iter < 30; ++iter) {
+    const Eigen::VectorXd rp = residuals(eta + step), rm = residuals(eta - step);
+    if (rp.size() != r.size() || rm.size() != r.size()) return P;
+    const Eigen::VectorXd J = (rp - rm) / (2 * step);
+    jtj = J.squaredNorm();
+    const double g = J.dot(r);
+    if (!(jtj > 0)) return P;
+    bool improved = false, small = false;
+    for (int tries = 0; tries < 12 && !improved; ++tries) {
+      const double d = -g / (jtj * (1 + lambda));
+      const Eigen::VectorXd rn = residuals(eta + d);
+      if (rn.size() == r.size() && rn.squaredNorm() < ssr) {
+        small = ssr - rn.squaredNorm() < 1e-10 * ssr;
+        eta += d;
+        r = rn;
+        ssr = rn.squaredNorm();
+        lambda = std::max(lambda / 10, 1e-9);
+        improved = true;
+      } else {
+        lambda *= 10;
+      }
+    }
+    if (!improved || small) break;
+  }
+  const int dof = f0.rows - f0.params - 1;
+  const double s2 = ssr / dof;
+  if (!(s2 > 0) || !(jtj > 0)) return P;
+  P.h = eta * up;
+  P.cov = (s2 / jtj) * up * up.transpose();
+  P.chi2_drop = (ssr0 - ssr) / s2;
+  double zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
+  const double w_anchor = 1 - P.h.dot(P.anchor - c);
+  for (std::size_t j = 0; j < st.s.size(); ++j) {
+    if (!st.Used(j)) continue;
+    const double z = w_anchor / (1 - P.h.dot(st.s[j].p - c));
+    zmin = std::min(zmin, z);
+    zmax = std::max(zmax, z);
+  }
+  P.depth_range = zmax - zmin;
+  P.fitted = true;
+  return P;
+}
+
 /// The samples of `poses` (C of each valid pose), whitened by their covariances when every one
 /// has a positive-definite covariance.
 State Prepare(const std::vector<PoseSample>& poses, double d_EC_m, bool& weighted) {
@@ -1236,6 +1361,109 @@ void Parameters(const State& st, const Fit& f, FlightArcs& out) {
   }
 }
 
+/// The segmentation is found on up to four versions of the samples: corrected to the
+/// reference depth (a body moving in depth, where its sizes say so) or as given, each weighted
+/// by the covariances or with equal weights. A tracker's covariances leave out the errors that
+/// change slowly along a flight (a blurred ball's centre moves toward the light, by 0.2 px at
+/// rest to 2 px at 1200 px/s): where they are small, such a drift can stop an arc at its
+/// apex, and where the blur shrinks a ball's apparent size it reads as motion in depth. The
+/// version whose arcs take the most samples is kept (the first of those equal, in the order
+/// above). Returns the fit on the positions as given, with their weights, and in `chosen` the
+/// roles and contacts found on those positions.
+Fit SegmentBest(const State& st, const ArcOptions& o, bool weighted, State& chosen) {
+  std::vector<State> versions;
+  {
+    State depth = st;
+    if (o.principal_point_W && PreCorrectDepth(depth, *o.principal_point_W))
+      versions.push_back(std::move(depth));
+  }
+  versions.push_back(st);
+  if (weighted) {
+    const std::size_t given = versions.size();
+    for (std::size_t v = 0; v < given; ++v) {
+      State equal = versions[v];
+      for (auto& s : equal.s) {
+        s.cov = Eigen::Matrix2d::Identity();
+        s.W = Eigen::Matrix2d::Identity();
+      }
+      versions.push_back(std::move(equal));
+    }
+  }
+  Fit f;
+  chosen = st;
+  int most_rows = -1;
+  for (std::size_t v = 0; v < versions.size(); ++v) {
+    State& seg = versions[v];
+    const Fit sf = Segment(seg, o);
+    if (v == 0) {  // where none is fitted, the first says why (its roles and contacts)
+      chosen = seg;
+      for (std::size_t j = 0; j < st.s.size(); ++j) chosen.s[j] = st.s[j];
+    }
+    if (!sf.ok || sf.rows <= most_rows) continue;
+    // The roles and contacts found, on the samples as given.
+    State fitted = std::move(seg);
+    for (std::size_t j = 0; j < st.s.size(); ++j) fitted.s[j] = st.s[j];
+    const Fit ff = JointFit(fitted, o.min_arc_frames);
+    if (!ff.ok) continue;
+    most_rows = sf.rows;
+    f = ff;
+    chosen = std::move(fitted);
+  }
+  return f;
+}
+
+/// The plane's perspective, fitted to the segmentation `chosen` (FitPerspective) and applied
+/// where it lowers the residuals' chi^2 by more than ArcOptions::perspective_chi2: the
+/// segmentation is then found again on the rectified samples (a slanted view bends the arcs
+/// apart, so the first may stop short) and h fitted again on it, while the arcs take more
+/// samples; `chosen` becomes the rectified state. Returns the fit to report.
+Fit PerspectiveCorrection(const State& st, const ArcOptions& o, State& chosen, const Fit& f,
+                          FlightArcs& out) {
+  const Eigen::Vector2d c = *o.principal_point_W;
+  Perspective P = FitPerspective(chosen, f, c, o.min_arc_frames);
+  if (!P.fitted || !(P.chi2_drop > o.perspective_chi2)) return f;
+  int rows = f.rows;
+  for (int round = 0; round < 8; ++round) {
+    State rect;
+    if (!Rectify(st, c, P.h, P.anchor, rect)) break;
+    State again;
+    const Fit fa = SegmentBest(rect, o, out.weighted, again);
+    if (!fa.ok) break;
+    again.s = st.s;
+    const Fit fg = JointFit(again, o.min_arc_frames);
+    if (!fg.ok) break;
+    const Perspective Q = FitPerspective(again, fg, c, o.min_arc_frames);
+    if (!Q.fitted || !(Q.chi2_drop > o.perspective_chi2) || fg.rows < rows) break;
+    const bool grew = fg.rows > rows;
+    P = Q;
+    chosen = std::move(again);
+    rows = fg.rows;
+    if (!grew) break;
+  }
+  State applied;
+  if (!Rectify(chosen, c, P.h, P.anchor, applied)) return f;
+  const Fit g = JointFit(applied, o.min_arc_frames);
+  const Fit plain = JointFit(chosen, o.min_arc_frames);
+  if (!g.ok || !plain.ok) return f;
+  out.perspective_applied = true;
+  out.perspective_h = P.h;
+  out.perspective_cov_h = P.cov;
+  out.perspective_chi2_drop = P.chi2_drop;
+  out.perspective_depth_range = P.depth_range;
+  out.x_unrectified = plain.x;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(P.cov);
+  for (int k = 0; k < 2; ++k) {
+    if (!(eig.eigenvalues()(k) > 0)) continue;
+    const Eigen::Vector2d dh = std::sqrt(eig.eigenvalues()(k)) * eig.eigenvectors().col(k);
+    State moved;
+    const Fit h =
+        Rectify(chosen, c, P.h + dh, P.anchor, moved) ? JointFit(moved, o.min_arc_frames) : Fit{};
+    out.x_perspective_perturbed.push_back(h.ok ? h.x : g.x);
+  }
+  chosen = std::move(applied);
+  return g;
+}
+
 }  // namespace
 
 void ArcOptions::Validate() const {
@@ -1249,6 +1477,7 @@ void ArcOptions::Validate() const {
   if (!(max_roll_se_deg > 0)) throw std::invalid_argument("arcs max_roll_se_deg must be > 0");
   if (!(min_sideways_ratio >= 0))
     throw std::invalid_argument("arcs min_sideways_ratio must be >= 0");
+  if (!(perspective_chi2 > 0)) throw std::invalid_argument("arcs perspective_chi2 must be > 0");
   if (principal_point_W && !principal_point_W->allFinite())
     throw std::invalid_argument("arcs principal_point_W must be finite");
 }
@@ -1303,53 +1532,10 @@ FlightArcs FitFlightArcs(const std::vector<PoseSample>& poses, double d_EC_m,
   if (static_cast<int>(st.s.size()) < options.min_arc_frames + 1)
     return too_few("the joint arc fit needs " + std::to_string(options.min_arc_frames + 1) +
                    " or more frames with a position (found " + std::to_string(st.s.size()) + ")");
-  // The segmentation is found on up to four versions of the samples: corrected to the
-  // reference depth (a body moving in depth, where its sizes say so) or as given, each weighted
-  // by the covariances or with equal weights. A tracker's covariances leave out the errors that
-  // change slowly along a flight (a blurred ball's centre moves toward the light, by 0.2 px at
-  // rest to 2 px at 1200 px/s): where they are small, such a drift can stop an arc at its
-  // apex, and where the blur shrinks a ball's apparent size it reads as motion in depth. The
-  // version whose arcs take the most samples is kept (the first of those equal, in the order
-  // above). The fit is then made on the positions as given, with their weights, and
-  // DepthCorrection below corrects them arc by arc where asked.
-  std::vector<State> versions;
-  {
-    State depth = st;
-    if (options.principal_point_W && PreCorrectDepth(depth, *options.principal_point_W))
-      versions.push_back(std::move(depth));
-  }
-  versions.push_back(st);
-  if (out.weighted) {
-    const std::size_t given = versions.size();
-    for (std::size_t v = 0; v < given; ++v) {
-      State equal = versions[v];
-      for (auto& s : equal.s) {
-        s.cov = Eigen::Matrix2d::Identity();
-        s.W = Eigen::Matrix2d::Identity();
-      }
-      versions.push_back(std::move(equal));
-    }
-  }
-  Fit f;
-  State chosen = st;
-  int most_rows = -1;
-  for (std::size_t v = 0; v < versions.size(); ++v) {
-    State& seg = versions[v];
-    const Fit sf = Segment(seg, options);
-    if (v == 0) {  // where none is fitted, the first says why (its roles and contacts)
-      chosen = seg;
-      for (std::size_t j = 0; j < st.s.size(); ++j) chosen.s[j] = st.s[j];
-    }
-    if (!sf.ok || sf.rows <= most_rows) continue;
-    // The roles and contacts found, on the samples as given.
-    State fitted = std::move(seg);
-    for (std::size_t j = 0; j < st.s.size(); ++j) fitted.s[j] = st.s[j];
-    const Fit ff = JointFit(fitted, options.min_arc_frames);
-    if (!ff.ok) continue;
-    most_rows = sf.rows;
-    f = ff;
-    chosen = std::move(fitted);
-  }
+  State chosen;
+  Fit f = SegmentBest(st, options, out.weighted, chosen);
+  if (f.ok && options.correct_perspective && options.principal_point_W)
+    f = PerspectiveCorrection(st, options, chosen, f, out);
   st = std::move(chosen);
   if (!f.ok) {
     std::ostringstream os;

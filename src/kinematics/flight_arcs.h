@@ -60,6 +60,11 @@ struct ArcOptions {
   /// would make is reported either way (ImpactLimits::e_depth_shift), and a silhouette's size
   /// also changes with blur and contact, not only with depth.
   bool correct_depth = false;
+  /// Fit and apply the perspective of a plane seen at a slant (FlightArcs::perspective_*),
+  /// where principal_point_W is given and it lowers the residuals' chi^2 by more than
+  /// `perspective_chi2`; > 0. 10.83 is chi^2_1's quantile at 1 - 1e-3.
+  bool correct_perspective = true;
+  double perspective_chi2 = 10.83;
 
   /// Throws std::invalid_argument naming the field.
   void Validate() const;
@@ -153,6 +158,21 @@ struct FlightArcs {
   bool depth_measured = false, depth_applied = false;
   Eigen::VectorXd x_other;
   std::vector<Eigen::VectorXd> x_depth_perturbed;
+  /// The perspective of the plane the body moves in, seen at a slant (a camera tilted toward
+  /// the floor, or turned from the plane): 1 / depth is affine in the image, proportional to
+  /// 1 - h . (p - c) for a position p and the principal point c (both in W). Where applied
+  /// (ArcOptions::correct_perspective), every position is moved to the depth of the lowest
+  /// sample, c + (p - c) z with z = depth / that depth, and the arcs are fitted there: x is the
+  /// rectified fit, `x_unrectified` the fit of the same samples as given, and
+  /// `x_perspective_perturbed` the fits with h moved by one s.e. along each principal axis of
+  /// its covariance. `perspective_chi2_drop` is how much it lowers the residuals' chi^2 (in
+  /// units of the fitted noise), `perspective_depth_range` the spread of z over the samples.
+  bool perspective_applied = false;
+  Eigen::Vector2d perspective_h{0, 0};  ///< h (1 / input units)
+  Eigen::Matrix2d perspective_cov_h = Eigen::Matrix2d::Zero();
+  double perspective_chi2_drop = 0.0, perspective_depth_range = 0.0;
+  Eigen::VectorXd x_unrectified;
+  std::vector<Eigen::VectorXd> x_perspective_perturbed;
 };
 
 /// Fits the flight arcs of `poses` (one per frame, in frame order; times in PoseSample::t_s):

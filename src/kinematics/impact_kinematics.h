@@ -87,6 +87,9 @@ struct ImpactLimits {
   /// e corrected for the depth motion minus e uncorrected (the bias of the uncorrected e); NaN
   /// when the apparent size does not change significantly or no principal point is given.
   double e_depth_shift = core::kNaN;
+  /// e from the arcs rectified for the perspective of a plane seen at a slant minus e from
+  /// them as seen (FlightArcs::perspective_applied); NaN where it was not applied.
+  double e_perspective_shift = core::kNaN;
   /// How far apart the two arcs are along the surface where they meet (0 for an instantaneous
   /// impact), and its standard error (m).
   double meeting_gap_m = core::kNaN, meeting_gap_se_m = core::kNaN;

@@ -64,14 +64,19 @@ void MeasureTrialImpacts(const std::vector<kinematics::PoseSample>& samples, dou
                          TrialAnalysis& out) {
   using kinematics::KinematicsMethod;
   const std::size_t warnings = out.warnings.size(), flags = out.flags.size();
+  bool full = false;
   if (options.method != KinematicsMethod::kArcs) {
     WindowImpacts(samples, fps, surface_angle_deg, body, options, w_seen, out);
     out.kinematics_method = KinematicsMethod::kWindows;
-    if (options.method == KinematicsMethod::kWindows || WindowsFull(out, options.fit_frames))
-      return;
+    if (options.method == KinematicsMethod::kWindows) return;
+    full = WindowsFull(out, options.fit_frames);
   }
   kinematics::ArcImpacts arcs =
       kinematics::MeasureArcImpacts(samples, surface_angle_deg, body, options);
+  // Where every window fills, the windows are kept unless the arcs see the plane of motion at
+  // a slant (FlightArcs::perspective_applied): a window's parabola does not bend with the
+  // perspective, and a tilted camera's windows measured e 0.006 off on clean rendered frames.
+  if (full && !arcs.arcs.perspective_applied) return;
   // The arcs take gravity's direction from the data: where it does not show (arcs too short
   // in time for gravity to bend them, as at 8000 fps), the windows' known g is better.
   // Nor are they taken where they measure fewer impacts than the windows did.

@@ -393,6 +393,10 @@ void SerializeImpact(Archive& a, R& r) {
          kLater);
   a.Number("e_depth_shift", r.e_depth_shift, "1",
            "e corrected for the depth motion minus e uncorrected (NaN when not measured)", kLater);
+  a.Number("e_perspective_shift", r.e_perspective_shift, "1",
+           "e from the arcs rectified for a plane seen at a slant minus e as seen (NaN when not "
+           "applied)",
+           kLater);
   a.Number("meeting_gap_m", r.meeting_gap_m, "m",
            "the arcs' distance along the surface where they meet (NaN from the windows)", kLater);
   a.Number("meeting_gap_se_m", r.meeting_gap_se_m, "m", "its standard error", kLater);

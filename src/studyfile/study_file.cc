@@ -183,6 +183,7 @@ std::vector<ImpactResult> ImpactsOf(const pipeline::TrialAnalysis& trial,
     r.depth_rate_after_per_s = L.depth_rate_after_per_s;
     r.depth_corrected = L.depth_corrected;
     r.e_depth_shift = L.e_depth_shift;
+    r.e_perspective_shift = L.e_perspective_shift;
     r.meeting_gap_m = L.meeting_gap_m;
     r.meeting_gap_se_m = L.meeting_gap_se_m;
     rows.push_back(std::move(r));

@@ -191,7 +191,8 @@ struct ImpactResult {
   int contact_frames = 0, outlier_frames = 0, not_in_flight_frames = 0, missing_frames = 0,
       repeated_frames = 0;
   bool short_arc = false, depth_corrected = false;
-  double depth_rate_before_per_s = 0.0, depth_rate_after_per_s = 0.0, e_depth_shift = 0.0;
+  double depth_rate_before_per_s = 0.0, depth_rate_after_per_s = 0.0, e_depth_shift = 0.0,
+         e_perspective_shift = 0.0;
   double meeting_gap_m = 0.0, meeting_gap_se_m = 0.0;
 };
 

@@ -4,7 +4,9 @@
 // contact point), at 25, 30 and 60 fps and random contact phases.
 #include "kinematics/arc_impacts.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -276,4 +278,62 @@ TEST(ArcImpactsTest, DepthMotionIsMeasuredAndCorrected) {
 }
 
 }  // namespace
+// A camera 1.3 m away that looks down by 18 deg at the vertical plane the ball bounces in: the
+// plane is seen at a slant, its heights foreshortened more the higher they are, so the arcs in
+// the image are no parabolas of one acceleration and e measured there is biased (by up to 0.04
+// on these clips, most on the first bounce, from the highest drop). The plane's perspective is
+// fitted from the arcs themselves (no apparent size is used) and applied: e from the rectified
+// arcs is within 0.015 of the truth on every bounce, within 4 s.e. on 9 in 10 of them (26 of 27
+// measured), and its summed error is a fifth of the uncorrected one or less (a ninth
+// measured). Seen level (tilt 0), the plane needs no rectification and none is applied.
+TEST(ArcImpactsTest, APlaneSeenAtASlantIsRectifiedFromTheArcs) {
+  int checked = 0, within = 0, level_applied = 0;
+  double worst_fixed = 0, worst_plain = 0, sum_fixed = 0, sum_plain = 0;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    for (const double tilt : {18.0, 0.0}) {
+      BallClipOptions o = Drawn(30, seed);
+      o.depth_m = 1.3;
+      o.tilt_deg = tilt;
+      o.principal_G = {0.1, 0.25};
+      o.noise_px = 0.3;
+      o.give_covariance = true;
+      const BallClip clip = MakeBallClip(o);
+      KinematicsOptions ko;
+      ko.arcs.principal_point_W = clip.principal_W;
+      const ArcImpacts fixed = MeasureArcImpacts(clip.poses, 0.0, Ball(o.radius_m), ko);
+      if (tilt == 0) {
+        level_applied += fixed.arcs.perspective_applied;
+        continue;
+      }
+      EXPECT_TRUE(fixed.arcs.perspective_applied) << "seed " << seed;
+      ko.arcs.correct_perspective = false;
+      const ArcImpacts plain = MeasureArcImpacts(clip.poses, 0.0, Ball(o.radius_m), ko);
+      for (std::size_t b = 0; b < clip.bounces.size(); ++b) {
+        if (!Measurable(clip, b)) continue;
+        const ImpactKinematics* c = Near(fixed, clip.bounces[b].t_touch, o.fps);
+        const ImpactKinematics* u = Near(plain, clip.bounces[b].t_touch, o.fps);
+        if (!c || !u || !c->success || !u->success) continue;
+        ++checked;
+        const double truth = clip.bounces[b].e;
+        EXPECT_LT(std::abs(c->e - truth), 0.015) << "seed " << seed << " bounce " << b;
+        EXPECT_TRUE(std::isfinite(c->limits.e_perspective_shift));
+        within += std::abs(c->e - truth) < 4 * c->e_se;
+        worst_fixed = std::max(worst_fixed, std::abs(c->e - truth));
+        worst_plain = std::max(worst_plain, std::abs(u->e - truth));
+        sum_fixed += std::abs(c->e - truth);
+        sum_plain += std::abs(u->e - truth);
+      }
+    }
+  }
+  std::printf(
+      "slanted: %d bounces, %d within 4 s.e.; worst e error %.4f rectified, %.4f as seen; "
+      "summed %.4f and %.4f; level clips rectified: %d of 8\n",
+      checked, within, worst_fixed, worst_plain, sum_fixed, sum_plain, level_applied);
+  EXPECT_GE(checked, 16);
+  EXPECT_GE(within, 0.9 * checked);
+  EXPECT_GT(worst_plain, 0.03);  // the slant matters on these clips
+  EXPECT_LT(5 * sum_fixed, sum_plain);
+  EXPECT_LE(level_applied, 1);
+}
+
 }  // namespace hoof::kinematics

@@ -10,11 +10,12 @@
 /// |v_n| (never reversing), and the ball rests at the touch point for `contact_s` before
 /// flying on. Before `release_s` a hand carries it (p0 + v0 (t - release_s): no gravity). A
 /// frame at time t shows the centre averaged over its exposure, projected through a pinhole at
-/// `depth_m` (none when 0: orthographic), rolled by `roll_deg` and shifted by `origin_W` into
-/// W, plus Gaussian noise.
+/// `depth_m` (none when 0: orthographic) looking down by `tilt_deg`, rolled by `roll_deg` and
+/// shifted by `origin_W` into W, plus Gaussian noise.
 
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -40,7 +41,8 @@ struct BallClipOptions {
   double exposure_s = 0.0;
   double depth_m = 0.0;               ///< camera distance to G's origin along z; 0: orthographic
   Eigen::Vector2d principal_G{0, 0};  ///< where the optical axis meets the plane z = 0 (m)
-  double roll_deg = 0.0;              ///< "up" in W leans toward +x_W by this
+  double tilt_deg = 0.0;  ///< with depth_m: the camera looks down at principal_G by this
+  double roll_deg = 0.0;  ///< "up" in W leans toward +x_W by this
   Eigen::Vector2d origin_W{0.2, -0.1};
   double m_per_px = 1.5e-3;  ///< for the noise and the apparent size
   double noise_px = 0.0;
@@ -148,9 +150,18 @@ inline BallClip MakeBallClip(const BallClipOptions& o) {
     for (int j = 0; j < sub; ++j) {
       const double tj = sub == 1 ? t : t + o.exposure_s * (j / (sub - 1.0) - 0.5);
       const Eigen::Vector3d p = position(tj);
-      const double zc = o.depth_m > 0 ? o.depth_m + p.z() : 1.0;
+      // The camera: depth_m from principal_G (on z = 0) along its optical axis, which looks
+      // down by tilt_deg; its image in G's units at that point's depth.
+      const double tilt = o.tilt_deg * std::numbers::pi / 180, ct = std::cos(tilt),
+                   st = std::sin(tilt);
+      const Eigen::Vector3d forward(0, -st, ct), cam_up(0, ct, st);
+      const Eigen::Vector3d d =
+          p - Eigen::Vector3d(o.principal_G.x(), o.principal_G.y(), 0) + o.depth_m * forward;
+      const double zc = o.depth_m > 0 ? d.dot(forward) : 1.0;
       const double k = o.depth_m > 0 ? o.depth_m / zc : 1.0;
-      img += (o.principal_G + (Eigen::Vector2d(p.x(), p.y()) - o.principal_G) * k) / sub;
+      const Eigen::Vector2d offset = o.depth_m > 0 ? Eigen::Vector2d(d.x(), d.dot(cam_up))
+                                                   : Eigen::Vector2d(p.x(), p.y()) - o.principal_G;
+      img += (o.principal_G + offset * k) / sub;
       z_mean += zc / sub;
     }
     kinematics::PoseSample ps;
