@@ -304,7 +304,8 @@ TEST(InitFootageTest, AStripedBallsSpinIsMeasuredFromItsTexture) {
 /// Renders a plain ball on a plain floor (640 x 360, 2 s, seed 1) with `timing` as PNG frames
 /// or, with `h264`, as an H.264 clip, runs init with the capture rate and track, and checks
 /// that every bounce with a flight on each side is found and measured within `e_tol` of the
-/// renderer's e, and that none is invented.
+/// renderer's e, that a last bounce measured on its short rebound is too, and that none is
+/// invented.
 void ExpectEveryBounceOfAPlainClip(const std::string& name, const std::string& timing, double fps,
                                    bool h264 = false, double e_tol = 0.02) {
   const fs::path clip = kOut / name;
@@ -324,21 +325,25 @@ void ExpectEveryBounceOfAPlainClip(const std::string& name, const std::string& t
   const json m = json::parse(t.out)["results"];
   const json truth = ReadJson(clip / "truth.json");
   const json& bounces = truth["bounces"];
-  int flanked = 0, matched = 0;
-  for (std::size_t i = 0; i + 1 < bounces.size(); ++i) {  // the last has no flight after it
+  // The last bounce has no full flight after it: it must not be missed by the others' count,
+  // but where a short rebound is measured its e is held to the same tolerance.
+  int flanked = 0, flanked_matched = 0, matched = 0;
+  for (std::size_t i = 0; i < bounces.size(); ++i) {
     if (!bounces[i]["in_view"].get<bool>()) continue;
-    ++flanked;
+    const bool has_flight_after = i + 1 < bounces.size();
+    flanked += has_flight_after ? 1 : 0;
     const double t_true = bounces[i]["t_s"].get<double>();
     for (const auto& k : m["impacts"]) {
       if (!k["e"].is_number() || std::abs(k["impact_time_s"].get<double>() - t_true) > 1.0 / fps)
         continue;
       ++matched;
+      flanked_matched += has_flight_after ? 1 : 0;
       EXPECT_NEAR(k["e"].get<double>(), bounces[i]["e"].get<double>(), e_tol)
           << "bounce at " << t_true;
     }
   }
   EXPECT_GE(flanked, 5);
-  EXPECT_EQ(matched, flanked) << t.out;
+  EXPECT_EQ(flanked_matched, flanked) << t.out;
   int measured = 0;
   for (const auto& k : m["impacts"]) measured += k["e"].is_number() ? 1 : 0;
   EXPECT_EQ(measured, matched) << "an impact measured where the renderer has no bounce";
@@ -351,8 +356,8 @@ TEST(InitFootageTest, ABlurredBallsBouncesAreAllFoundAt60Fps) {
   ExpectEveryBounceOfAPlainClip("blur60", "--timing phone --fps 60 --exposure-s 0.00833", 60);
 }
 
-// 240 captures a second in a 30 fps file: the windows measure every bounce whose flights fill
-// them, and are kept where the joint arcs measure fewer.
+// 240 captures a second in a 30 fps file, from the renderer's camera looking down 4 deg: the
+// joint arcs see the slant, rectify it and measure every bounce, the last on its short rebound.
 TEST(InitFootageTest, ASlowMotionClipsBouncesAreAllMeasured) {
   ExpectEveryBounceOfAPlainClip("slowmo240", "--timing slow-motion", 240);
 }

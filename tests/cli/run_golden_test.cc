@@ -1,14 +1,16 @@
 // `hoofimpact run` on sample_frames/ writes the same study file as the program did before the
 // study job moved into its library (hoof::study): every dataset and attribute is compared with
 // tests/data/run_sample_frames.digest, which that earlier program wrote. It was written anew
-// four times since, each for one deliberate change: mu_eff of the normal trial (and its s.e.
+// five times since, each for one deliberate change: mu_eff of the normal trial (and its s.e.
 // and interval) became NaN, as it is not defined there (docs/tracking.md); the table /impacts
 // (one row per impact, docs/hdf5-schema.md) was added, with nothing outside it changed;
 // /impacts gained the columns of how each impact was measured and what limited it (method,
 // impact_time_se_s to meeting_gap_se_m), with nothing else changed; and each trial's own
 // specimen and body model, the specimen's shape and inertia rule, the centre of mass's columns
 // of /comparison/frames, mass_known and inertia_assumed were added, with three descriptions
-// that now say NaN means an unknown mass, and no number changed. Numbers
+// that now say NaN means an unknown mass, and no number changed; and /impacts gained
+// e_perspective_shift, the change of e by the rectification of a slanted view, with nothing
+// else changed. Numbers
 // agree to 1e-9 relative (the same computation; the last bits may differ between CPUs), texts
 // exactly. Only what names the moment and the place of the run is left out (see Varies), and the
 // source folder in a text is written as <source>, so that a checkout anywhere compares.
