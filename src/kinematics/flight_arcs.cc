@@ -572,6 +572,21 @@ class Sweep {
     return -1;
   }
 
+  /// The length of the run of samples from order[m] on (3 to max_outlier_run of them) after
+  /// which two samples in a row fit the arc `cur`, the first its prediction and the second the
+  /// arc through it; 0 when none.
+  std::size_t OutlierRun(const std::vector<std::size_t>& cur, const std::vector<std::size_t>& order,
+                         std::size_t m) {
+    const auto most = static_cast<std::size_t>(o_.max_outlier_run);
+    for (std::size_t run = 3; run <= most && m + run + 1 < order.size(); ++run) {
+      if (!Fits(cur, order[m + run])) continue;
+      std::vector<std::size_t> with = cur;
+      with.push_back(order[m + run]);
+      if (Fits(with, order[m + run + 1])) return run;
+    }
+    return 0;
+  }
+
   /// Walks `order` (samples from a contact outward; dir +1 forward in time, -1 backward).
   void Walk(const std::vector<std::size_t>& order, int dir) {
     const auto core = static_cast<std::size_t>(o_.min_arc_frames);
@@ -651,6 +666,14 @@ class Sweep {
           st_.impulse.push_back(z);
           m = pos(d + 1);
           next_arc = true;
+          continue;
+        }
+        // A longer run off the arc, followed by two samples on it: outliers too (the ball cut
+        // by the frame's edge, half hidden or smeared, for a few frames of one flight).
+        const std::size_t run = OutlierRun(cur, order, m);
+        if (run > 0) {
+          for (std::size_t i = m; i < m + run; ++i) st_.role[order[i]] = ArcFrameRole::kOutlier;
+          m += run;
           continue;
         }
         for (std::size_t i = m; i < order.size(); ++i)
@@ -1472,6 +1495,7 @@ void ArcOptions::Validate() const {
   if (!(reversal_sigmas > 0)) throw std::invalid_argument("arcs reversal_sigmas must be > 0");
   if (!(outlier_chi2 > 0)) throw std::invalid_argument("arcs outlier_chi2 must be > 0");
   if (!(contact_chi2 > 0)) throw std::invalid_argument("arcs contact_chi2 must be > 0");
+  if (max_outlier_run < 2) throw std::invalid_argument("arcs max_outlier_run must be >= 2");
   if (!(max_excluded_fraction > 0 && max_excluded_fraction < 1))
     throw std::invalid_argument("arcs max_excluded_fraction must be in (0, 1)");
   if (!(max_roll_se_deg > 0)) throw std::invalid_argument("arcs max_roll_se_deg must be > 0");

@@ -42,6 +42,11 @@ struct ArcOptions {
   /// after): a frame whose exposure spans the contact, or that shows the body touching, is far
   /// more likely there; > 0. 9.21 is chi^2_2's quantile at 0.99.
   double contact_chi2 = 9.21;
+  /// Where an arc stops and no arc follows, a run of 3 to this many samples off it followed by
+  /// two on it are outliers, and the arc goes on (a ball cut by the frame's edge near its apex,
+  /// or half hidden, for a few frames); >= 2 (2: no such runs, only the one or two that are
+  /// always allowed).
+  int max_outlier_run = 8;
   /// At most this fraction of the samples is left out as outliers or contact frames; in (0, 1).
   double max_excluded_fraction = 0.25;
   /// On a level surface mu_eff is measured only where the body moves along it before the
