@@ -557,6 +557,48 @@ void AddScaleUncertaintyToImpacts(const TrialSpec& spec, const core::SpecimenPar
   });
 }
 
+/// The scale from gravity is fitted to a ball's path as seen. Where the joint arcs rectify a
+/// plane seen at a slant (FlightArcs::perspective_applied), their positions are moved to the
+/// lowest sample's depth, where gravity's acceleration gives the scale again: g over the
+/// rectified arcs' |a|. The scale, its s.e. (from |a|'s), the poses, the samples, the ball's
+/// radius where it came from its diameter, and the speed are moved by that factor, and the
+/// impacts measured again (a ball's centre is all of its pose, so every position scales alike;
+/// e and mu_eff do not change). `warnings` and `flags`: their counts before the first
+/// measurement. Nothing changes where the arcs are not rectified.
+void RescaleToRectifiedArcs(const TrialSpec& spec, tracking::FrameSource& source,
+                            bool principal_given, std::size_t warnings, std::size_t flags,
+                            kinematics::KinematicsOptions& kin,
+                            std::vector<kinematics::PoseSample>& samples,
+                            core::SpecimenParameters& body, TrialAnalysis& out) {
+  if (out.kinematics_method != kinematics::KinematicsMethod::kArcs || !out.arcs ||
+      !out.arcs->perspective_applied || !(out.arcs->a_norm > 0) || !(kin.gravity_m_s2 > 0))
+    return;
+  const double k = kin.gravity_m_s2 / out.arcs->a_norm;
+  if (!std::isfinite(k) || std::abs(k - 1) < 1e-12) return;
+  const double as_seen = out.m_per_px_used;
+  for (auto& x : samples) {
+    x.p_WE *= k;
+    x.cov_p_WE *= k * k;
+  }
+  for (auto& pose : out.poses) pose.p_WE *= k;
+  if (!(spec.specimen.end_radius_m > 0)) body.end_radius_m *= k;
+  out.m_per_px_used = as_seen * k;
+  out.m_per_px_se = out.m_per_px_used * out.arcs->a_norm_se / out.arcs->a_norm;
+  out.motion.speed_m_s *= k;
+  out.motion.speed_se_m_s *= k;
+  if (!principal_given)
+    kin.arcs.principal_point_W = PrincipalPointW(spec, source, out.m_per_px_used);
+  out.warnings.resize(warnings);  // the first measurement's, said again by the second
+  out.flags.resize(flags);
+  MeasureTrialImpacts(samples, spec.fps, spec.surface_angle_deg, body, kin, !spec.body.is_ball(),
+                      out);
+  std::ostringstream os;
+  os << "the scale is gravity's on the joint arcs rectified for a slanted view, "
+     << out.m_per_px_used << " m/px at the contacts' depth (" << as_seen
+     << " from the path as seen)";
+  out.warnings.push_back(os.str());
+}
+
 }  // namespace
 
 TrackSummary SummarizeTrack(const std::vector<std::optional<Eigen::Vector2d>>& p_px, double fps,
@@ -640,11 +682,16 @@ TrialAnalysis AnalyzeTrial(const TrialSpec& spec, const TrialAnalysisOptions& op
       kinematics::KinematicsOptions kin = options.kinematics;
       const bool scaled = std::isfinite(out.m_per_px_used);
       if (!scaled) kin.gravity_m_s2 = 0;  // poses in px: see AnalyzeSilhouette
-      if (!kin.arcs.principal_point_W)
+      const bool principal_given = kin.arcs.principal_point_W.has_value();
+      if (!principal_given)
         kin.arcs.principal_point_W =
             PrincipalPointW(spec, *source, scaled ? out.m_per_px_used : 1.0);
+      const std::size_t warnings = out.warnings.size(), flags = out.flags.size();
       MeasureTrialImpacts(samples, spec.fps, spec.surface_angle_deg, body, kin,
                           !spec.body.is_ball(), out);
+      if (scaled && spec.body.is_ball() && out.scale_source == "gravity")
+        RescaleToRectifiedArcs(spec, *source, principal_given, warnings, flags, kin, samples, body,
+                               out);
       CheckCaptureRate(spec, options, out);
       if (!scaled) {
         ForEachImpact(out, [&](kinematics::ImpactKinematics& k) {
