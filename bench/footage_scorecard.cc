@@ -11,9 +11,9 @@
 // A cell is scene x timing x codec x camera; seed k of every cell renders with
 // FootageSpec::seed = k. A bounce counts (is "measurable") when its contact is in view and the
 // flights on both sides of it show the ball whole in at least --min-arc-frames distinct
-// captures each, over each capture's whole exposure (WholeCaptures); e is compared with the renderer's e of that bounce (along the surface normal,
-// in W). Clips are rendered into --dir and removed once scored (--keep keeps them). The result
-// does not depend on --jobs.
+// captures each, over each capture's whole exposure (WholeCaptures); e is compared with the
+// renderer's e of that bounce (along the surface normal, in W). Clips are rendered into --dir and
+// removed once scored (--keep keeps them). The result does not depend on --jobs.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

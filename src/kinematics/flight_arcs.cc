@@ -72,14 +72,14 @@ struct Fit {
   std::vector<Eigen::Matrix2d> hat;
 };
 
-/// The 2 x P design rows of a sample at tau from its arc's reference time, for arc slot `sl`.
-Eigen::MatrixXd DesignRows(int sl, double tau, int params) {
-  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(2, params);
-  for (int c = 0; c < 2; ++c) {
-    M(c, 4 * sl + c) = 1.0;
-    M(c, 4 * sl + 2 + c) = tau;
-    M(c, params - 2 + c) = 0.5 * tau * tau;
-  }
+/// The nonzero columns of the 2 x P design rows of a sample at tau from its arc's reference
+/// time, whitened by W: its arc's four (position, velocity) and the shared acceleration's two,
+/// which lie at 4 sl and at P - 2 for arc slot sl.
+Eigen::Matrix<double, 2, 6> DesignBlock(const Eigen::Matrix2d& W, double tau) {
+  Eigen::Matrix<double, 2, 6> M;
+  M.leftCols<2>() = W;
+  M.middleCols<2>(2) = W * tau;
+  M.rightCols<2>() = W * (0.5 * tau * tau);
   return M;
 }
 
@@ -115,7 +115,10 @@ Fit JointFit(const State& st, int min_arc) {
     const int sl = st.Used(j) ? f.slot[static_cast<std::size_t>(st.arc[j])] : -1;
     if (sl < 0) continue;
     const double tau = st.s[j].t - f.t_ref[static_cast<std::size_t>(st.arc[j])];
-    A.middleRows(r, 2) = st.s[j].W * DesignRows(sl, tau, f.params);
+    const Eigen::Matrix<double, 2, 6> D = DesignBlock(st.s[j].W, tau);
+    A.middleRows(r, 2).setZero();
+    A.block(r, 4 * sl, 2, 4) = D.leftCols<4>();
+    A.block(r, f.params - 2, 2, 2) = D.rightCols<2>();
     b.segment(r, 2) = st.s[j].W * st.s[j].p;
     row_of[j] = static_cast<std::size_t>(r);
     r += 2;
@@ -130,8 +133,17 @@ Fit JointFit(const State& st, int min_arc) {
     if (!st.Used(j) || f.slot[static_cast<std::size_t>(st.arc[j])] < 0) continue;
     const auto i = static_cast<Eigen::Index>(row_of[j]);
     f.res[j] = res.segment(i, 2);
-    const Eigen::MatrixXd Ai = A.middleRows(i, 2);
-    f.hat[j] = Ai * f.C * Ai.transpose();
+    // Its rows are zero outside its arc's four columns and the acceleration's two.
+    const int c0 = 4 * f.slot[static_cast<std::size_t>(st.arc[j])], ca = f.params - 2;
+    Eigen::Matrix<double, 2, 6> Ai;
+    Ai.leftCols<4>() = A.block(i, c0, 2, 4);
+    Ai.rightCols<2>() = A.block(i, ca, 2, 2);
+    Eigen::Matrix<double, 6, 6> Ci;
+    Ci.topLeftCorner<4, 4>() = f.C.block(c0, c0, 4, 4);
+    Ci.topRightCorner<4, 2>() = f.C.block(c0, ca, 4, 2);
+    Ci.bottomLeftCorner<2, 4>() = f.C.block(ca, c0, 2, 4);
+    Ci.bottomRightCorner<2, 2>() = f.C.block(ca, ca, 2, 2);
+    f.hat[j] = Ai * Ci * Ai.transpose();
   }
   f.ok = true;
   return f;
