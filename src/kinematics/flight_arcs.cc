@@ -58,18 +58,49 @@ struct State {
 };
 
 /// A solved joint fit on the samples whose role is kArc (arcs with fewer than min_arc of them
-/// are not fitted). C is (A^T A)^-1 of the whitened design; `res` and `hat` per sample (zero
-/// for samples not used).
+/// are not fitted); `res` and `hat` per sample (zero for samples not used). C = (A^T A)^-1 of
+/// the whitened design is kept by its blocks: with R_k, S_k the triangle of arc slot k and its
+/// coupling to the acceleration, and R_a the acceleration's triangle, C_aa = R_a^-1 R_a^-T,
+/// G_k = R_k^-1 S_k, C_ka = -G_k C_aa and C_kl = [k == l] R_k^-1 R_k^-T + G_k C_aa G_l^T.
 struct Fit {
   bool ok = false;
   int arcs_fitted = 0, rows = 0, params = 0;
   std::vector<int> slot;
   std::vector<double> t_ref;
   Eigen::VectorXd x;
-  Eigen::MatrixXd C;
+  std::vector<Eigen::Matrix4d> R_inv;          ///< per slot, R_k^-1
+  std::vector<Eigen::Matrix<double, 4, 2>> G;  ///< per slot, R_k^-1 S_k
+  Eigen::Matrix2d C_aa = Eigen::Matrix2d::Zero();
   double ssr = 0.0;
   std::vector<Eigen::Vector2d> res;
   std::vector<Eigen::Matrix2d> hat;
+
+  /// The 6 x 6 block of C over slot sl's four parameters and the acceleration's two.
+  Eigen::Matrix<double, 6, 6> ArcCovariance(int sl) const {
+    const auto u = static_cast<std::size_t>(sl);
+    const Eigen::Matrix<double, 4, 2> C_ka = -G[u] * C_aa;
+    Eigen::Matrix<double, 6, 6> C;
+    C.topLeftCorner<4, 4>() = R_inv[u] * R_inv[u].transpose() - C_ka * G[u].transpose();
+    C.topRightCorner<4, 2>() = C_ka;
+    C.bottomLeftCorner<2, 4>() = C_ka.transpose();
+    C.bottomRightCorner<2, 2>() = C_aa;
+    return C;
+  }
+  /// C whole (params x params).
+  Eigen::MatrixXd Covariance() const {
+    Eigen::MatrixXd C(params, params);
+    const int ca = params - 2;
+    for (int k = 0; k < arcs_fitted; ++k) {
+      const auto u = static_cast<std::size_t>(k);
+      for (int l = 0; l < arcs_fitted; ++l)
+        C.block<4, 4>(4 * k, 4 * l) = G[u] * C_aa * G[static_cast<std::size_t>(l)].transpose();
+      C.block<4, 4>(4 * k, 4 * k) += R_inv[u] * R_inv[u].transpose();
+      C.block<4, 2>(4 * k, ca) = -G[u] * C_aa;
+      C.block<2, 4>(ca, 4 * k) = C.block<4, 2>(4 * k, ca).transpose();
+    }
+    C.block<2, 2>(ca, ca) = C_aa;
+    return C;
+  }
 };
 
 /// The nonzero columns of the 2 x P design rows of a sample at tau from its arc's reference
@@ -107,43 +138,80 @@ Fit JointFit(const State& st, int min_arc) {
   f.res.assign(st.s.size(), Eigen::Vector2d::Zero());
   f.hat.assign(st.s.size(), Eigen::Matrix2d::Zero());
   if (f.arcs_fitted == 0 || f.rows - f.params < 1) return f;
-  Eigen::MatrixXd A(f.rows, f.params);
-  Eigen::VectorXd b(f.rows);
-  std::vector<std::size_t> row_of(st.s.size(), 0);
-  int r = 0;
+  const int P = f.params;
+  std::vector<std::vector<std::size_t>> members(static_cast<std::size_t>(f.arcs_fitted));
   for (std::size_t j = 0; j < st.s.size(); ++j) {
     const int sl = st.Used(j) ? f.slot[static_cast<std::size_t>(st.arc[j])] : -1;
-    if (sl < 0) continue;
-    const double tau = st.s[j].t - f.t_ref[static_cast<std::size_t>(st.arc[j])];
-    const Eigen::Matrix<double, 2, 6> D = DesignBlock(st.s[j].W, tau);
-    A.middleRows(r, 2).setZero();
-    A.block(r, 4 * sl, 2, 4) = D.leftCols<4>();
-    A.block(r, f.params - 2, 2, 2) = D.rightCols<2>();
-    b.segment(r, 2) = st.s[j].W * st.s[j].p;
-    row_of[j] = static_cast<std::size_t>(r);
-    r += 2;
+    if (sl >= 0) members[static_cast<std::size_t>(sl)].push_back(j);
   }
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
-  if (qr.rank() < f.params) return f;
-  f.x = qr.solve(b);
-  f.C = (A.transpose() * A).inverse();
-  const Eigen::VectorXd res = b - A * f.x;
-  f.ssr = res.squaredNorm();
-  for (std::size_t j = 0; j < st.s.size(); ++j) {
-    if (!st.Used(j) || f.slot[static_cast<std::size_t>(st.arc[j])] < 0) continue;
-    const auto i = static_cast<Eigen::Index>(row_of[j]);
-    f.res[j] = res.segment(i, 2);
-    // Its rows are zero outside its arc's four columns and the acceleration's two.
-    const int c0 = 4 * f.slot[static_cast<std::size_t>(st.arc[j])], ca = f.params - 2;
-    Eigen::Matrix<double, 2, 6> Ai;
-    Ai.leftCols<4>() = A.block(i, c0, 2, 4);
-    Ai.rightCols<2>() = A.block(i, ca, 2, 2);
-    Eigen::Matrix<double, 6, 6> Ci;
-    Ci.topLeftCorner<4, 4>() = f.C.block(c0, c0, 4, 4);
-    Ci.topRightCorner<4, 2>() = f.C.block(c0, ca, 4, 2);
-    Ci.bottomLeftCorner<2, 4>() = f.C.block(ca, c0, 2, 4);
-    Ci.bottomRightCorner<2, 2>() = f.C.block(ca, ca, 2, 2);
-    f.hat[j] = Ai * Ci * Ai.transpose();
+  // The design is block-angular: each arc's rows reach its own four columns and the shared
+  // acceleration's two. Householder QR of each arc's rows [its four | acceleration | positions]
+  // leaves its 4 x 4 triangle, its coupling to the acceleration, and a 2 x 2 remainder that
+  // only the acceleration explains; QR of the remainders stacked gives the acceleration's
+  // triangle. Together they are the R of the whole design's QR (R^T R = A^T A), at a cost
+  // linear in the samples.
+  std::vector<Eigen::Matrix4d> R_k(static_cast<std::size_t>(f.arcs_fitted));
+  std::vector<Eigen::Matrix<double, 4, 2>> S_k(R_k.size());
+  std::vector<Eigen::Vector4d> c_k(R_k.size());
+  Eigen::MatrixXd rest(2 * f.arcs_fitted, 3);
+  const auto tau_of = [&](std::size_t j) {
+    return st.s[j].t - f.t_ref[static_cast<std::size_t>(st.arc[j])];
+  };
+  for (int sl = 0; sl < f.arcs_fitted; ++sl) {
+    const auto u = static_cast<std::size_t>(sl);
+    const auto& m = members[u];
+    Eigen::MatrixXd Ak(2 * static_cast<Eigen::Index>(m.size()), 7);
+    for (std::size_t i = 0; i < m.size(); ++i) {
+      const auto r = 2 * static_cast<Eigen::Index>(i);
+      Ak.block<2, 6>(r, 0) = DesignBlock(st.s[m[i]].W, tau_of(m[i]));
+      Ak.block<2, 1>(r, 6) = st.s[m[i]].W * st.s[m[i]].p;
+    }
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(Ak);
+    const Eigen::Matrix<double, 6, 7> Rk =
+        qr.matrixQR().topRows<6>().triangularView<Eigen::Upper>();
+    R_k[u] = Rk.block<4, 4>(0, 0);
+    S_k[u] = Rk.block<4, 2>(0, 4);
+    c_k[u] = Rk.block<4, 1>(0, 6);
+    rest.block<2, 3>(2 * sl, 0) = Rk.block<2, 3>(4, 4);
+  }
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qa(rest);
+  const Eigen::Matrix<double, 2, 3> Ra = qa.matrixQR().topRows<2>().triangularView<Eigen::Upper>();
+  // Full rank: every diagonal entry of R above P epsilon of the largest (the threshold that
+  // Eigen's ColPivHouseholderQR applies to its pivots).
+  double largest = Ra.leftCols<2>().diagonal().cwiseAbs().maxCoeff();
+  double smallest = Ra.leftCols<2>().diagonal().cwiseAbs().minCoeff();
+  for (const auto& r : R_k) {
+    largest = std::max(largest, r.diagonal().cwiseAbs().maxCoeff());
+    smallest = std::min(smallest, r.diagonal().cwiseAbs().minCoeff());
+  }
+  if (!(largest > 0) || !(smallest > largest * P * std::numeric_limits<double>::epsilon()))
+    return f;
+  const Eigen::Matrix2d R_a = Ra.leftCols<2>();
+  const Eigen::Matrix2d R_a_inv =
+      R_a.triangularView<Eigen::Upper>().solve(Eigen::Matrix2d::Identity());
+  f.C_aa = R_a_inv * R_a_inv.transpose();
+  f.x.resize(P);
+  f.x.tail<2>() = R_a.triangularView<Eigen::Upper>().solve(Ra.col(2));
+  f.R_inv.resize(R_k.size());
+  f.G.resize(R_k.size());
+  for (int sl = 0; sl < f.arcs_fitted; ++sl) {
+    const auto u = static_cast<std::size_t>(sl);
+    const auto upper = R_k[u].triangularView<Eigen::Upper>();
+    f.R_inv[u] = upper.solve(Eigen::Matrix4d::Identity());
+    f.G[u] = upper.solve(S_k[u]);
+    f.x.segment<4>(4 * sl) = upper.solve(c_k[u] - S_k[u] * f.x.tail<2>());
+  }
+  f.ssr = 0.0;
+  for (int sl = 0; sl < f.arcs_fitted; ++sl) {
+    Eigen::Matrix<double, 6, 1> xk;
+    xk << f.x.segment<4>(4 * sl), f.x.tail<2>();
+    const Eigen::Matrix<double, 6, 6> Ci = f.ArcCovariance(sl);
+    for (std::size_t j : members[static_cast<std::size_t>(sl)]) {
+      const Eigen::Matrix<double, 2, 6> D = DesignBlock(st.s[j].W, tau_of(j));
+      f.res[j] = st.s[j].W * st.s[j].p - D * xk;
+      f.ssr += f.res[j].squaredNorm();
+      f.hat[j] = D * Ci * D.transpose();
+    }
   }
   f.ok = true;
   return f;
@@ -710,17 +778,33 @@ std::vector<std::size_t> SamplesOf(const State& st, int k) {
   return v;
 }
 
-/// True when no sample of its arc lies between sample j and a contact on one of its sides.
-bool BesideContact(const State& st, std::size_t j) {
-  const int k = st.arc[j];
-  bool before = k > 0, after = k + 1 < st.Arcs();  // a contact on that side
-  for (std::size_t i = 0; i < st.s.size(); ++i) {
-    if (st.arc[i] != k || !st.Used(i) || i == j) continue;
-    if (i < j) before = false;
-    if (i > j) after = false;
+/// Which used samples lie beside a contact: those with no other used sample of their arc
+/// between them and a contact on one of its sides (the first used sample of an arc after a
+/// contact, the last before one). Holds for the roles as they were when it was made.
+class BesideContact {
+ public:
+  explicit BesideContact(const State& st)
+      : st_(st),
+        first_(static_cast<std::size_t>(st.Arcs()), st.s.size()),
+        last_(static_cast<std::size_t>(st.Arcs()), st.s.size()) {
+    for (std::size_t j = 0; j < st.s.size(); ++j) {
+      if (!st.Used(j)) continue;
+      const auto k = static_cast<std::size_t>(st.arc[j]);
+      if (first_[k] == st.s.size()) first_[k] = j;
+      last_[k] = j;
+    }
   }
-  return before || after;
-}
+  /// For a used sample j.
+  bool operator()(std::size_t j) const {
+    const int k = st_.arc[j];
+    const auto u = static_cast<std::size_t>(k);
+    return (k > 0 && first_[u] == j) || (k + 1 < st_.Arcs() && last_[u] == j);
+  }
+
+ private:
+  const State& st_;
+  std::vector<std::size_t> first_, last_;
+};
 
 /// Leaves out, one at a time, the used sample with the largest squared studentized residual
 /// over the robust noise level while it exceeds outlier_chi2 (at most max_excluded_fraction of
@@ -747,10 +831,11 @@ Fit ExcludeOutliers(State& st, const ArcOptions& o) {
     // The worst against its threshold: contact_chi2 beside a contact, outlier_chi2 elsewhere.
     std::size_t worst = st.s.size();
     double worst_ratio = 0;
+    const BesideContact beside(st);
     for (std::size_t j = 0; j < st.s.size(); ++j) {
       if (!std::isfinite(d2[j])) continue;
       st.chi2[j] = d2[j] / s2;
-      const double ratio = st.chi2[j] / (BesideContact(st, j) ? o.contact_chi2 : o.outlier_chi2);
+      const double ratio = st.chi2[j] / (beside(j) ? o.contact_chi2 : o.outlier_chi2);
       if (worst == st.s.size() || ratio > worst_ratio) {
         worst = j;
         worst_ratio = ratio;
@@ -758,7 +843,7 @@ Fit ExcludeOutliers(State& st, const ArcOptions& o) {
     }
     if (worst == st.s.size() || !(worst_ratio > 1) || static_cast<double>(excluded() + 1) > cap)
       return f;
-    st.role[worst] = BesideContact(st, worst) ? ArcFrameRole::kContact : ArcFrameRole::kOutlier;
+    st.role[worst] = beside(worst) ? ArcFrameRole::kContact : ArcFrameRole::kOutlier;
   }
 }
 
@@ -785,10 +870,10 @@ bool MergeFalseContact(State& st, const Fit& f) {
     const double beta = u.dot((v1 - a * t1) - (v0 - a * t0));
     const double t_star = beta != 0 ? -alpha / beta : 0.5 * (t0 + t1);
     const auto sd = [&](int sl, double tk) {
-      Eigen::RowVectorXd g = Eigen::RowVectorXd::Zero(P);
-      g.segment<2>(4 * sl + 2) = u.transpose();
-      g.segment<2>(P - 2) = u.transpose() * (t_star - tk);
-      return std::sqrt(s2 * g.dot(f.C * g.transpose()));
+      Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+      g.segment<2>(2) = u;
+      g.tail<2>() = u * (t_star - tk);
+      return std::sqrt(s2 * g.dot(f.ArcCovariance(sl) * g));
     };
     const double vb = u.dot(v0 + a * (t_star - t0)), va = u.dot(v1 + a * (t_star - t1));
     if (vb < -3 * sd(s0, t0) && va > 3 * sd(s1, t1)) continue;
@@ -1371,7 +1456,7 @@ void Report(const State& st, const Fit& f, const std::vector<PoseSample>& poses,
 void Parameters(const State& st, const Fit& f, FlightArcs& out) {
   const double s2 = f.ssr / (f.rows - f.params);
   out.x = f.x;
-  out.cov_x = s2 * f.C;
+  out.cov_x = s2 * f.Covariance();
   out.dof = f.rows - f.params;
   out.samples_used = f.rows / 2;
   out.sigma = std::sqrt(s2);
