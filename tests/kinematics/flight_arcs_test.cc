@@ -4,11 +4,15 @@
 // the g and the camera roll the path was drawn with.
 #include "kinematics/flight_arcs.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <random>
 #include <stdexcept>
+#include <vector>
 
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include "support/bouncing_ball.h"
 
@@ -259,6 +263,63 @@ TEST(FlightArcsTest, CovariancesWeightTheFitAndTheirFactorIsFitted) {
   EXPECT_TRUE(A.weighted);
   EXPECT_NEAR(A.sigma, 1.0, 0.2);
   EXPECT_LT(std::abs(A.a_W.y() + 9.81), 3 * std::sqrt(A.cov_a_W(1, 1)));
+}
+
+// The fit is the weighted least-squares solution of its own design: with the roles and arcs it
+// reports, a dense solve of every used frame's rows (whitened by its covariance's inverse
+// Cholesky factor, its arc's position, velocity and the shared acceleration as columns) gives
+// the same parameters, noise level and covariance. Correlated covariances and a frame knocked
+// off its arc make the weights and the roles matter.
+TEST(FlightArcsTest, TheFitIsTheDenseLeastSquaresSolutionOfItsDesign) {
+  BallClipOptions o = FourBounces();
+  o.seed = 7;
+  BallClip clip = MakeBallClip(o);
+  std::mt19937_64 rng(13);
+  std::normal_distribution<double> n(0.0, 1.0);
+  const double s = 0.7 * o.m_per_px;
+  Eigen::Matrix2d cov;
+  cov << 2.0 * s * s, 0.6 * s * s, 0.6 * s * s, 0.5 * s * s;
+  const Eigen::Matrix2d L = cov.llt().matrixL();
+  for (auto& p : clip.poses) {
+    p.p_WE += L * Eigen::Vector2d(n(rng), n(rng));
+    p.cov_p_WE = cov;
+  }
+  clip.poses[20].p_WE.x() += 40 * s;
+  const FlightArcs A = FitFlightArcs(clip.poses, 0.0, 0.0);
+  ASSERT_EQ(A.status, ArcFitStatus::kFitted) << A.message;
+  ASSERT_TRUE(A.weighted);
+  EXPECT_EQ(A.frames[20].role, ArcFrameRole::kOutlier);
+  const auto P = A.x.size();
+  std::vector<std::size_t> used;
+  for (std::size_t i = 0; i < A.frames.size(); ++i)
+    if (A.frames[i].role == ArcFrameRole::kArc &&
+        A.slot[static_cast<std::size_t>(A.frames[i].arc)] >= 0)
+      used.push_back(i);
+  ASSERT_EQ(static_cast<int>(used.size()), A.samples_used);
+  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(2 * static_cast<Eigen::Index>(used.size()), P);
+  Eigen::VectorXd b(D.rows());
+  const Eigen::Matrix2d W = L.inverse();
+  for (std::size_t r = 0; r < used.size(); ++r) {
+    const std::size_t i = used[r];
+    const auto k = static_cast<std::size_t>(A.frames[i].arc);
+    const double tau = clip.poses[i].t_s - A.arcs[k].t_ref_s;
+    const auto row = 2 * static_cast<Eigen::Index>(r);
+    D.block(row, 4 * A.slot[k], 2, 2) = W;
+    D.block(row, 4 * A.slot[k] + 2, 2, 2) = W * tau;
+    D.block(row, P - 2, 2, 2) = W * (0.5 * tau * tau);
+    b.segment<2>(row) = W * clip.poses[i].p_WE;
+  }
+  const Eigen::VectorXd x = D.colPivHouseholderQr().solve(b);
+  const double s2 = (b - D * x).squaredNorm() / static_cast<double>(D.rows() - P);
+  const Eigen::MatrixXd C = s2 * (D.transpose() * D).inverse();
+  EXPECT_EQ(A.dof, D.rows() - P);
+  EXPECT_NEAR(A.sigma, std::sqrt(s2), 1e-9 * std::sqrt(s2));
+  for (Eigen::Index i = 0; i < P; ++i) {
+    EXPECT_NEAR(A.x(i), x(i), 1e-9 * std::max(1.0, std::abs(x(i)))) << "parameter " << i;
+    for (Eigen::Index j = 0; j < P; ++j)
+      EXPECT_NEAR(A.cov_x(i, j), C(i, j), 1e-8 * std::sqrt(C(i, i) * C(j, j)))
+          << "covariance " << i << ", " << j;
+  }
 }
 
 TEST(FlightArcsTest, TooFewFramesAndBadOptions) {
