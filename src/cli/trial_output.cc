@@ -21,6 +21,9 @@ void AddAnalysisOptions(CLI::App* cmd, pipeline::TrialAnalysisOptions& options,
   cmd->add_option("--fit-frames", options.kinematics.fit_frames,
                   "Frames per flight fit before and after the impact")
       ->capture_default_str();
+  cmd->add_option("--min-fit-frames", options.kinematics.min_fit_frames,
+                  "Fewest usable frames per flight fit, before and after (fewer is an error)")
+      ->capture_default_str();
   cmd->add_option("--max-contact-s", options.kinematics.max_contact_s,
                   "Longest contact assumed when leaving frames out of the fits (s)")
       ->capture_default_str();

@@ -109,6 +109,8 @@ TEST(OptionBoundsTest, MessagesUseTheOptionsAndUnitsTheUserTyped) {
       {"analyze " + sample + " -o /nonexistent-dir/x.h5 --fit-frames 2",
        "--fit-frames: must be >= 3, got 2"},
       {"score " + sample + " --max-contact-s 2", "--max-contact-s: must be in [0, 1] s, got 2"},
+      {"track " + sample + "/steel_0deg_v3.00_r1 --min-fit-frames 2",
+       "--min-fit-frames: must be >= 3, got 2"},
       {"synth -o /nonexistent-dir/x --bit-depth 10", "--bit-depth: must be 8, 12 or 16, got 10"},
       {"synth -o /nonexistent-dir/x --bit-depth 12",
        "--bit-depth: must be 8 or 16 for PNG frames (12 needs the mraw or cine frame format), got "

@@ -198,6 +198,33 @@ TEST(MultipleImpactsTest, AnArcTooShortToFitIsReportedNotDropped) {
   }
 }
 
+// A clip like the one above (e 0.12 in the middle) with min_fit_frames lowered to 3: the windows
+// fit p and v with g known, so three frames determine them with a frame to spare. The impacts
+// on each side of the short flight (fewer than 6 frames) are measured, and exact poses give
+// their e exactly.
+TEST(MultipleImpactsTest, FewerFramesPerFitAreAllowedWhenAsked) {
+  const Bounces b = MakeBounces(0, {0, -3}, {0.8, 0.12, 0.9}, {0, 0, 0}, 100, 0.305, 0, 1);
+  KinematicsOptions options;
+  options.min_fit_frames = 3;
+  const auto k = MeasureImpacts(b.poses, 100, 0, core::SpecimenParameters{}, options);
+  ASSERT_EQ(k.size(), 3u);
+  ASSERT_TRUE(k[0].success) << k[0].message;
+  EXPECT_NEAR(k[0].e, 0.8, 1e-8);
+  for (std::size_t i = 1; i < 3; ++i) {
+    SCOPED_TRACE("impact " + std::to_string(i));
+    ASSERT_TRUE(k[i].success) << k[i].message;
+    EXPECT_NEAR(k[i].e, i == 1 ? 0.12 : 0.9, 1e-8);
+  }
+  // The flight between impacts 1 and 2 is the short one, too short for the default.
+  EXPECT_GE(k[1].after.n, 3);
+  EXPECT_LT(k[1].after.n, 6);
+  EXPECT_EQ(k[2].before.n, k[1].after.n);
+  const auto by_default = MeasureImpacts(b.poses, 100, 0, core::SpecimenParameters{});
+  ASSERT_EQ(by_default.size(), 3u);
+  EXPECT_FALSE(by_default[1].success);
+  EXPECT_FALSE(by_default[2].success);
+}
+
 // A fall that never reaches the surface, and a flight with noise at its apex, hold no impact.
 TEST(MultipleImpactsTest, FlightAloneHoldsNoImpact) {
   Bounces b = MakeBounces(0, {0, -3}, {0.8}, {0}, 2000, 0.05, 20e-6, 3);
