@@ -132,12 +132,31 @@ double NormalVelocity(const std::vector<PoseSample>& poses, const core::SurfaceR
 }
 
 /// The first frame, after the impact at valid[lowest], where the normal velocity reverses
-/// suddenly again (by more than 0.3 of the impact's `jump`): a second bounce; -1 when none.
+/// suddenly again: a descent (within 3 s.d. of the positions' noise, from their covariance where
+/// known) that turns up by more than 0.3 of the impact's `jump` and by more than 3 s.d. of the
+/// change: a second bounce; -1 when none.
 int SecondBounce(const std::vector<PoseSample>& poses, const std::vector<int>& valid,
                  std::size_t lowest, const core::SurfaceRotation& S, double jump) {
+  // The variance of the height in frame i along the normal, from its covariance (0 unknown).
+  const auto var_h = [&](int i) {
+    const Eigen::Vector2d n = S.y_S();
+    return n.dot(poses[static_cast<std::size_t>(i)].cov_p_WE * n);
+  };
+  const auto dt = [&](int i, int j) {
+    return poses[static_cast<std::size_t>(j)].t_s - poses[static_cast<std::size_t>(i)].t_s;
+  };
   for (std::size_t j = lowest + 3; j + 1 < valid.size(); ++j) {
     const int a = valid[j - 1], b = valid[j], c = valid[j + 1];
-    if (NormalVelocity(poses, S, b, c) - NormalVelocity(poses, S, a, b) > 0.3 * jump) return b;
+    const double v_in = NormalVelocity(poses, S, a, b);
+    const double rise = NormalVelocity(poses, S, b, c) - v_in;
+    // The two differences' noise: heights a, b, c with b in both.
+    const double h_ab = dt(a, b), h_bc = dt(b, c);
+    const double var_in = (var_h(a) + var_h(b)) / (h_ab * h_ab);
+    const double var_rise = var_h(a) / (h_ab * h_ab) + var_h(c) / (h_bc * h_bc) +
+                            var_h(b) * std::pow(1 / h_ab + 1 / h_bc, 2);
+    // A bounce reverses a descent, by more than the noise of the positions.
+    if (rise > 0.3 * jump && rise > 3 * std::sqrt(var_rise) && v_in < 3 * std::sqrt(var_in))
+      return b;
   }
   return -1;
 }
